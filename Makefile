@@ -1,0 +1,95 @@
+# sparselens: `make` builds bin/ and build/; see README.md for the other targets.
+# Sources are discovered by wildcard so that adding a file never needs an edit here:
+#   src/*.c, src/*.cpp  -> build/liblens.a
+#   cmd/<verb>.c        -> bin/lens-<verb>
+#   tests/unit/test_*.c -> build/tests/test_* (cmocka)
+#   tests/fuzz/fuzz_*.c -> build/fuzz/fuzz_* (libFuzzer, clang; `make fuzz`)
+
+PREFIX   ?= /usr/local
+SANITIZE ?=
+CC       ?= cc
+CXX      ?= c++
+
+ifeq ($(SANITIZE),)
+BUILD := build
+BIN   := bin
+OPT   := -O2 -g
+else
+BUILD := build-san
+BIN   := bin-san
+OPT   := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
+endif
+
+CPPFLAGS += -Isrc -I/usr/include/OpenEXR -D_DEFAULT_SOURCE
+CFLAGS   += -std=c11 $(OPT) -Wall -Wextra -fopenmp -march=x86-64-v2
+CXXFLAGS += -std=c++17 $(OPT) -Wall -Wextra -I/usr/include/opencv4
+LDFLAGS  += $(OPT) -fopenmp
+LDLIBS   := -lopencv_calib3d -lopencv_imgcodecs -lopencv_imgproc -lopencv_core \
+            -lOpenEXRCore-3_1 -lproj -llapacke -llapack -lblas -lstdc++ -lm
+
+LIB_C    := $(wildcard src/*.c)
+LIB_CXX  := $(wildcard src/*.cpp)
+LIB_OBJ  := $(LIB_C:src/%.c=$(BUILD)/src/%.o) $(LIB_CXX:src/%.cpp=$(BUILD)/src/%.o)
+CMDS     := $(patsubst cmd/%.c,$(BIN)/lens-%,$(wildcard cmd/*.c))
+TESTS    := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(wildcard tests/unit/test_*.c))
+LIB      := $(BUILD)/liblens.a
+
+.PHONY: all deps test check demo bench reports install fuzz clean
+all: $(CMDS) $(TESTS)
+
+deps:
+	@tools/install-deps.sh
+
+$(BUILD)/src/%.o: src/%.c $(wildcard src/*.h)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/src/%.o: src/%.cpp $(wildcard src/*.h)
+	@mkdir -p $(dir $@)
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c $< -o $@
+
+$(LIB): $(LIB_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(BIN)/lens-%: cmd/%.c $(LIB)
+	@mkdir -p $(BIN)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+
+$(BUILD)/tests/%: tests/unit/%.c $(LIB) $(wildcard tests/unit/*.h)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) -Itests/unit $(CFLAGS) $< $(LIB) $(LDFLAGS) -lcmocka $(LDLIBS) -o $@
+
+# The whole suite: unit tests, command-line tests, hard cases, short fuzz runs.
+test: deps
+	@$(MAKE) --no-print-directory all
+	@BIN=$(BIN) BUILD=$(BUILD) SANITIZE=$(SANITIZE) tests/run-tests.sh
+
+check: test
+
+# The whole pipeline on the default lens; results in demo/.
+demo: deps
+	@$(MAKE) --no-print-directory all
+	@BIN=$(BIN) tools/demo.sh
+
+bench: deps
+	@$(MAKE) --no-print-directory all
+	@BIN=$(BIN) tools/bench.sh
+
+reports: deps
+	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory -f tools/reports.mk BIN=$(BIN)
+
+fuzz: deps
+	@tools/fuzz.sh $(or $(FUZZ_SECONDS),60)
+
+install: all
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/man/man1 \
+	           $(DESTDIR)$(PREFIX)/share/man/man5 $(DESTDIR)$(PREFIX)/share/sparselens/lenses
+	install -m 755 $(CMDS) $(DESTDIR)$(PREFIX)/bin
+	install -m 644 $(wildcard man/*.1) $(DESTDIR)$(PREFIX)/share/man/man1
+	install -m 644 $(wildcard man/*.5) $(DESTDIR)$(PREFIX)/share/man/man5
+	install -m 644 $(wildcard lenses/*) $(DESTDIR)$(PREFIX)/share/sparselens/lenses
+
+clean:
+	rm -rf build build-san bin bin-san

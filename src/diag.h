@@ -1,0 +1,28 @@
+#ifndef SPARSELENS_DIAG_H
+#define SPARSELENS_DIAG_H
+/* Error reporting shared by the library and the commands.
+ * Library functions never print: they fill a lens_err with one line of the form
+ * "FILE:LINE: what is wrong" (or "FILE: what is wrong" when no line applies) and
+ * return non-zero. Commands print it as "lens-x: <msg>" and exit non-zero. */
+#include <stddef.h>
+
+typedef struct {
+    char msg[512];
+} lens_err;
+
+/* Formats "file:line: ..." into err (line <= 0 omits the line; file NULL omits both). */
+void lens_errf(lens_err *err, const char *file, long line, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+
+/* Prints "prog: msg" to stderr. */
+void diag_print(const char *prog, const lens_err *err);
+
+/* Prints "prog: ..." to stderr and exits with status 1 (usage and fatal errors in commands). */
+void diag_die(const char *prog, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3), noreturn));
+
+/* Strict number parsing: the whole token must be a finite number. 0 on success. */
+int parse_double(const char *s, double *out);
+int parse_long(const char *s, long *out);
+
+#endif
