@@ -34,4 +34,22 @@ void poly_eval_batch(const poly_system *sys, size_t count, const double *in, dou
 /* 1 when in lies inside the input ranges seen in training (extrapolation check). */
 int poly_in_domain(const poly_system *sys, const double *in);
 
+/* Building a system (lens-fit, tests). Inputs are scaled before the monomials are
+ * formed: s_i = (in_i - offset_i) / scale_i; coefficients multiply monomials of s.
+ * A system has one or more parts; part p applies where the sensor radius
+ * sqrt(x^2 + y^2) (inputs named x and y) lies in [rmin, rmax); a single part spans
+ * [0, INFINITY). The passage test: the ray passes when every pass circle holds,
+ * out_a^2 + out_b^2 <= radius^2 (the front element and the stop, for example). */
+poly_system *poly_new(const char *lens_name, int ninputs, const char *const *inputs,
+                      int noutputs, const char *const *outputs);
+void poly_set_lens_path(poly_system *sys, const char *path);
+void poly_set_scaling(poly_system *sys, int input, double offset, double scale);
+void poly_set_domain(poly_system *sys, int input, double lo, double hi);
+int poly_add_part(poly_system *sys, double rmin, double rmax); /* returns part index */
+int poly_add_term(poly_system *sys, int part, int output, const int *exponents, double coef);
+int poly_add_pass_circle(poly_system *sys, int out_a, int out_b, double radius);
+/* Free-form "key value" metadata lines kept in the file (fit flags, errors). */
+void poly_set_meta(poly_system *sys, const char *key, const char *value);
+const char *poly_get_meta(const poly_system *sys, const char *key);
+
 #endif
