@@ -3,7 +3,8 @@
 #   src/*.c, src/*.cpp  -> build/liblens.a
 #   cmd/<verb>.c        -> bin/lens-<verb>
 #   tests/unit/test_*.c -> build/tests/test_* (cmocka)
-#   tests/fuzz/fuzz_*.c -> build/fuzz/fuzz_* (libFuzzer, clang; `make fuzz`)
+#   bench/bench_*.c     -> build/bench/bench_* (`make bench` runs tools/bench.sh)
+#   tests/fuzz/fuzz_*.c -> build-fuzz/fuzz_* (libFuzzer, clang; `make fuzz`)
 
 PREFIX   ?= /usr/local
 SANITIZE ?=
@@ -32,10 +33,11 @@ LIB_CXX  := $(wildcard src/*.cpp)
 LIB_OBJ  := $(LIB_C:src/%.c=$(BUILD)/src/%.o) $(LIB_CXX:src/%.cpp=$(BUILD)/src/%.o)
 CMDS     := $(patsubst cmd/%.c,$(BIN)/lens-%,$(wildcard cmd/*.c))
 TESTS    := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(wildcard tests/unit/test_*.c))
+BENCHES  := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/bench_*.c))
 LIB      := $(BUILD)/liblens.a
 
 .PHONY: all deps test check demo bench reports install fuzz clean
-all: $(CMDS) $(TESTS)
+all: $(CMDS) $(TESTS) $(BENCHES)
 
 deps:
 	@tools/install-deps.sh
@@ -59,6 +61,10 @@ $(BIN)/lens-%: cmd/%.c $(LIB)
 $(BUILD)/tests/%: tests/unit/%.c $(LIB) $(wildcard tests/unit/*.h)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) -Itests/unit $(CFLAGS) $< $(LIB) $(LDFLAGS) -lcmocka $(LDLIBS) -o $@
+
+$(BUILD)/bench/%: bench/%.c $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -O3 $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
 # The whole suite: unit tests, command-line tests, hard cases, short fuzz runs.
 test: deps
