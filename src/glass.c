@@ -198,7 +198,8 @@ static int parse_catalog_line(char *line, const char *path, long lineno, glass_t
 {
     char *tok[GLASS_MAX_COEF + 8];
     int nt = 0;
-    for (char *t = strtok(line, " \t\r\n"); t; t = strtok(NULL, " \t\r\n")) {
+    char *save = NULL;
+    for (char *t = strtok_r(line, " \t\r\n", &save); t; t = strtok_r(NULL, " \t\r\n", &save)) {
         if (nt == (int)(sizeof tok / sizeof *tok)) {
             lens_errf(err, path, lineno, "too many fields");
             return -1;
