@@ -12,14 +12,16 @@
  * then in the shipped catalog; opt->ndvd_fallback lets a glass the file gives with
  * n_d and V_d fall back to the nd/Vd model. */
 #include <stddef.h>
+#include <stdio.h>
 
 #include "diag.h"
 #include "lens.h"
 
-int lens_import_zmx(const char *path, const lens_load_options *opt, lens_t *lens,
-                    lens_err *err);
-int lens_import_seq(const char *path, const lens_load_options *opt, lens_t *lens,
-                    lens_err *err);
+/* lens_load()'s readers (lens_reader in lens_import.h): the whole stream f, named path. */
+int lens_read_zmx(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
+                  lens_err *err);
+int lens_read_seq(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
+                  lens_err *err);
 
 /* The same from a buffer already in memory (any of the encodings the files use);
  * path is used only in messages. For fuzzing and tests. */

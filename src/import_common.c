@@ -1,6 +1,9 @@
 /* Shared machinery of the prescription and catalog importers (see import_common.h). */
 #include "import_common.h"
 
+#include "lens_import.h"
+#include "paraxial.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -87,20 +90,14 @@ char *import_decode(const char *data, size_t len)
     return out;
 }
 
-int import_read_file(const char *path, char **data, size_t *len, lens_err *err)
+int import_read_stream(FILE *f, const char *path, char **data, size_t *len, lens_err *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        lens_errf(err, path, 0, "cannot open: %s", strerror(errno));
-        return -1;
-    }
     size_t cap = 1 << 16, n = 0;
     char *buf = malloc(cap);
     while (buf) {
         if (n == cap) {
             if ((long)cap >= IMPORT_MAX_FILE) {
                 free(buf);
-                fclose(f);
                 lens_errf(err, path, 0, "larger than %ld MB: not a prescription or catalog",
                           IMPORT_MAX_FILE >> 20);
                 return -1;
@@ -119,13 +116,11 @@ int import_read_file(const char *path, char **data, size_t *len, lens_err *err)
         if (got == 0)
             break;
     }
-    int bad = ferror(f);
-    fclose(f);
     if (!buf) {
         lens_errf(err, path, 0, "out of memory");
         return -1;
     }
-    if (bad) {
+    if (ferror(f)) {
         free(buf);
         lens_errf(err, path, 0, "read error");
         return -1;
@@ -133,6 +128,18 @@ int import_read_file(const char *path, char **data, size_t *len, lens_err *err)
     *data = buf;
     *len = n;
     return 0;
+}
+
+int import_read_file(const char *path, char **data, size_t *len, lens_err *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        lens_errf(err, path, 0, "cannot open: %s", strerror(errno));
+        return -1;
+    }
+    int rc = import_read_stream(f, path, data, len, err);
+    fclose(f);
+    return rc;
 }
 
 char *import_next_line(import_lines *it)
@@ -225,37 +232,19 @@ void import_skips_note(const import_skips *sk, lens_t *lens)
             break;
         o += (size_t)w;
     }
-    import_note(lens, "%s", buf);
+    lens_add_note(lens, "%s", buf);
 }
 
-void import_note(lens_t *lens, const char *fmt, ...)
-{
-    size_t cap = sizeof lens->notes, o = strlen(lens->notes);
-    if (o + 4 >= cap)
-        return;
-    if (o) {
-        memcpy(lens->notes + o, "; ", 3);
-        o += 2;
-    }
-    va_list ap;
-    va_start(ap, fmt);
-    int w = vsnprintf(lens->notes + o, cap - o, fmt, ap);
-    va_end(ap);
-    if (w >= 0 && (size_t)w >= cap - o)
-        memcpy(lens->notes + cap - 4, "...", 4);
-}
-
-void import_glass_init(import_glass_ctx *g, const lens_load_options *opt)
+void import_glass_init(import_glass_ctx *g, const lens_load_options *opt, const char *lens_path)
 {
     memset(g, 0, sizeof *g);
     g->opt = opt;
+    material_ctx_init(&g->m, opt, lens_path);
 }
 
 void import_glass_free(import_glass_ctx *g)
 {
-    if (g->cat)
-        glass_catalog_free(g->cat);
-    g->cat = NULL;
+    material_ctx_free(&g->m);
 }
 
 static void append(char *dst, size_t cap, const char *s)
@@ -263,26 +252,6 @@ static void append(char *dst, size_t cap, const char *s)
     size_t o = strlen(dst);
     if (o + 1 < cap)
         snprintf(dst + o, cap - o, "%s%s", o ? ", " : "", s);
-}
-
-static int load_catalogs(import_glass_ctx *g, lens_err *err)
-{
-    g->loaded = 1;
-    if (g->opt && g->opt->catalogs)
-        for (const char *const *c = g->opt->catalogs; *c; c++) {
-            if (glass_catalog_load(&g->cat, *c, err) != 0)
-                return -1;
-            append(g->searched, sizeof g->searched, *c);
-        }
-    const char *shipped = glass_default_catalog_path();
-    if (shipped) {
-        if (glass_catalog_load(&g->cat, shipped, err) != 0)
-            return -1;
-        append(g->searched, sizeof g->searched, shipped);
-    } else {
-        append(g->searched, sizeof g->searched, "(no shipped catalog found)");
-    }
-    return 0;
 }
 
 /* Upper case, hyphens and blanks removed: N-BK7, n-bk7 and NBK7 are one glass. */
@@ -308,9 +277,12 @@ static const glass_t *find_loose(const glass_catalog *cat, const char *name)
         const glass_t *c = glass_catalog_at(cat, i);
         normalise(c->name, have, sizeof have);
         if (strcmp(want, have) == 0) {
-            if (hit)
-                return NULL; /* ambiguous: better an error than the wrong glass */
-            hit = c;
+            /* The same name again (a later catalog) loses to the first; two different
+             * names that match loosely are ambiguous: better an error than a wrong glass. */
+            if (hit && !import_eq(hit->name, c->name))
+                return NULL;
+            if (!hit)
+                hit = c;
         }
     }
     return hit;
@@ -330,10 +302,14 @@ void import_glass_model(lens_surface *s, double nd, double vd)
 int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double vd,
                         const char *file, long line, lens_surface *s, lens_err *err)
 {
-    if (!g->loaded && load_catalogs(g, err) != 0)
+    const glass_t *hit = NULL;
+    const char *searched = "none found";
+    int rc = material_lookup(&g->m, name, &hit, &searched, err);
+    if (rc < 0)
         return -1;
-    const glass_t *hit = g->cat ? find_loose(g->cat, name) : NULL;
-    if (!hit && g->cat) {
+    if (!hit && g->m.cat)
+        hit = find_loose(g->m.cat, name);
+    if (!hit && g->m.cat) {
         /* CODE V and some Zemax files qualify the name with its maker: SK16_SCHOTT. */
         char base[64];
         snprintf(base, sizeof base, "%s", name);
@@ -342,7 +318,7 @@ int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double
             cut = strrchr(base, '.');
         if (cut && cut != base) {
             *cut = '\0';
-            hit = find_loose(g->cat, base);
+            hit = find_loose(g->m.cat, base);
         }
     }
     if (hit) {
@@ -362,14 +338,24 @@ int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double
         lens_errf(err, file, line,
                   "glass %s not found in %s (the file gives n_d %g, V_d %g: "
                   "--glass-fallback ndvd would use them)",
-                  name, g->searched, nd, vd);
+                  name, searched, nd, vd);
     else
-        lens_errf(err, file, line, "glass %s not found in %s", name, g->searched);
+        lens_errf(err, file, line, "glass %s not found in %s", name, searched);
     return -1;
 }
 
 void import_glass_note(const import_glass_ctx *g, lens_t *lens)
 {
     if (g->fallbacks[0])
-        import_note(lens, "glass not in catalogs, n_d/V_d model used: %s", g->fallbacks);
+        lens_add_note(lens, "glass not in catalogs, n_d/V_d model used: %s", g->fallbacks);
+}
+
+void import_fnumber_from_epd(lens_t *lens, double epd_mm)
+{
+    paraxial_data p;
+    lens_err e;
+    if (paraxial_compute(lens, GLASS_D_LINE, &p, &e) == 0 && isfinite(p.efl) && p.efl != 0)
+        lens->fnumber = fabs(p.efl) / epd_mm;
+    else
+        lens_add_note(lens, "entrance pupil diameter %g mm", epd_mm);
 }

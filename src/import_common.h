@@ -5,18 +5,21 @@
  * line and token splitting, the "skipped: ..." note, and glass look-up across the
  * user's catalogs and the shipped one. Internal to the importers. */
 #include <stddef.h>
+#include <stdio.h>
 
 #include "diag.h"
 #include "glass.h"
 #include "lens.h"
+#include "lens_import.h"
 
 /* Decodes data into a fresh NUL-terminated 8-bit/UTF-8 buffer (caller frees).
  * UTF-16 LE/BE with BOM, or LE without BOM when it is plainly so, become UTF-8; a
  * UTF-8 BOM is dropped; anything else is taken byte for byte. NULL when out of memory. */
 char *import_decode(const char *data, size_t len);
 
-/* Reads a whole file (at most 64 MB). 0 on success. */
+/* Reads a whole file or stream (at most 64 MB; path names it in messages). 0 on success. */
 int import_read_file(const char *path, char **data, size_t *len, lens_err *err);
+int import_read_stream(FILE *f, const char *path, char **data, size_t *len, lens_err *err);
 
 /* Next line of a decoded buffer, split in place (\n, \r\n or \r); NULL at the end. */
 typedef struct {
@@ -47,16 +50,19 @@ void import_skips_note(const import_skips *sk, lens_t *lens);
 /* Appends "; "-separated text to lens->notes, ending in "..." if it does not fit. */
 void import_note(lens_t *lens, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
-/* Glass look-up: the extra catalogs (opt->catalogs), then the shipped one. */
+/* The nominal f-number (lens->fnumber) of a finished lens whose file gives the entrance
+ * pupil diameter (mm): efl / epd at the d line; a note instead when that fails. */
+void import_fnumber_from_epd(lens_t *lens, double epd_mm);
+
+/* Glass look-up through lens_import.h's material_ctx: the extra catalogs
+ * (opt->catalogs), glass.catalog beside the lens, then the shipped one. */
 typedef struct {
     const lens_load_options *opt;
-    glass_catalog *cat; /* all catalogs, loaded on first use */
-    int loaded;
-    char searched[400]; /* for "not found in ..." */
+    material_ctx m;      /* the catalogs, in lens_load's order, read on first use */
     char fallbacks[200]; /* glasses that fell back to nd/Vd, for the note */
 } import_glass_ctx;
 
-void import_glass_init(import_glass_ctx *g, const lens_load_options *opt);
+void import_glass_init(import_glass_ctx *g, const lens_load_options *opt, const char *lens_path);
 void import_glass_free(import_glass_ctx *g);
 
 /* Resolves a named glass into s->medium and s->material. nd, vd: the values the file

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "import_common.h"
+#include "lens_import.h"
 
 #define SEQ_MAX_TOK 24
 #define SEQ_INFINITE_OBJECT 1e9 /* CODE V writes 1e10 or more for an object at infinity */
@@ -43,7 +44,7 @@ typedef struct {
     int nwl, ref;
     double yan[24];
     int nyan;
-    char field_kind[16];
+    char field_kind[32];
 } seq_state;
 
 static void refuse(qsurf *q, long line, const char *why)
@@ -336,18 +337,18 @@ static void notes(seq_state *st)
                 break;
             o += (size_t)w;
         }
-        import_note(st->lens, "%s", buf);
+        lens_add_note(st->lens, "%s", buf);
     }
     if (st->nwl > 0) {
         o = (size_t)snprintf(buf, sizeof buf, "wavelengths (um):");
         for (int i = 0; i < st->nwl && o < sizeof buf; i++) {
-            int w = snprintf(buf + o, sizeof buf - o, " %g%s", st->wl[i] / 1000.0,
+            int w = snprintf(buf + o, sizeof buf - o, " %.7g%s", st->wl[i] / 1000.0,
                              i + 1 == st->ref ? " (primary)" : "");
             if (w < 0)
                 break;
             o += (size_t)w;
         }
-        import_note(st->lens, "%s", buf);
+        lens_add_note(st->lens, "%s", buf);
     }
 }
 
@@ -373,14 +374,14 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
             return -1;
         }
         if (isfinite(o->thick) && fabs(o->thick) < SEQ_INFINITE_OBJECT)
-            import_note(lens, "object at %g mm in the file; read for an object at infinity",
+            lens_add_note(lens, "object at %g mm in the file; read for an object at infinity",
                         o->thick * st->unit);
     }
     if (end < st->ns && st->s[end].curv != 0)
         import_skip(&st->skips, "curved image surface (flat sensor used)");
 
     import_glass_ctx gl;
-    import_glass_init(&gl, opt);
+    import_glass_init(&gl, opt, st->path);
     double u = st->unit;
     int have_stop = 0, missing_cir = 0;
     for (size_t i = first; i < end; i++) {
@@ -417,7 +418,7 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
     import_glass_free(&gl);
     if (!have_stop) {
         lens->surf[0].is_stop = 1;
-        import_note(lens, "no STO in the file; the first surface is the stop");
+        lens_add_note(lens, "no STO in the file; the first surface is the stop");
     }
     if (missing_cir) {
         lens_errf(err, st->path, 0,
@@ -426,13 +427,15 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
                   missing_cir, missing_cir > 1 ? "s" : "");
         return -1;
     }
+    notes(st);
+    import_skips_note(&st->skips, lens);
+    if (lens_finish(lens, err) != 0)
+        return -1;
     if (isfinite(st->fno) && st->fno > 0)
         lens->fnumber = st->fno;
     else if (isfinite(st->epd) && st->epd > 0)
-        import_note(lens, "entrance pupil diameter %g mm", st->epd * u);
-    notes(st);
-    import_skips_note(&st->skips, lens);
-    return lens_finish(lens, err);
+        import_fnumber_from_epd(lens, st->epd * u);
+    return 0;
 }
 
 int lens_parse_seq(const char *data, size_t len, const char *path,
@@ -493,12 +496,13 @@ int lens_parse_seq(const char *data, size_t len, const char *path,
     return rc;
 }
 
-int lens_import_seq(const char *path, const lens_load_options *opt, lens_t *lens, lens_err *err)
+int lens_read_seq(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
+                  lens_err *err)
 {
     char *data;
     size_t len;
     lens_init(lens);
-    if (import_read_file(path, &data, &len, err) != 0)
+    if (import_read_stream(f, path, &data, &len, err) != 0)
         return -1;
     int rc = lens_parse_seq(data, len, path, opt, lens, err);
     free(data);

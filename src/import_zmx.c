@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "import_common.h"
+#include "lens_import.h"
 
 #define ZMX_MAX_TOK 24
 #define ZMX_NPARM 9 /* PARM 1..8 used by the even asphere (r^2 .. r^16) */
@@ -260,7 +261,7 @@ static int system_key(zmx_state *st, char *raw, char **tok, int n, long line, le
         long m;
         if (n > 1 && parse_long(tok[1], &m) == 0)
             st->mnum = (int)m;
-    } else if (import_eq(k, "CONF") || import_eq(k, "CONG")) {
+    } else if (import_eq(k, "CONF") || import_eq(k, "CONG") || import_eq(k, "MOFF")) {
         import_skip(&st->skips, "multi-configuration operands");
     } else if (!strncmp(k, "TOL", 3)) {
         import_skip(&st->skips, "tolerance operands");
@@ -347,19 +348,19 @@ static void fields_and_waves_note(zmx_state *st)
                 break;
             o += (size_t)w;
         }
-        import_note(st->lens, "%s", buf);
+        lens_add_note(st->lens, "%s", buf);
     }
     int nw = st->nwaves > 0 && st->nwaves <= st->nwave_read ? st->nwaves : st->nwave_read;
     if (nw > 0) {
         o = (size_t)snprintf(buf, sizeof buf, "wavelengths (um):");
         for (int i = 0; i < nw && o < sizeof buf; i++) {
-            int w = snprintf(buf + o, sizeof buf - o, " %g%s", st->wave[i],
+            int w = snprintf(buf + o, sizeof buf - o, " %.7g%s", st->wave[i],
                              i + 1 == st->pwav ? " (primary)" : "");
             if (w < 0)
                 break;
             o += (size_t)w;
         }
-        import_note(st->lens, "%s", buf);
+        lens_add_note(st->lens, "%s", buf);
     }
 }
 
@@ -388,15 +389,15 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
         return -1;
     }
     if (isfinite(obj->disz) && obj->disz < 1e9)
-        import_note(lens, "object at %g mm in the file; read for an object at infinity",
+        lens_add_note(lens, "object at %g mm in the file; read for an object at infinity",
                     obj->disz * st->unit);
     if (img->curv != 0)
         import_skip(&st->skips, "curved image surface (flat sensor used)");
     if (st->mnum > 1)
-        import_note(lens, "%d configurations in the file; the first is read", st->mnum);
+        lens_add_note(lens, "%d configurations in the file; the first is read", st->mnum);
 
     import_glass_ctx gl;
-    import_glass_init(&gl, opt);
+    import_glass_init(&gl, opt, st->path);
     double u = st->unit;
     int air_before = 1, merged = 0, have_stop = 0;
     for (size_t i = 1; i + 1 < st->ns; i++) {
@@ -455,18 +456,20 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
     }
     if (!have_stop) {
         lens->surf[0].is_stop = 1;
-        import_note(lens, "no STOP surface in the file; the first surface is the stop");
+        lens_add_note(lens, "no STOP surface in the file; the first surface is the stop");
     }
     if (merged)
-        import_note(lens, "%d flat air-to-air dummy surface%s merged into the gaps", merged,
+        lens_add_note(lens, "%d flat air-to-air dummy surface%s merged into the gaps", merged,
                     merged > 1 ? "s" : "");
+    fields_and_waves_note(st);
+    import_skips_note(&st->skips, lens);
+    if (lens_finish(lens, err) != 0)
+        return -1;
     if (isfinite(st->fnum) && st->fnum > 0)
         lens->fnumber = st->fnum;
     else if (isfinite(st->epd) && st->epd > 0)
-        import_note(lens, "entrance pupil diameter %g mm", st->epd * u);
-    fields_and_waves_note(st);
-    import_skips_note(&st->skips, lens);
-    return lens_finish(lens, err);
+        import_fnumber_from_epd(lens, st->epd * u);
+    return 0;
 }
 
 int lens_parse_zmx(const char *data, size_t len, const char *path,
@@ -546,12 +549,13 @@ int lens_parse_zmx(const char *data, size_t len, const char *path,
     return rc;
 }
 
-int lens_import_zmx(const char *path, const lens_load_options *opt, lens_t *lens, lens_err *err)
+int lens_read_zmx(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
+                  lens_err *err)
 {
     char *data;
     size_t len;
     lens_init(lens);
-    if (import_read_file(path, &data, &len, err) != 0)
+    if (import_read_stream(f, path, &data, &len, err) != 0)
         return -1;
     int rc = lens_parse_zmx(data, len, path, opt, lens, err);
     free(data);

@@ -82,6 +82,16 @@ void lens_cli_warn_notes(const char *prog, const lens_t *lens)
     size_t n = strlen(lens->path);
     if (n >= 5 && strcasecmp(lens->path + n - 5, ".lens") == 0)
         return; /* a converted lens carries its notes as header lines: said once, at conversion */
-    fprintf(stderr, "%s: warning: %s: %s\n", prog, lens->path[0] ? lens->path : "lens",
-            lens->notes);
+    const char *p = lens->notes;
+    while (*p) {
+        size_t len = strcspn(p, "\n");
+        /* Fields and wavelengths read from a design file are information, not warnings. */
+        int info = strncmp(p, "fields ", 7) == 0 || strncmp(p, "wavelengths ", 12) == 0;
+        if (!info)
+            fprintf(stderr, "%s: warning: %s: %.*s\n", prog, lens->path[0] ? lens->path : "lens",
+                (int)len, p);
+        p += len;
+        if (*p == '\n')
+            p++;
+    }
 }

@@ -45,8 +45,10 @@ int lens_cli_options_parse(lens_cli_options *o, int argc, char **argv, int *i, l
 /* The options to pass to lens_load(). */
 const lens_load_options *lens_cli_options_get(const lens_cli_options *o);
 
-/* Prints "prog: warning: PATH: NOTES" on stderr when an imported lens (any format but the
- * native .lens) carries notes of what was skipped or approximated. */
+/* Prints "prog: warning: PATH: NOTE", one line per note, on stderr when an imported lens
+ * (any format but the native .lens) carries notes of what was skipped or approximated.
+ * Notes starting "fields " or "wavelengths " record what the file defines and are not
+ * printed. */
 void lens_cli_warn_notes(const char *prog, const lens_t *lens);
 
 #endif

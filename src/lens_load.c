@@ -4,6 +4,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "import.h"
 #include "lens.h"
 #include "lens_import.h"
 
@@ -14,6 +15,8 @@ static const struct {
     {".lens", lens_read_native},
     {".fx", lens_read_fx},
     {".dat", lens_read_pbrt},
+    {".zmx", lens_read_zmx},
+    {".seq", lens_read_seq},
 };
 
 static int has_ext(const char *path, const char *ext)
