@@ -352,6 +352,91 @@ static void notes(seq_state *st)
     }
 }
 
+/* Heights of a paraxial ray (y0, nu0 = n u in air) at every surface, d line. */
+static void trace_heights(const lens_t *lens, const double *n, double y, double nu, double *ys)
+{
+    double before = 1.0;
+    for (size_t i = 0; i < lens->nsurf; i++) {
+        const lens_surface *s = &lens->surf[i];
+        ys[i] = y;
+        nu -= y * (isfinite(s->radius) ? 1.0 / s->radius : 0.0) * (n[i] - before);
+        y += s->thickness * nu / n[i];
+        before = n[i];
+    }
+}
+
+/* CODE V computes clear apertures itself, so .seq files often give no CIR. The
+ * unvignetted beam's paraxial footprint stands in: |marginal| + |chief| height, with the
+ * marginal ray at EPD/2 and the chief ray through the stop centre at the largest field
+ * angle (the axial beam alone when the fields are not angles). */
+static int estimate_apertures(seq_state *st, const int *missing, lens_err *err)
+{
+    lens_t *lens = st->lens;
+    size_t ns = lens->nsurf;
+    double *buf = malloc(4 * ns * sizeof *buf);
+    if (!buf) {
+        lens_errf(err, st->path, 0, "out of memory");
+        return -1;
+    }
+    double *n = buf, *ym = buf + ns, *ya = buf + 2 * ns, *yb = buf + 3 * ns;
+    for (size_t i = 0; i < ns; i++) {
+        lens_err e;
+        if (glass_index(&lens->surf[i].medium, GLASS_D_LINE, &n[i], &e) != 0) {
+            lens_errf(err, st->path, lens->surf[i].line, "%s", e.msg);
+            free(buf);
+            return -1;
+        }
+    }
+    trace_heights(lens, n, 1.0, 0.0, yb); /* for the efl and the chief ray */
+    double nu_last = 0, y = 1.0, before = 1.0;
+    for (size_t i = 0; i < ns; i++) { /* nu after the last surface */
+        const lens_surface *s = &lens->surf[i];
+        nu_last -= y * (isfinite(s->radius) ? 1.0 / s->radius : 0.0) * (n[i] - before);
+        y += s->thickness * nu_last / n[i];
+        before = n[i];
+    }
+    double efl = nu_last != 0 ? -1.0 / nu_last : NAN;
+    double epd = isfinite(st->epd) && st->epd > 0 ? st->epd * st->unit
+                 : isfinite(st->fno) && st->fno > 0 ? fabs(efl) / st->fno : NAN;
+    if (!(epd > 0) || !isfinite(epd)) {
+        free(buf);
+        int k = 0;
+        for (size_t i = 0; i < ns; i++)
+            k += missing[i];
+        lens_errf(err, st->path, 0,
+                  "%d surface%s without a clear aperture (CIR), and no EPD or FNO to compute "
+                  "them from",
+                  k, k > 1 ? "s" : "");
+        return -1;
+    }
+    trace_heights(lens, n, epd / 2, 0.0, ym);
+    double field = 0;
+    int angles = strcmp(st->field_kind, "angle (deg)") == 0;
+    for (int i = 0; angles && i < st->nyan; i++)
+        field = fmax(field, fabs(st->yan[i]));
+    if (field >= 90)
+        field = 0;
+    double nu0 = tan(field * M_PI / 180);
+    trace_heights(lens, n, 0.0, nu0, ya);
+    int stop = 0;
+    for (size_t i = 0; i < ns; i++)
+        if (lens->surf[i].is_stop)
+            stop = (int)i;
+    double y0 = yb[stop] != 0 ? -ya[stop] / yb[stop] : 0;
+    int k = 0;
+    for (size_t i = 0; i < ns; i++)
+        if (missing[i]) {
+            lens->surf[i].semi_diameter = fabs(ym[i]) + fabs(ya[i] + y0 * yb[i]);
+            k++;
+        }
+    lens_add_note(lens,
+                  "%d clear aperture%s not in the file, set from paraxial rays (EPD %g mm, "
+                  "field %g deg)",
+                  k, k > 1 ? "s" : "", epd, field);
+    free(buf);
+    return 0;
+}
+
 static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
 {
     lens_t *lens = st->lens;
@@ -384,11 +469,18 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
     import_glass_init(&gl, opt, st->path);
     double u = st->unit;
     int have_stop = 0, missing_cir = 0;
+    int *missing = calloc(end - first, sizeof *missing);
+    if (!missing) {
+        import_glass_free(&gl);
+        lens_errf(err, st->path, 0, "out of memory");
+        return -1;
+    }
     for (size_t i = first; i < end; i++) {
         const qsurf *q = &st->s[i];
         lens_surface *s = lens_add_surface(lens);
         if (!s) {
             import_glass_free(&gl);
+            free(missing);
             lens_errf(err, st->path, 0, "out of memory");
             return -1;
         }
@@ -396,6 +488,7 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
         s->radius = q->curv != 0 ? 1.0 / (q->curv / u) : INFINITY;
         s->thickness = q->thick * u;
         s->semi_diameter = q->cir * u;
+        missing[lens->nsurf - 1] = !(q->cir > 0);
         missing_cir += !(q->cir > 0);
         s->conic = q->conic;
         for (int a = 0; a < LENS_ASPHERE_TERMS; a++)
@@ -411,6 +504,7 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
         } else if (import_glass_lookup(&gl, q->glass, NAN, NAN, st->path, q->glass_line, s,
                                        err) != 0) {
             import_glass_free(&gl);
+            free(missing);
             return -1;
         }
     }
@@ -420,13 +514,10 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
         lens->surf[0].is_stop = 1;
         lens_add_note(lens, "no STO in the file; the first surface is the stop");
     }
-    if (missing_cir) {
-        lens_errf(err, st->path, 0,
-                  "%d surface%s without a clear aperture (CIR): sparselens needs a "
-                  "semi-diameter on every surface",
-                  missing_cir, missing_cir > 1 ? "s" : "");
+    int rc = missing_cir ? estimate_apertures(st, missing, err) : 0;
+    free(missing);
+    if (rc != 0)
         return -1;
-    }
     notes(st);
     import_skips_note(&st->skips, lens);
     if (lens_finish(lens, err) != 0)

@@ -100,7 +100,7 @@ static void test_refusals(void **state)
     expect_error("SO 0 1e10\nS 50 5 NBK7_SCHOTT; CIR 5; STO\nS -50 40; CIR 5\n  ADE 2\nSI 0 0\n",
                  "surface 2", "tilted");
     expect_error("SO 0 1e10\nS 50 5 NBK7_SCHOTT; STO\nS -50 40; CIR 5\nSI 0 0\n",
-                 "without a clear aperture", NULL);
+                 "without a clear aperture (CIR), and no EPD or FNO", NULL);
     expect_error("SO 0 1e10\nS 50 5 UNOBTAINIUM_ACME; CIR 5; STO\nS -50 40; CIR 5\nSI 0 0\n",
                  "mem.seq:2: glass UNOBTAINIUM_ACME not found in", "test.agf");
     expect_error("SO 0 1e10\nS 50 five; CIR 5\n", "mem.seq:2", "thickness");
@@ -115,6 +115,23 @@ static void test_refusals(void **state)
     if (lens_parse_seq(ok, strlen(ok), "mem.seq", NULL, &lens, &err) != 0)
         fail_msg("%s", err.msg);
     assert_non_null(strstr(lens.notes, "x fields"));
+    lens_free(&lens);
+}
+
+/* No CIR: apertures from paraxial rays. Stop on the first surface, so there the chief
+ * ray height is 0 and the semi-diameter is EPD/2 = 5. At the second: marginal ray
+ * 5 + 5 (-5 (0.5/50)) / 1.5 = 5 - 1/6, chief ray 5 tan(5 deg) / 1.5. */
+static void test_apertures_from_rays(void **state)
+{
+    (void)state;
+    const char *text = "EPD 10\nYAN 0 5\nSO 0 1e10\nS 50 5 1.5:60; STO\nS -50 49.15\nSI 0 0\n";
+    lens_t lens;
+    lens_err err;
+    if (lens_parse_seq(text, strlen(text), "mem.seq", NULL, &lens, &err) != 0)
+        fail_msg("%s", err.msg);
+    assert_near(lens.surf[0].semi_diameter, 5, 1e-12);
+    assert_near(lens.surf[1].semi_diameter, 5 - 1.0 / 6 + 5 * tan(5 * M_PI / 180) / 1.5, 1e-12);
+    assert_non_null(strstr(lens.notes, "2 clear apertures not in the file"));
     lens_free(&lens);
 }
 
@@ -146,7 +163,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_same_as_zmx), cmocka_unit_test(test_singlet),
         cmocka_unit_test(test_glass_codes), cmocka_unit_test(test_refusals),
-        cmocka_unit_test(test_truncated),
+        cmocka_unit_test(test_apertures_from_rays), cmocka_unit_test(test_truncated),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
