@@ -136,11 +136,13 @@ static void test_errors_and_utf16(void **state)
     expect_error("NM X 5 0 1.5 60 0 1\nCD 1.5 0.01 0.001\nLD 0.8 0.4\n", "mem.agf:3: LD");
     expect_error("NM X 5 0 1.5 60 0 1\nNM Y 5 0 1.5 60 0 1\nCD 1 0 0\n", "mem.agf:1: glass X has no CD");
     expect_error("NM X 5\n", "mem.agf:1: NM line");
+    /* n_d = 1.5 + 0.01 / 0.5875618 + ... = 1.52, not the 1.6 claimed: a wrong column */
+    expect_error("NM X 5 0 1.6 60 0 1\nCD 1.5 0.01 0.001\n", "mem.agf:1: glass X: formula 5");
     expect_error("CC nothing\n", "no glasses");
     expect_error("NM X 5 0 1.5 60 0 1\nCD 1.5 zero 0\n", "mem.agf:2: glass X: CD value 'zero'");
 
     /* The same records in UTF-16 LE with a byte-order mark, as Zemax writes them. */
-    const char *ascii = "CC utf-16\r\nNM U16 5 0 1.52 50 0 1\r\nCD 1.5 0.01 0.001 0 0\r\nLD 0.4 0.8\r\n";
+    const char *ascii = "CC utf-16\r\nNM U16 5 0 1.52345 50 0 1\r\nCD 1.5 0.01 0.001 0 0\r\nLD 0.4 0.8\r\n";
     size_t n = strlen(ascii);
     char *u16 = malloc(2 * n + 2);
     u16[0] = (char)0xFF;
