@@ -359,3 +359,20 @@ void import_fnumber_from_epd(lens_t *lens, double epd_mm)
     else
         lens_add_note(lens, "entrance pupil diameter %g mm", epd_mm);
 }
+
+double import_radius(double c, double unit)
+{
+    if (c == 0 || !isfinite(c))
+        return INFINITY;
+    double r = 1.0 / c;
+    char buf[40];
+    for (int prec = 1; prec <= 17; prec++) {
+        snprintf(buf, sizeof buf, "%.*g", prec, r);
+        double v = strtod(buf, NULL);
+        if (1.0 / v == c) {
+            r = v;
+            break;
+        }
+    }
+    return r * unit;
+}

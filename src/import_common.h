@@ -50,6 +50,11 @@ void import_skips_note(const import_skips *sk, lens_t *lens);
 /* Appends "; "-separated text to lens->notes, ending in "..." if it does not fit. */
 void import_note(lens_t *lens, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
+/* Radius in mm of a curvature c given per lens unit (unit mm long); INFINITY for c = 0.
+ * Of the decimal radii whose reciprocal is c exactly, the shortest: a file written from
+ * R = -435.7604 stores c = 1/R, and this gives back -435.7604, not -435.76040000000006. */
+double import_radius(double c, double unit);
+
 /* The nominal f-number (lens->fnumber) of a finished lens whose file gives the entrance
  * pupil diameter (mm): efl / epd at the d line; a note instead when that fails. */
 void import_fnumber_from_epd(lens_t *lens, double epd_mm);

@@ -23,6 +23,8 @@ typedef struct {
     long line;
     int kind; /* 'O' object, 'S' surface, 'I' image */
     double curv, thick, cir, conic;
+    double radius;    /* as written, when given_radius (0: flat) */
+    int given_radius; /* radius mode: keep the written radius exact */
     double asph[LENS_ASPHERE_TERMS]; /* A B C D E: r^4 .. r^12 */
     int stop;
     char glass[48];
@@ -93,7 +95,11 @@ static int define_surface(seq_state *st, qsurf *q, char **tok, int n, long line,
             lens_errf(err, st->path, line, "%s: expected a radius, found '%s'", tok[0], tok[1]);
             return -1;
         }
-        q->curv = st->curvature_mode ? v : (v != 0 ? 1.0 / v : 0.0);
+        q->given_radius = !st->curvature_mode;
+        if (st->curvature_mode)
+            q->curv = v;
+        else
+            q->radius = v;
     }
     if (n > 2) {
         if (parse_double(tok[2], &v) != 0) {
@@ -191,10 +197,11 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
     } else if (import_eq(k, "CUY")) {
         NEED_SURF();
         NEED_NUM(1, cur->curv);
+        cur->given_radius = 0;
     } else if (import_eq(k, "RDY")) {
         NEED_SURF();
-        NEED_NUM(1, v);
-        cur->curv = v != 0 ? 1.0 / v : 0.0;
+        NEED_NUM(1, cur->radius);
+        cur->given_radius = 1;
     } else if (import_eq(k, "THI")) {
         NEED_SURF();
         NEED_NUM(1, cur->thick);
@@ -462,7 +469,7 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
             lens_add_note(lens, "object at %g mm in the file; read for an object at infinity",
                         o->thick * st->unit);
     }
-    if (end < st->ns && st->s[end].curv != 0)
+    if (end < st->ns && (st->s[end].given_radius ? st->s[end].radius : st->s[end].curv) != 0)
         import_skip(&st->skips, "curved image surface (flat sensor used)");
 
     import_glass_ctx gl;
@@ -485,7 +492,10 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
             return -1;
         }
         s->line = q->line;
-        s->radius = q->curv != 0 ? 1.0 / (q->curv / u) : INFINITY;
+        if (q->given_radius)
+            s->radius = q->radius != 0 ? q->radius * u : INFINITY;
+        else
+            s->radius = import_radius(q->curv, u);
         s->thickness = q->thick * u;
         s->semi_diameter = q->cir * u;
         missing[lens->nsurf - 1] = !(q->cir > 0);

@@ -420,7 +420,7 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
             return -1;
         }
         s->line = z->line;
-        s->radius = z->curv != 0 ? 1.0 / (z->curv / u) : INFINITY;
+        s->radius = import_radius(z->curv, u);
         s->thickness = z->disz * u;
         s->semi_diameter = (z->clap > 0 ? z->clap : z->diam) * u;
         s->conic = z->coni;
