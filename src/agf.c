@@ -80,7 +80,7 @@ int agf_parse(const char *data, size_t len, const char *path, agf_add_fn add, vo
                 rc = -1;
                 break;
             }
-            if (f != floor(f) || glass_formula_ncoef((int)f) <= 0 || f < 1 || f > 13) {
+            if (!(f >= 1 && f <= 13) || f != floor(f) || glass_formula_ncoef((int)f) <= 0) {
                 lens_errf(err, path, it.line, "glass %s: unknown dispersion formula %s",
                           tok[1], tok[2]);
                 rc = -1;
