@@ -70,6 +70,17 @@ int lens_cli_options_parse(lens_cli_options *o, int argc, char **argv, int *i, l
     return 0;
 }
 
+int lens_cli_options_take(const char *prog, int argc, char **argv, int *i, lens_cli_options *o)
+{
+    lens_err err;
+    int r = lens_cli_options_parse(o, argc, argv, i, &err);
+    if (r < 0) {
+        diag_print(prog, &err);
+        exit(1);
+    }
+    return r;
+}
+
 const lens_load_options *lens_cli_options_get(const lens_cli_options *o)
 {
     return &o->opt;

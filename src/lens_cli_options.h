@@ -10,15 +10,15 @@
  *   lens_cli_options lo;
  *   lens_cli_options_init(&lo);
  *   for (int i = 1; i < argc; i++) {
- *       int r = lens_cli_options_parse(&lo, argc, argv, &i, &err);
- *       if (r < 0) { diag_print(prog, &err); return 1; }  // "--glass-catalog needs a FILE"
- *       if (r > 0) continue;                              // consumed (i advanced)
+ *       if (lens_cli_options_take(prog, argc, argv, &i, &lo))
+ *           continue;                      // one of ours, consumed (i advanced)
  *       ... the command's own flags ...
  *   }
- *   if (lens_load(path, lens_cli_options_get(&lo), &lens, &err) != 0) ...
- *   lens_cli_warn_notes(prog, &lens);  // "lens-x: warning: f.zmx: skipped: coatings (3)"
+ *   cli_load_lens(prog, path, lens_cli_options_get(&lo), &lens); // prints the warnings
+ *   ...
  *   lens_cli_options_free(&lo);
- */
+ *
+ * Put LENS_CLI_OPTIONS_HELP in the command's --help text. */
 #include "diag.h"
 #include "lens.h"
 
@@ -42,7 +42,10 @@ void lens_cli_options_free(lens_cli_options *o);
  * its last argument), 0 when it is not, -1 on a missing or bad value (err says which). */
 int lens_cli_options_parse(lens_cli_options *o, int argc, char **argv, int *i, lens_err *err);
 
-/* The options to pass to lens_load(). */
+/* The same for thin commands: a bad value prints "prog: ..." and exits 1. */
+int lens_cli_options_take(const char *prog, int argc, char **argv, int *i, lens_cli_options *o);
+
+/* The options to pass to lens_load() or cli_load_lens(). */
 const lens_load_options *lens_cli_options_get(const lens_cli_options *o);
 
 /* Prints "prog: warning: PATH: NOTE", one line per note, on stderr when an imported lens
