@@ -69,4 +69,9 @@ struct poly_system {
 int poly_part_for_radius(const poly_system *sys, double r);
 int poly_select_part(const poly_system *sys, const double *in);
 
+/* Shortest decimal that reads back as v ("inf" / "-inf" for infinities); buf >= 32. */
+void poly_format_number(char *buf, size_t len, double v);
+/* "x^2*u" for exponents e ("1" for the constant). */
+void poly_format_monomial(FILE *f, const poly_system *s, const int *e);
+
 #endif
