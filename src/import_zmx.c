@@ -69,7 +69,8 @@ static int silent_system_key(const char *k)
         "VERS", "PFIL", "LANG", "ENVD", "GFAC", "RAIM", "PUSH", "SDMA", "OMMA", "ROPD",
         "HYPR", "PICB", "FWGN", "FWGT", "POLS", "GLRS", "GSTD", "COFN", "SURP", "BLNK",
         "NOTE", "WWGT", "WWGN", "VDSZ", "SCOL", "SLAB", "RWRE", "BLNS", "TOLE", "MAZH",
-        "PPAR", "DMFS", "EFFL", "SDMS", NULL};
+        "PPAR", "DMFS", "EFFL", "SDMS", "NSCD", "NSCS", "FIMP", "MAZH",
+        "XFLM", "YFLM", "FWGM", "FTYM", NULL};
     for (int i = 0; keys[i]; i++)
         if (import_eq(k, keys[i]))
             return 1;
@@ -80,7 +81,7 @@ static int silent_surface_key(const char *k)
 {
     static const char *const keys[] = {"HIDE", "MIRR", "SLAB", "COMM", "POPS", "MEMA",
                                        "PZUP", "FLAP", "XDAT", "VPAR", "PPAR", "BLNK",
-                                       "IGNR", "SCOL", "COLR", NULL};
+                                       "SCOL", "COLR", "FIMP", "OEMA", "MAZH", NULL};
     for (int i = 0; keys[i]; i++)
         if (import_eq(k, keys[i]))
             return 1;
@@ -162,6 +163,9 @@ static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, le
                    "lenses only");
     } else if (import_eq(k, "COAT")) {
         import_skip(&st->skips, "coatings");
+    } else if (import_eq(k, "IGNR")) {
+        if (any_nonzero(tok, n, 1))
+            refuse(z, line, "%s", "is marked 'ignore this surface'; remove it in the design first");
     } else if (import_eq(k, "OBSC") || import_eq(k, "OBDC")) {
         import_skip(&st->skips, "obscurations");
     } else if (import_eq(k, "SQAP") || import_eq(k, "ELAP") || import_eq(k, "UDAP")) {
@@ -194,8 +198,10 @@ static int system_key(zmx_state *st, char *raw, char **tok, int n, long line, le
         }
     } else if (import_eq(k, "NAME")) {
         /* The name is the rest of the line, blanks included. */
-        const char *p = strstr(raw, "NAME");
-        p = p ? p + 4 : "";
+        const char *p = raw;
+        while (*p == ' ' || *p == '\t')
+            p++;
+        p += 4; /* the keyword, in whatever case */
         while (*p == ' ' || *p == '\t')
             p++;
         snprintf(st->lens->name, sizeof st->lens->name, "%s", p);
@@ -265,7 +271,7 @@ static int system_key(zmx_state *st, char *raw, char **tok, int n, long line, le
         import_skip(&st->skips, "multi-configuration operands");
     } else if (!strncmp(k, "TOL", 3)) {
         import_skip(&st->skips, "tolerance operands");
-    } else if (!strncmp(k, "NSC", 3) || !strncmp(k, "NSO", 3)) {
+    } else if (!strncmp(k, "NSO", 3) || import_eq(k, "NSCO")) {
         import_skip(&st->skips, "non-sequential objects");
     } else if (!strncmp(k, "MFE", 3) || import_eq(k, "MNCA") || import_eq(k, "OPER")) {
         import_skip(&st->skips, "merit function");
