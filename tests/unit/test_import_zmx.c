@@ -7,6 +7,8 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <unistd.h>
+
 #include "import.h"
 #include "import_check.h"
 
@@ -226,6 +228,30 @@ static void test_refusals(void **state)
     lens_free(&lens);
 }
 
+/* Without the extension the content decides: the BOM, or a VERS line; RDM for CODE V. */
+static void test_sniffed(void **state)
+{
+    (void)state;
+    static const char *const names[] = {"singlet.zmx", "singlet_cm.zmx", "singlet.seq"};
+    for (int i = 0; i < 3; i++) {
+        char src[128], dst[128];
+        snprintf(src, sizeof src, DATA "%s", names[i]);
+        snprintf(dst, sizeof dst, "/tmp/sparselens-sniff-%ld-%d.txt", (long)getpid(), i);
+        size_t len;
+        char *data = slurp(src, &len);
+        FILE *f = fopen(dst, "wb");
+        assert_non_null(f);
+        assert_int_equal(fwrite(data, 1, len, f), len);
+        fclose(f);
+        free(data);
+        lens_t lens;
+        load(dst, NULL, &lens);
+        assert_near(first_order(&lens).efl, 1 / (0.5 * (0.04 - 2.5 / 3750)), 1e-9);
+        lens_free(&lens);
+        remove(dst);
+    }
+}
+
 /* A glass in no catalog: the message names it and the catalogs searched; with the
  * n_d/V_d fallback the file's values are used and the fallback is noted. */
 static void test_missing_glass(void **state)
@@ -294,7 +320,7 @@ int main(void)
         cmocka_unit_test(test_doublet_catalog), cmocka_unit_test(test_asphere_units),
         cmocka_unit_test(test_cooke),           cmocka_unit_test(test_double_gauss),
         cmocka_unit_test(test_refusals),        cmocka_unit_test(test_missing_glass),
-        cmocka_unit_test(test_truncated),
+        cmocka_unit_test(test_truncated),       cmocka_unit_test(test_sniffed),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
