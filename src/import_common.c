@@ -350,14 +350,32 @@ void import_glass_note(const import_glass_ctx *g, lens_t *lens)
         lens_add_note(lens, "glass not in catalogs, n_d/V_d model used: %s", g->fallbacks);
 }
 
-void import_fnumber_from_epd(lens_t *lens, double epd_mm)
+int import_set_aperture(lens_t *lens, double fnumber, double epd_mm, const char *what,
+                        lens_err *err)
 {
     paraxial_data p;
     lens_err e;
-    if (paraxial_compute(lens, GLASS_D_LINE, &p, &e) == 0 && isfinite(p.efl) && p.efl != 0)
-        lens->fnumber = fabs(p.efl) / epd_mm;
-    else
-        lens_add_note(lens, "entrance pupil diameter %g mm", epd_mm);
+    if (paraxial_compute(lens, GLASS_D_LINE, &p, &e) != 0 || !(p.fnumber > 0) ||
+        !isfinite(p.fnumber)) {
+        lens_add_note(lens, "aperture %s not applied (no paraxial f-number: %s)", what,
+                      e.msg);
+        return 0;
+    }
+    double target = fnumber > 0 ? fnumber : fabs(p.efl) / epd_mm;
+    lens_surface *s = &lens->surf[lens->stop];
+    double old = s->semi_diameter, sd = old * p.fnumber / target;
+    if (!isfinite(sd) || isnan(lens_sag(s, sd * sd))) {
+        lens_errf(err, lens->path, s->line,
+                  "%s needs a stop semi-diameter of %g mm, more than surface %d can have", what,
+                  sd, lens->stop + 1);
+        return -1;
+    }
+    s->semi_diameter = sd;
+    if (fabs(sd - old) > 1e-6 * old)
+        lens_add_note(lens, "stop semi-diameter %.6g mm from %s (the file's is %g)", sd, what,
+                      old);
+    lens->fnumber = target;
+    return 0;
 }
 
 double import_radius(double c, double unit)

@@ -55,9 +55,13 @@ void import_note(lens_t *lens, const char *fmt, ...) __attribute__((format(print
  * R = -435.7604 stores c = 1/R, and this gives back -435.7604, not -435.76040000000006. */
 double import_radius(double c, double unit);
 
-/* The nominal f-number (lens->fnumber) of a finished lens whose file gives the entrance
- * pupil diameter (mm): efl / epd at the d line; a note instead when that fails. */
-void import_fnumber_from_epd(lens_t *lens, double epd_mm);
+/* The system aperture of a design file, applied to a finished lens: the stop's
+ * semi-diameter is scaled so that the paraxial f-number (d line, object at infinity) is
+ * fnumber, or efl / epd_mm when fnumber is 0 (design programs derive the stop size from
+ * these, so the file's stop semi-diameter may be stale). Sets lens->fnumber; notes a
+ * change of the stop; -1 (err) when the stop surface cannot be that large. */
+int import_set_aperture(lens_t *lens, double fnumber, double epd_mm, const char *what,
+                        lens_err *err);
 
 /* Glass look-up through lens_import.h's material_ctx: the extra catalogs
  * (opt->catalogs), glass.catalog beside the lens, then the shipped one. */

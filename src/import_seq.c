@@ -533,9 +533,9 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
     if (lens_finish(lens, err) != 0)
         return -1;
     if (isfinite(st->fno) && st->fno > 0)
-        lens->fnumber = st->fno;
-    else if (isfinite(st->epd) && st->epd > 0)
-        import_fnumber_from_epd(lens, st->epd * u);
+        return import_set_aperture(lens, st->fno, 0, "FNO", err);
+    if (isfinite(st->epd) && st->epd > 0)
+        return import_set_aperture(lens, 0, st->epd * u, "EPD", err);
     return 0;
 }
 

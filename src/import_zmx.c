@@ -472,9 +472,9 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
     if (lens_finish(lens, err) != 0)
         return -1;
     if (isfinite(st->fnum) && st->fnum > 0)
-        lens->fnumber = st->fnum;
-    else if (isfinite(st->epd) && st->epd > 0)
-        import_fnumber_from_epd(lens, st->epd * u);
+        return import_set_aperture(lens, st->fnum, 0, "FNUM", err);
+    if (isfinite(st->epd) && st->epd > 0)
+        return import_set_aperture(lens, 0, st->epd * u, "ENPD", err);
     return 0;
 }
 

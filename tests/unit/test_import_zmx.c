@@ -148,6 +148,11 @@ static void test_cooke(void **state)
     assert_near(p.efl, f, 1e-9 * f);
     assert_near(p.bfl, b, 1e-9 * f);
     assert_near(p.efl, 50, 0.05); /* the design's focal length */
+    /* ENPD 10: the stop is scaled so that the entrance pupil is 10 mm (f/5.002). */
+    assert_near(p.entrance_pupil_diameter, 10, 1e-9);
+    assert_near(p.fnumber, f / 10, 1e-9);
+    assert_near(lens.fnumber, f / 10, 1e-9);
+    assert_non_null(strstr(lens.notes, "stop semi-diameter"));
     lens_free(&lens);
 }
 
@@ -168,6 +173,7 @@ static void test_double_gauss(void **state)
     assert_near(p.efl, f, 1e-9 * f);
     assert_near(p.bfl, b, 1e-9 * f);
     assert_true(near_rel(p.efl, 50, 0.01)); /* the patent's 100 mm, halved */
+    assert_near(p.fnumber, 2, 1e-12);       /* FNUM 2 */
     lens_free(&lens);
 }
 
