@@ -350,6 +350,9 @@ static void fields_and_waves_note(zmx_state *st)
     int nf = st->nfields > 0 && st->nfields <= 12 ? st->nfields : (st->ny > st->nx ? st->ny : st->nx);
     if (nf > st->ny)
         nf = st->ny;
+    if (st->nfields <= 0) /* no count in the file: the unused slots are the trailing zeros */
+        while (nf > 1 && st->yfield[nf - 1] == 0 && (nf > st->nx || st->xfield[nf - 1] == 0))
+            nf--;
     if (nf > 0) {
         static const char *const kind[] = {"angle (deg)", "object height", "paraxial image height",
                                            "real image height"};
