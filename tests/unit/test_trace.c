@@ -11,6 +11,7 @@
 
 #include "fixture_lenses.h"
 #include "trace.h"
+#include "trace_packet.h"
 
 static uint64_t lcg(uint64_t *st)
 {
@@ -353,6 +354,50 @@ static void test_batch(void **state)
     lens_free(&L);
 }
 
+/* Every SIMD width of the packet kernel gives the same bits as the 2-lane one. */
+static void test_packet_widths(void **state)
+{
+    (void)state;
+    lens_t L;
+    assert_int_equal(fixture_fisheye_ii(&L), 0);
+    enum { M = 8 * 50 };
+    static double nbuf[M][32];
+    static lens_ray ref[M], got[M];
+    static trace_result rref[M], rgot[M];
+    const double *np[M];
+    uint64_t st = 3;
+    lens_err e;
+    for (int i = 0; i < M; i++) {
+        double in[4];
+        rear_ray(&L, &st, 14.5, in);
+        ray_from_sensor(&L, in, &ref[i]);
+        assert_int_equal(lens_indices(&L, 0.4 + 0.3 * unif(&st), nbuf[i], &e), 0);
+        np[i] = nbuf[i];
+    }
+    memcpy(got, ref, sizeof got);
+    trace_packet_to_object_w(&L, np, M, ref, 0, rref, 2);
+    for (int w = 4; w <= trace_packet_width(); w *= 2) {
+        for (int last = 0; last <= 1; last++) {
+            lens_ray a[M];
+            memcpy(a, got, sizeof a);
+            if (last) {
+                lens_ray b[M];
+                trace_result rb[M];
+                memcpy(b, got, sizeof b);
+                trace_packet_to_object_w(&L, np, M, b, L.stop, rb, 2);
+                trace_packet_to_object_w(&L, np, M, a, L.stop, rgot, w);
+                assert_memory_equal(a, b, sizeof a);
+                assert_memory_equal(rgot, rb, sizeof rb);
+            } else {
+                trace_packet_to_object_w(&L, np, M, a, 0, rgot, w);
+                assert_memory_equal(a, ref, sizeof a);
+                assert_memory_equal(rgot, rref, sizeof rgot);
+            }
+        }
+    }
+    lens_free(&L);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -360,6 +405,7 @@ int main(void)
         cmocka_unit_test(test_reversibility),    cmocka_unit_test(test_paraxial_limit),
         cmocka_unit_test(test_tir_and_clipping), cmocka_unit_test(test_hard_cases),
         cmocka_unit_test(test_wavelength_range), cmocka_unit_test(test_batch),
+        cmocka_unit_test(test_packet_widths),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
