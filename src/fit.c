@@ -326,17 +326,18 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
     c.threads = opt->threads > 0 ? opt->threads : omp_get_max_threads();
     poly_system *sys = NULL;
     sys_fit best = {0}, cur = {0};
-    double *lo = NULL, *hi = NULL;
+    double *lo = NULL, *hi = NULL, *off = NULL, *scl = NULL;
     if (ninputs < 1 || ninputs > FIT_MAX_VARS || noutputs < 1) {
         lens_errf(err, NULL, 0, "need 1 to %d inputs and at least one output", FIT_MAX_VARS);
         return NULL;
     }
-    if (opt->max_terms < 1 || opt->max_degree < 0 || opt->max_degree > FIT_MAX_DEG ||
+    if (opt->max_terms < 1 || opt->max_degree < 0 || opt->max_degree > FIT_MAX_DEG || opt->max_degree > POLY_MAX_DEGREE ||
         opt->max_parts < 1 || !(opt->holdout >= 0 && opt->holdout < 1) ||
         !(opt->tolerance >= 0)) {
         lens_errf(err, NULL, 0,
                   "bad fit options (terms >= 1, 0 <= degree <= %d, parts >= 1, "
-                  "0 <= holdout < 1, tolerance >= 0)", FIT_MAX_DEG);
+                  "0 <= holdout < 1, tolerance >= 0)",
+                  FIT_MAX_DEG < POLY_MAX_DEGREE ? FIT_MAX_DEG : POLY_MAX_DEGREE);
         return NULL;
     }
     if (count == 0) {
@@ -355,7 +356,9 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
     c.hold = calloc(count, 1);
     lo = malloc((size_t)ninputs * sizeof *lo);
     hi = malloc((size_t)ninputs * sizeof *hi);
-    if (!c.s || !c.y || !c.hold || !lo || !hi) {
+    off = malloc((size_t)ninputs * sizeof *off);
+    scl = malloc((size_t)ninputs * sizeof *scl);
+    if (!c.s || !c.y || !c.hold || !lo || !hi || !off || !scl) {
         lens_errf(err, NULL, 0, "out of memory");
         goto fail;
     }
@@ -395,10 +398,24 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
             goto fail;
         }
     }
+    /* Scaling to [-1, 1]. An input whose range straddles 0 evenly (sensor and
+     * direction coordinates) is scaled without an offset, so that the symmetry of the
+     * lens (out_x odd in x and u, ...) stays a sparsity pattern: an offset of 1e-3 would
+     * turn every odd term into a sum of odd and even ones. Others are centred. */
+    for (int i = 0; i < ninputs; i++) {
+        double a = -lo[i], bnd = hi[i];
+        if (a > 0 && bnd > 0 && fmin(a, bnd) >= 0.25 * fmax(a, bnd)) {
+            off[i] = 0;
+            scl[i] = fmax(a, bnd);
+        } else {
+            off[i] = 0.5 * (lo[i] + hi[i]);
+            scl[i] = 0.5 * (hi[i] - lo[i]);
+        }
+    }
     for (size_t r = 0; r < n; r++)
         for (int i = 0; i < ninputs; i++) {
             double *v = c.s + r * ninputs + i;
-            *v = (*v - 0.5 * (lo[i] + hi[i])) / (0.5 * (hi[i] - lo[i]));
+            *v = (*v - off[i]) / scl[i];
         }
     /* Held-out rows: a seeded shuffle, so the split is reproducible. */
     size_t nho = (size_t)floor(opt->holdout * (double)n);
@@ -437,8 +454,8 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
         c.order[r] = r;
         c.rad[r] = 0;
         if (ix >= 0 && iy >= 0) {
-            double x = c.s[r * ninputs + ix] * 0.5 * (hi[ix] - lo[ix]) + 0.5 * (hi[ix] + lo[ix]);
-            double y = c.s[r * ninputs + iy] * 0.5 * (hi[iy] - lo[iy]) + 0.5 * (hi[iy] + lo[iy]);
+            double x = c.s[r * ninputs + ix] * scl[ix] + off[ix];
+            double y = c.s[r * ninputs + iy] * scl[iy] + off[iy];
             c.rad[r] = hypot(x, y);
         }
     }
@@ -488,7 +505,7 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
         goto fail;
     }
     for (int i = 0; i < ninputs; i++) {
-        poly_set_scaling(sys, i, 0.5 * (lo[i] + hi[i]), 0.5 * (hi[i] - lo[i]));
+        poly_set_scaling(sys, i, off[i], scl[i]);
         poly_set_domain(sys, i, lo[i], hi[i]);
     }
     for (int p = 0; p < best.nparts; p++) {
@@ -540,6 +557,6 @@ done:
     sys_fit_free(&best, noutputs);
     sys_fit_free(&cur, noutputs);
     fit_basis_free(&c.b);
-    free(c.s); free(c.y); free(c.hold); free(c.rad); free(c.order); free(lo); free(hi);
+    free(c.s); free(c.y); free(c.hold); free(c.rad); free(c.order); free(lo); free(hi); free(off); free(scl);
     return sys;
 }
