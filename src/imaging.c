@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "field_of_view.h"
 #include "paraxial.h"
 #include "poly_solve.h"
 
@@ -219,4 +220,107 @@ int imaging_paraxial_shift(const lens_t *lens, double object_distance, double la
         return -1;
     *shift = t - lens->surf[lens->nsurf - 1].thickness;
     return 0;
+}
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t a = strlen(s), b = strlen(suffix);
+    return a >= b && strcmp(s + a - b, suffix) == 0;
+}
+
+static int load_system(const char *path, poly_system **sys, lens_err *err)
+{
+    if (poly_read(path, sys, err) != 0)
+        return -1;
+    lens_err e2;
+    if (poly_solve_check(*sys, &e2) != 0) {
+        lens_errf(err, path, 0, "%s", e2.msg);
+        poly_free(*sys);
+        *sys = NULL;
+        return -1;
+    }
+    return 0;
+}
+
+int imaging_models_load(const char *path, const char *compare, const char *lens_path,
+                        imaging_models *m, lens_err *err)
+{
+    memset(m, 0, sizeof *m);
+    lens_init(&m->lens);
+    if (ends_with(path, ".poly")) {
+        if (compare) {
+            lens_errf(err, NULL, 0, "--compare needs a lens as the first argument, not a system");
+            return -1;
+        }
+        if (load_system(path, &m->sys, err) != 0)
+            return -1;
+        const char *lp = lens_path ? lens_path : poly_lens_path(m->sys);
+        if (!lp || !*lp) {
+            lens_errf(err, path, 0, "the system records no lens file; give it with --lens");
+            imaging_models_free(m);
+            return -1;
+        }
+        if (lens_load(lp, NULL, &m->lens, err) != 0) {
+            imaging_models_free(m);
+            return -1;
+        }
+        return 0;
+    }
+    if (lens_load(path, NULL, &m->lens, err) != 0)
+        return -1;
+    if (compare && load_system(compare, &m->compare, err) != 0) {
+        imaging_models_free(m);
+        return -1;
+    }
+    return 0;
+}
+
+void imaging_models_free(imaging_models *m)
+{
+    poly_free(m->sys);
+    poly_free(m->compare);
+    lens_free(&m->lens);
+    m->sys = m->compare = NULL;
+}
+
+int imaging_models_setup(const imaging_models *m, double object_distance, imaging im[2],
+                         const char *names[2])
+{
+    imaging base = {.lens = &m->lens, .sys = NULL, .object_distance = object_distance};
+    im[0] = base;
+    names[0] = "lens";
+    if (m->sys) {
+        im[0].sys = m->sys;
+        names[0] = "poly";
+        return 1;
+    }
+    if (!m->compare)
+        return 1;
+    im[1] = base;
+    im[1].sys = m->compare;
+    names[1] = "poly";
+    return 2;
+}
+
+int imaging_default_fields(const imaging *im, double lambda, double *field, lens_err *err)
+{
+    if (!isinf(im->object_distance)) {
+        lens_errf(err, NULL, 0, "give --fields (object heights in mm) for a finite object distance");
+        return -1;
+    }
+    double maxf;
+    if (imaging_max_field(im, lambda, 179.0, &maxf, err) != 0)
+        return -1;
+    const lens_t *l = im->lens;
+    if (isfinite(l->sensor_w) && isfinite(l->sensor_h)) {
+        double r = 0.5 * hypot(l->sensor_w, l->sensor_h), fov, used;
+        if (lens_field_of_view(l, lambda, r, &fov, &used, NULL) == 0 && fov / 2 < maxf)
+            maxf = fov / 2;
+    }
+    /* a hair inside the last passing chief ray */
+    maxf = floor(maxf * 0.999 * 100) / 100;
+    field[0] = 0;
+    field[1] = round(0.7 * maxf * 100) / 100;
+    field[2] = maxf;
+    return maxf > 0 ? 3 : 1;
 }

@@ -68,4 +68,26 @@ int imaging_max_field(const imaging *im, double lambda, double limit, double *fi
 int imaging_paraxial_shift(const lens_t *lens, double object_distance, double lambda,
                            double *shift, lens_err *err);
 
+/* What a command was given: a lens (any format lens_load reads) or a .poly system
+ * (name ending in .poly; its lens from lens_path, else the path recorded in it), and
+ * optionally a system to show beside the lens (compare). */
+typedef struct {
+    lens_t lens;
+    poly_system *sys;     /* the input was a system */
+    poly_system *compare; /* --compare */
+} imaging_models;
+
+int imaging_models_load(const char *path, const char *compare, const char *lens_path,
+                        imaging_models *m, lens_err *err);
+void imaging_models_free(imaging_models *m);
+/* Fills im[] and names[] ("lens", "poly") for the models given; returns their count. */
+int imaging_models_setup(const imaging_models *m, double object_distance, imaging im[2],
+                         const char *names[2]);
+
+/* Default fields when none are given: 0, 0.7 and 1 times the largest field (object at
+ * infinity: the half field of view of the sensor diagonal from the lens header, clipped
+ * to the image circle; without a sensor, the largest field whose chief ray passes).
+ * Returns the count, or -1 with err set. */
+int imaging_default_fields(const imaging *im, double lambda, double *field, lens_err *err);
+
 #endif
