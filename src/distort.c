@@ -68,46 +68,65 @@ static int bundle_flux(const imaging *im, const double *n, double lambda, double
     double d[3] = {chief.d[0], chief.d[1], chief.d[2]}, e1[3], e2[3];
     frame(d, e1, e2);
     double P[3] = {0, -f, -im->object_distance};
-    /* Extent of the beam: the rays aimed at the rim of the stop, in beam coordinates. */
+    /* Extent of the beam: rays aimed at the rim of the stop (or further in, when the rim
+     * cannot be reached), in beam coordinates; then widened until no passing ray lies
+     * in the outer ring of the grid, so the whole transmitted bundle is counted. */
     double stop = l->surf[l->stop].semi_diameter, ext = 0;
-    for (int k = 0; k < 16; k++) {
-        double a = 2 * M_PI * k / 16;
-        lens_ray r;
-        if (imaging_object_ray(im, n, f, 0.999 * stop * cos(a), 0.999 * stop * sin(a), &r) != 0)
-            continue;
-        if (finite) {
-            double c = dot(r.d, d);
-            if (c > 0.05)
-                ext = fmax(ext, fmax(fabs(dot(r.d, e1) / c), fabs(dot(r.d, e2) / c)));
-        } else {
-            double o[3] = {r.o[0] - chief.o[0], r.o[1] - chief.o[1], r.o[2] - chief.o[2]};
-            ext = fmax(ext, fmax(fabs(dot(o, e1)), fabs(dot(o, e2))));
-        }
-    }
-    if (!(ext > 0))
-        ext = finite ? stop / im->object_distance : l->surf[0].semi_diameter;
-    ext *= 1.6; /* pupil aberration and vignetting shapes stay inside */
-    double cell = 2 * ext / ris, sum = 0, s[4], eta;
-    /* object at infinity: start well in front of the lens on the chief ray */
-    double back = 2 * l->surf[0].semi_diameter + 10;
-    for (int i = 0; i < ris; i++)
-        for (int j = 0; j < ris; j++) {
-            double a = -ext + (i + 0.5) * cell, b = -ext + (j + 0.5) * cell;
+    static const double fracs[3] = {0.999, 0.7, 0.4};
+    for (int q = 0; q < 3 && !(ext > 0); q++)
+        for (int k = 0; k < 16; k++) {
+            double a = 2 * M_PI * k / 16, e;
             lens_ray r;
-            double w;
+            if (imaging_object_ray(im, n, f, fracs[q] * stop * cos(a), fracs[q] * stop * sin(a), &r) != 0)
+                continue;
             if (finite) {
-                double q = 1 + a * a + b * b;
-                for (int k = 0; k < 3; k++)
-                    r.o[k] = P[k], r.d[k] = (d[k] + a * e1[k] + b * e2[k]) / sqrt(q);
-                w = r.d[2] / (q * sqrt(q)); /* Lambert cosine x solid angle per da db */
+                double c = dot(r.d, d);
+                if (!(c > 0.05))
+                    continue;
+                e = fmax(fabs(dot(r.d, e1) / c), fabs(dot(r.d, e2) / c));
             } else {
-                for (int k = 0; k < 3; k++)
-                    r.o[k] = chief.o[k] - back * d[k] + a * e1[k] + b * e2[k], r.d[k] = d[k];
-                w = 1;
+                double o[3] = {r.o[0] - chief.o[0], r.o[1] - chief.o[1], r.o[2] - chief.o[2]};
+                e = fmax(fabs(dot(o, e1)), fabs(dot(o, e2)));
             }
-            if (imaging_trace(im, n, lambda, &r, NULL, s, &eta))
-                sum += w * eta;
+            ext = fmax(ext, e / fracs[q]);
         }
+    if (!(ext > 0))
+        ext = finite ? stop / im->object_distance : stop;
+    ext *= 1.3;
+    /* object at infinity: start well in front of the lens on the chief ray */
+    double back = 2 * l->surf[0].semi_diameter + 10, sum = 0, cell = 0;
+    for (int attempt = 0; attempt < 6; attempt++) {
+        int border = 0;
+        size_t passed = 0;
+        cell = 2 * ext / ris;
+        sum = 0;
+        for (int i = 0; i < ris; i++)
+            for (int j = 0; j < ris; j++) {
+                double a = -ext + (i + 0.5) * cell, b = -ext + (j + 0.5) * cell, s[4], eta, w;
+                lens_ray r;
+                if (finite) {
+                    double q = 1 + a * a + b * b;
+                    for (int k = 0; k < 3; k++)
+                        r.o[k] = P[k], r.d[k] = (d[k] + a * e1[k] + b * e2[k]) / sqrt(q);
+                    w = r.d[2] / (q * sqrt(q)); /* Lambert cosine x solid angle per da db */
+                } else {
+                    for (int k = 0; k < 3; k++)
+                        r.o[k] = chief.o[k] - back * d[k] + a * e1[k] + b * e2[k], r.d[k] = d[k];
+                    w = 1;
+                }
+                if (imaging_trace(im, n, lambda, &r, NULL, s, &eta)) {
+                    sum += w * eta;
+                    passed++;
+                    border |= i == 0 || j == 0 || i == ris - 1 || j == ris - 1;
+                }
+            }
+        if (border)
+            ext *= 2;
+        else if (passed > 0 && passed < (size_t)(ris * ris) / 16)
+            ext *= 0.5; /* resolve a small bundle with more rays */
+        else
+            break;
+    }
     *flux = sum * cell * cell;
     return 0;
 }
@@ -294,7 +313,7 @@ int distort_opencv(const imaging *im, double lambda, int fisheye, const double *
         m++;
     }
     size_t counts[1] = {m};
-    int rc = fisheye ? cv_fit_fisheye(width, height, scale / pitch, 1, counts, obj, pix, fit, err)
+    int rc = fisheye ? cv_fit_fisheye(width, height, scale / pitch, 1, 1, counts, obj, pix, fit, err)
                      : cv_fit_brown(width, height, scale / pitch, 1, counts, obj, pix, fit, err);
     free(obj), free(pix);
     return rc;

@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "field_of_view.h"
 #include "paraxial.h"
 #include "poly_solve.h"
 
@@ -313,9 +312,22 @@ int imaging_default_fields(const imaging *im, double lambda, double *field, lens
         return -1;
     const lens_t *l = im->lens;
     if (isfinite(l->sensor_w) && isfinite(l->sensor_h)) {
-        double r = 0.5 * hypot(l->sensor_w, l->sensor_h), fov, used;
-        if (lens_field_of_view(l, lambda, r, &fov, &used, NULL) == 0 && fov / 2 < maxf)
-            maxf = fov / 2;
+        /* the field whose chief ray lands on the sensor corner, if inside the image */
+        double r = 0.5 * hypot(l->sensor_w, l->sensor_h), s[4];
+        double *n = malloc(sizeof(double) * l->nsurf);
+        if (n && imaging_indices(im, lambda, n, NULL) == 0 &&
+            imaging_chief(im, n, lambda, maxf, s, NULL) == 0 && s[1] > r) {
+            double lo = 0, hi = maxf;
+            for (int i = 0; i < 50; i++) {
+                double m = 0.5 * (lo + hi);
+                if (imaging_chief(im, n, lambda, m, s, NULL) == 0 && s[1] < r)
+                    lo = m;
+                else
+                    hi = m;
+            }
+            maxf = lo;
+        }
+        free(n);
     }
     /* a hair inside the last passing chief ray */
     maxf = floor(maxf * 0.999 * 100) / 100;

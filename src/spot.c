@@ -159,7 +159,8 @@ int spot_trace(const imaging *im, double field, double lambda, pupil_pattern pat
     sp->field = field, sp->lambda = lambda;
     const lens_t *lens = im->lens;
     double *n = malloc(sizeof(double) * lens->nsurf);
-    size_t cap = rays + 64;
+    /* hexapolar rounds up to whole rings, grid to whole rows */
+    size_t cap = 2 * rays + 64;
     double *xy = malloc(sizeof(double) * 2 * cap);
     sp->ray = malloc(sizeof(double) * 4 * cap);
     sp->eta = malloc(sizeof(double) * cap);
