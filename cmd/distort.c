@@ -162,7 +162,7 @@ int main(int argc, char **argv)
     for (int m = 0; m < nm; m++)
         if (distort_curve(&im[m], lambda, field, nf, ris, rows + m * nf, &err) != 0)
             diag_die(prog, "%s%s%s", m ? names[m] : "", m ? ": " : "", err.msg);
-    printf("model %s h_real_mm h_ideal_mm distortion_pct rel_illum", finite ? "field_mm" : "field_deg");
+    printf("# columns: model %s h_real_mm h_ideal_mm distortion_pct rel_illum", finite ? "field_mm" : "field_deg");
     if (!finite)
         for (int k = 1; k < PROJ_COUNT; k++)
             printf(" %s_pct", proj_name((proj_kind)k));
@@ -223,11 +223,11 @@ int main(int argc, char **argv)
             fprintf(f, "# grid map of %s: ideal %s image points (f or magnification %.9g) and "
                        "where the chief rays land; nan where none does\n",
                     input, proj_name(mapping), scale);
-            fprintf(f, "model x_ideal_mm y_ideal_mm x_real_mm y_real_mm dx_um dy_um\n");
+            fprintf(f, "# columns: model x_ideal_mm y_ideal_mm x_real_mm y_real_mm dx_um dy_um\n");
             for (int m = 0; m < nm; m++)
                 for (int i = 0; i < ng * ng; i++) {
                     const double *p = pts[m] + 4 * i;
-                    fprintf(f, "%s %.9g %.9g %.9g %.9g %.6g %.6g\n", names[m], p[0], p[1], p[2], p[3],
+                    fprintf(f, "%s %.12g %.12g %.12g %.12g %.6g %.6g\n", names[m], p[0], p[1], p[2], p[3],
                             (p[2] - p[0]) * 1e3, (p[3] - p[1]) * 1e3);
                 }
             if (outfile_commit(of, &err) != 0)

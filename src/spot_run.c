@@ -89,7 +89,7 @@ void spot_report_print(FILE *f, const spot_request *rq, const spot_report *rep)
 {
     int finite = isfinite(rq->im[0].object_distance);
     fprintf(f,
-            "model %s lambda_um rays passed vignetted chief_x_mm chief_y_mm centroid_x_mm "
+            "# columns: model %s lambda_um rays passed vignetted chief_x_mm chief_y_mm centroid_x_mm "
             "centroid_y_mm rms_chief_um max_chief_um rms_centroid_um max_centroid_um airy_um\n",
             finite ? "field_mm" : "field_deg");
     for (int m = 0; m < rep->nmodels; m++)
