@@ -12,6 +12,11 @@ int distort_scale(const imaging *im, double lambda, double *scale, lens_err *err
     paraxial_data p;
     if (paraxial_compute(im->lens, lambda, &p, err) != 0)
         return -1;
+    if (!isfinite(p.efl) || fabs(p.efl) > 1e9) {
+        lens_errf(err, im->lens->path[0] ? im->lens->path : NULL, 0,
+                  "the lens has no finite focal length: no ideal image to compare with");
+        return -1;
+    }
     if (isinf(im->object_distance)) {
         *scale = p.efl;
         return 0;

@@ -43,3 +43,16 @@ expect_error spot_bad_focus "--focus" run $S $DG --focus sharp
 # a picture that cannot be written leaves nothing behind
 run $S $DG --fields 0 --rays 10 --png $T/no/such/dir/x.png >/dev/null 2>&1
 if [ $? -ne 0 ] && [ -z "$(ls $T/no 2>/dev/null)" ]; then ok spot_png_error; else fail spot_png_error; fi
+
+# --compare: a window does not focus (its spot is the 10 mm stop: radius 5000 um about the
+# centroid), the perfect system beside it does (RMS 0), at 50 sin(theta)
+run $S tests/data/window.lens --compare tests/data/perfect-50mm.poly --fields 0,5 --wavelengths d \
+    --rays 61 --png $T/c.png >$T/c.txt 2>$T/err.txt
+if awk '$1 == "lens" { if (($14 - 5000)^2 > 1e-6) bad = 1; n++ }
+        $1 == "poly" { if ($13 > 1e-6) bad = 1; if (($10 - 50 * sin($2 * 3.14159265358979 / 180))^2 > 1e-14) bad = 1; m++ }
+        END { exit bad || n != 2 || m != 2 }' $T/c.txt && [ -s $T/c.png ]
+then ok spot_compare; else fail spot_compare "$(cat $T/err.txt $T/c.txt)"; fi
+# a system on its own finds its lens through the path it records
+if [ "$(run $S tests/data/perfect-50mm.poly --fields 10 --wavelengths d --rays 7 | awk '$1 == "poly" { print $8 }')" = 8.68240888 ]
+then ok spot_system_alone; else fail spot_system_alone; fi
+expect_error spot_compare_not_a_system "lens-poly|poly" run $S $DG --compare $DG
