@@ -102,7 +102,8 @@ int main(int argc, char **argv)
         printf("# sensor plane moved %.9g mm along the axis (--focus %s)\n", rep.sensor_shift, focus_s);
 
     char title[256];
-    snprintf(title, sizeof title, "%s  spot diagram  %s", models.lens.name[0] ? models.lens.name : input,
+    const char *base = strrchr(input, '/') ? strrchr(input, '/') + 1 : input;
+    snprintf(title, sizeof title, "%s  spot diagram  %s", models.lens.name[0] ? models.lens.name : base,
              isfinite(dist) ? "object at finite distance" : "object at infinity");
     spot_figure fig = {.nmodels = rq.nmodels, .nfields = nf, .nl = nl, .model_names = rq.model_names,
                        .spots = rep.spots, .title = title, .finite = isfinite(dist)};

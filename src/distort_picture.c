@@ -22,7 +22,9 @@ int distort_write_png(const char *path, const char *title, int nmodels, const ch
         return -1;
     }
     double ox = W / 2.0, oy = head + margin + half_h * px;
-    img_text(c, 14, 24, title, 14, black);
+    /* the title shrinks to fit the width */
+    double th = fmin(14, 14 * (W - 28) / fmax(1, img_text_width(title, 14)));
+    img_text(c, 14, 24, title, th, black);
     char t[200];
     snprintf(t, sizeof t, "grey: ideal grid;  displacement exaggerated x%g", factor);
     img_text(c, 14, 46, t, 12, black);

@@ -77,7 +77,9 @@ int spot_write_png(const spot_figure *fig, const char *path, lens_err *err)
     }
     W = img_width(c);
     double half = layout(fig, pn), px = P / (2 * half); /* pixels per mm */
-    img_text(c, gap, 22, fig->title, 14, black);
+    /* the title shrinks to fit the width */
+    double th = fmin(14, 14 * (W - 2 * gap) / fmax(1, img_text_width(fig->title, 14)));
+    img_text(c, gap, 22, fig->title, th, black);
     /* legend: wavelengths in their colours */
     double lx = gap;
     for (int l = 0; l < fig->nl; l++) {
