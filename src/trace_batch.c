@@ -1,0 +1,104 @@
+/* Tracing many sensor rays at once, OpenMP across rays.
+ *
+ * Each thread keeps a small direct-mapped cache of index tables keyed by wavelength, so
+ * the glass formulas run once per distinct wavelength a thread meets, not per surface
+ * and ray. Every row is traced by the same code whatever thread gets it, so the output
+ * does not depend on the thread count. */
+#include <math.h>
+#include <omp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "trace.h"
+
+enum { CACHE_SLOTS = 16 };
+
+typedef struct {
+    double lambda[CACHE_SLOTS];
+    int ok[CACHE_SLOTS]; /* 1 valid, -1 out of range, 0 empty */
+    double *n;           /* CACHE_SLOTS x nsurf */
+} index_cache;
+
+static unsigned slot_of(double lambda)
+{
+    uint64_t b;
+    memcpy(&b, &lambda, sizeof b);
+    b ^= b >> 29;
+    b *= 0xbf58476d1ce4e5b9ULL;
+    return (unsigned)(b >> 60) % CACHE_SLOTS;
+}
+
+/* Index table for lambda, or NULL when it is outside some glass's range. */
+static const double *cached_indices(const lens_t *lens, index_cache *c, double lambda)
+{
+    unsigned k = slot_of(lambda);
+    double *n = c->n + (size_t)k * lens->nsurf;
+    if (c->ok[k] == 0 || c->lambda[k] != lambda) {
+        lens_err e;
+        c->lambda[k] = lambda;
+        c->ok[k] = lens_indices(lens, lambda, n, &e) == 0 ? 1 : -1;
+    }
+    return c->ok[k] > 0 ? n : NULL;
+}
+
+int trace_batch(const lens_t *lens, trace_target target, size_t count, const double *in,
+                double *out, trace_result *res, int threads, lens_err *err)
+{
+    if (count == 0)
+        return 0;
+    unsigned char *bad = calloc(count, 1);
+    if (!bad) {
+        lens_errf(err, NULL, 0, "out of memory for %zu rays", count);
+        return -1;
+    }
+    int alloc_failed = 0;
+    int nth = threads > 0 ? threads : omp_get_max_threads();
+#pragma omp parallel num_threads(nth) reduction(| : alloc_failed)
+    {
+        index_cache cache;
+        memset(&cache, 0, sizeof cache);
+        cache.n = malloc(CACHE_SLOTS * lens->nsurf * sizeof *cache.n);
+        if (!cache.n)
+            alloc_failed = 1;
+#pragma omp for schedule(static, 256)
+        for (size_t i = 0; i < count; i++) {
+            const double *row = in + 5 * i;
+            double *o = out + 5 * i;
+            trace_result r = {TRACE_INVALID, -1, 0.0};
+            const double *n = cache.n && isfinite(row[4]) ? cached_indices(lens, &cache, row[4]) : NULL;
+            if (!n) {
+                bad[i] = 1;
+                o[0] = o[1] = o[2] = o[3] = o[4] = NAN;
+            } else {
+                r = trace_sample(lens, n, target, row, o);
+                o[4] = r.status == TRACE_PASSED ? r.transmittance : 0.0;
+            }
+            if (res)
+                res[i] = r;
+        }
+        free(cache.n);
+    }
+    int rc = 0;
+    if (alloc_failed) {
+        lens_errf(err, NULL, 0, "out of memory for the index tables");
+        rc = -1;
+    } else {
+        for (size_t i = 0; i < count; i++)
+            if (bad[i]) {
+                /* The first bad row, whatever the thread count: reproduce its message. */
+                double *tmp = malloc(lens->nsurf * sizeof *tmp);
+                lens_err e;
+                if (tmp && isfinite(in[5 * i + 4]) && lens_indices(lens, in[5 * i + 4], tmp, &e))
+                    lens_errf(err, NULL, 0, "ray %zu: %s", i + 1, e.msg);
+                else
+                    lens_errf(err, NULL, 0, "ray %zu: wavelength %g is not usable", i + 1,
+                              in[5 * i + 4]);
+                free(tmp);
+                rc = -1;
+                break;
+            }
+    }
+    free(bad);
+    return rc;
+}
