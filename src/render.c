@@ -100,9 +100,13 @@ static void scene_radiance(const scene_t *sc, const double o[3], const double d[
     scene_direct(sc, h.obj, h.p, h.n, u, rgb);
 }
 
-/* One camera sample at pixel (px, py): adds its contribution per channel to acc. */
-static void render_sample(const render_job *job, int px, int py, pix_rng *rng, double *u_nee,
-                          double acc[3], int *passed)
+/* One camera sample, number k of spp, at pixel (px, py): adds its contribution per
+ * channel to acc. Wavelengths are stratified over the pixel's samples: rgb mode
+ * cycles through the three bands (each band's samples are weighted by spp / their
+ * count, so the pixel's mean is each band's mean), spectral mode jitters lambda in
+ * spp equal strata (so lambda is still uniform, p = 1 / range). */
+static void render_sample(const render_job *job, int px, int py, long k, pix_rng *rng,
+                          double *u_nee, double acc[3], int *passed)
 {
     const render_camera *cam = job->cam;
     const scene_t *sc = job->scene;
@@ -112,15 +116,18 @@ static void render_sample(const render_job *job, int px, int py, pix_rng *rng, d
     /* wavelength and the channel(s) it scores in, with the weight of that choice */
     double lambda, cw[3] = {0, 0, 0};
     double r = rng_next(rng);
+    long spp = job->spp;
     if (sc->mode == SCENE_GREY) {
         lambda = GLASS_D_LINE;
         cw[0] = cw[1] = cw[2] = 1;
     } else if (sc->mode == SCENE_RGB) {
-        int c = r < 1.0 / 3 ? 0 : r < 2.0 / 3 ? 1 : 2;
+        long shift = (px + 7L * py) % 3; /* neighbours start on different bands */
+        int c = (int)((k + shift) % 3);
+        long count = spp / 3 + ((spp % 3) > ((c - shift + 3) % 3) ? 1 : 0);
         lambda = render_channel_lambda(c);
-        cw[c] = 3; /* the channel was chosen with probability 1/3 */
+        cw[c] = (double)spp / count;
     } else {
-        lambda = RENDER_LAMBDA_MIN + r * (RENDER_LAMBDA_MAX - RENDER_LAMBDA_MIN);
+        lambda = RENDER_LAMBDA_MIN + (k + r) / spp * (RENDER_LAMBDA_MAX - RENDER_LAMBDA_MIN);
         int c = lambda < 0.49 ? 2 : lambda < 0.58 ? 1 : 0;
         double width = c == 2 ? 0.09 : c == 1 ? 0.09 : 0.12;
         /* the band's mean over lambda: 1 / (p(lambda) * width) */
@@ -176,7 +183,7 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
                 int passed = 0;
                 for (long k = 0; k < job->spp; k++) {
                     double a[3] = {0, 0, 0};
-                    render_sample(job, px, py, &rng, u_nee, a, &passed);
+                    render_sample(job, px, py, k, &rng, u_nee, a, &passed);
                     for (int c = 0; c < 3; c++) sum[c] += a[c], sum2[c] += a[c] * a[c];
                 }
                 passed_total += passed;
