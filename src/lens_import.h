@@ -30,7 +30,7 @@ typedef struct {
 void material_ctx_init(material_ctx *m, const lens_load_options *opt, const char *lens_path);
 void material_ctx_free(material_ctx *m);
 /* 0: found (*g points into the catalog); 1: not found, and `searched` holds the
- * catalogs searched ("a, b" or "no glass catalog found"); -1: a catalog failed to
+ * catalogs searched ("a, b", or "none found"); -1: a catalog failed to
  * load (err says where). */
 int material_lookup(material_ctx *m, const char *name, const glass_t **g, const char **searched,
                     lens_err *err);

@@ -69,7 +69,7 @@ int material_lookup(material_ctx *m, const char *name, const glass_t **g, const 
     if (*g)
         return 0;
     const char *s = glass_catalog_sources(m->cat);
-    *searched = *s ? s : "no glass catalog found";
+    *searched = *s ? s : "none found";
     return 1;
 }
 
@@ -79,7 +79,13 @@ void lens_fmt_double(double v, char buf[32])
         strcpy(buf, v > 0 ? "inf" : "-inf");
         return;
     }
-    for (int prec = 1; prec <= 17; prec++) {
+    /* At least as many digits as the integer part has, so that 10 prints as "10", not
+     * "1e+01" (%g switches to an exponent when it exceeds the precision). */
+    int min_prec = 1;
+    double a = fabs(v);
+    if (a >= 1 && a < 1e15)
+        min_prec = (int)floor(log10(a)) + 1;
+    for (int prec = min_prec; prec <= 17; prec++) {
         snprintf(buf, 32, "%.*g", prec, v);
         if (strtod(buf, NULL) == v)
             return;

@@ -171,7 +171,8 @@ static int parse_material(const char *t, lens_surface *s, material_ctx *mat, con
         return -1;
     if (rc > 0) {
         lens_errf(err, path, line,
-                  "unknown material '%s': not air, stop, nd/Vd or nd, and not a glass in %s", t,
+                  "unknown material '%s': not air, stop, nd/Vd or nd, and not a glass in the "
+                  "catalogs searched (%s)", t,
                   searched);
         return -1;
     }

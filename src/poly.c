@@ -90,11 +90,16 @@ static void free_part(poly_part *p, int nout)
             free(p->out[o].exps);
             free(p->out[o].coef);
             free(p->out[o].slot);
+            free(p->out[o].fa);
+            free(p->out[o].fb);
         }
     free(p->out);
     free(p->slot_exps);
     free(p->slot_a);
     free(p->slot_b);
+    free(p->depth);
+    free(p->order);
+    free(p->stored);
 }
 
 void poly_free(poly_system *s)
@@ -189,12 +194,21 @@ static int append_slot(poly_part *p, int nin, const int *e, int a, int b)
         if (!nb)
             return -1;
         p->slot_b = nb;
+        int *nd = realloc(p->depth, (size_t)nc * sizeof(int));
+        if (!nd)
+            return -1;
+        p->depth = nd;
+        int *no = realloc(p->order, (size_t)nc * sizeof(int));
+        if (!no)
+            return -1;
+        p->order = no;
         p->slotcap = nc;
     }
     int k = p->nslots++;
     memcpy(p->slot_exps + (size_t)k * (size_t)nin, e, (size_t)nin * sizeof(int));
     p->slot_a[k] = a;
     p->slot_b[k] = b;
+    p->depth[k] = a < 0 ? 0 : 1 + (p->depth[a] > p->depth[b] ? p->depth[a] : p->depth[b]);
     return k;
 }
 
@@ -242,6 +256,61 @@ static int ensure_slot(poly_part *p, int nin, const int *e)
     if (a < 0 || b < 0)
         return -1;
     return append_slot(p, nin, e, a, b);
+}
+
+/* The product slots sorted by depth (stable), so each depth's products are
+ * independent; and the batch plan (poly_impl.h): which slots are stored, which terms
+ * multiply their own monomial. */
+static int plan_part(poly_part *p, int nin, int nout)
+{
+    int maxd = 0, n = 0;
+    for (int k = 1 + nin; k < p->nslots; k++)
+        if (p->depth[k] > maxd)
+            maxd = p->depth[k];
+    for (int d = 1; d <= maxd; d++)
+        for (int k = 1 + nin; k < p->nslots; k++)
+            if (p->depth[k] == d)
+                p->order[n++] = k;
+    int *uses = calloc((size_t)p->nslots, sizeof(int)); /* terms using the slot */
+    int *factor = calloc((size_t)p->nslots, sizeof(int)); /* slots built from it */
+    int *st = realloc(p->stored, (size_t)p->nslots * sizeof(int));
+    if (!uses || !factor || !st) {
+        free(uses);
+        free(factor);
+        if (st)
+            p->stored = st;
+        return -1;
+    }
+    p->stored = st;
+    for (int o = 0; o < nout; o++)
+        for (int t = 0; t < p->out[o].nterms; t++)
+            uses[p->out[o].slot[t]]++;
+    for (int k = 1 + nin; k < p->nslots; k++) {
+        factor[p->slot_a[k]]++;
+        factor[p->slot_b[k]]++;
+    }
+    p->nstored = 0;
+    for (int j = 0; j < n; j++) {
+        int k = p->order[j];
+        if (!(uses[k] == 1 && factor[k] == 0))
+            p->stored[p->nstored++] = k;
+    }
+    for (int o = 0; o < nout; o++) {
+        poly_out_terms *ot = &p->out[o];
+        for (int t = 0; t < ot->nterms; t++) {
+            int k = ot->slot[t];
+            if (k > nin && uses[k] == 1 && factor[k] == 0) {
+                ot->fa[t] = p->slot_a[k];
+                ot->fb[t] = p->slot_b[k];
+            } else {
+                ot->fa[t] = k;
+                ot->fb[t] = 0;
+            }
+        }
+    }
+    free(uses);
+    free(factor);
+    return 0;
 }
 
 int poly_add_part(poly_system *s, double rmin, double rmax)
@@ -320,12 +389,26 @@ int poly_add_term(poly_system *s, int part, int output, const int *exps, double 
         if (!ns)
             return -1;
         ot->slot = ns;
+        int *nfa = realloc(ot->fa, (size_t)nc * sizeof(int));
+        if (!nfa)
+            return -1;
+        ot->fa = nfa;
+        int *nfb = realloc(ot->fb, (size_t)nc * sizeof(int));
+        if (!nfb)
+            return -1;
+        ot->fb = nfb;
         ot->cap = nc;
     }
     int t = ot->nterms++;
     memcpy(ot->exps + (size_t)t * n, exps, n * sizeof(int));
     ot->coef[t] = coef;
     ot->slot[t] = slot;
+    /* Replanned on every term: cheap at the sizes fits have, and the system is ready
+     * to evaluate at any point of building. */
+    if (plan_part(p, s->nin, s->nout) != 0) {
+        ot->nterms--;
+        return -1;
+    }
     return 0;
 }
 

@@ -14,22 +14,27 @@
 
 /* The shortest decimal that reads back as exactly v (17 digits always would; fewer
  * keep 0.6 from printing as 0.59999999999999998). */
-static void put_num(FILE *f, double v)
+void poly_format_number(char *buf, size_t len, double v)
 {
     if (isinf(v)) {
-        fputs(v > 0 ? "inf" : "-inf", f);
+        snprintf(buf, len, "%s", v > 0 ? "inf" : "-inf");
         return;
     }
-    char buf[40];
     for (int prec = 15; prec <= 17; prec++) {
-        snprintf(buf, sizeof buf, "%.*g", prec, v);
+        snprintf(buf, len, "%.*g", prec, v);
         if (prec == 17 || strtod(buf, NULL) == v)
             break;
     }
+}
+
+static void put_num(FILE *f, double v)
+{
+    char buf[40];
+    poly_format_number(buf, sizeof buf, v);
     fputs(buf, f);
 }
 
-static void put_monomial(FILE *f, const poly_system *s, const int *e)
+void poly_format_monomial(FILE *f, const poly_system *s, const int *e)
 {
     int any = 0;
     for (int i = 0; i < s->nin; i++) {
@@ -97,7 +102,7 @@ int poly_write(FILE *f, const poly_system *s)
                 fputc(' ', f);
                 put_num(f, ot->coef[t]);
                 fputs("  # ", f);
-                put_monomial(f, s, e);
+                poly_format_monomial(f, s, e);
                 fputc('\n', f);
             }
         }

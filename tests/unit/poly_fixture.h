@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "poly.h"
 
@@ -34,32 +35,71 @@ static inline void fixture_ray(fixture_rng *g, double *in)
         in[i] = fixture_lo[i] + (fixture_hi[i] - fixture_lo[i]) * fixture_uniform(g);
 }
 
-/* Adds nterms distinct terms per output to part p. */
+/* A random monomial of the symmetry class (px, py): parity of the x+u and y+v exponents. */
+static inline void fixture_monomial(fixture_rng *g, int maxdeg, int px, int py, int *e)
+{
+    for (;;) {
+        /* low degrees are likelier, as in fitted systems */
+        int target = (int)(maxdeg * pow(fixture_uniform(g), 1.5) + 0.5), deg = 0;
+        for (int i = 0; i < 5; i++)
+            e[i] = 0;
+        for (int k = 0; k < target; k++)
+            e[(int)(5 * fixture_uniform(g)) % 5]++;
+        for (int i = 0; i < 5; i++)
+            deg += e[i];
+        if (((e[0] + e[2]) & 1) == px && ((e[1] + e[3]) & 1) == py && deg <= maxdeg)
+            return;
+    }
+}
+
+static inline int fixture_add(poly_system *s, int p, int o, const int *e, fixture_rng *g)
+{
+    int deg = e[0] + e[1] + e[2] + e[3] + e[4];
+    return poly_add_term(s, p, o, e, (2 * fixture_uniform(g) - 1) / (1 + deg)) == 0;
+}
+
+/* Adds nterms distinct terms per output to part p, shaped like a fitted lens system:
+ * out_u shares about half its monomials with out_x, out_y and out_v mirror out_x and
+ * out_u (x <-> y, u <-> v), positions and directions reach degree min(7, maxdeg) and
+ * out_eta maxdeg. */
 static inline void fixture_terms(poly_system *s, int p, int nterms, int maxdeg, fixture_rng *g)
 {
-    for (int o = 0; o < 5; o++) {
-        int added = 0, tries = 0;
-        while (added < nterms && tries < 100000) {
-            tries++;
-            int e[5], deg = 0;
-            /* low degrees are likelier, as in fitted systems */
-            int target = (int)(maxdeg * pow(fixture_uniform(g), 1.5) + 0.5);
-            if (added == nterms - 1)
-                target = maxdeg; /* the highest degree occurs at least once */
-            for (int i = 0; i < 5; i++)
-                e[i] = 0;
-            for (int k = 0; k < target; k++)
-                e[(int)(5 * fixture_uniform(g)) % 5]++;
-            for (int i = 0; i < 5; i++)
-                deg += e[i];
-            int px = (e[0] + e[2]) & 1, py = (e[1] + e[3]) & 1;
-            int want_x = o == 0 || o == 2, want_y = o == 1 || o == 3;
-            if (px != want_x || py != want_y || deg > maxdeg)
-                continue;
-            double c = (2 * fixture_uniform(g) - 1) / (1 + deg);
-            if (poly_add_term(s, p, o, e, c) == 0)
-                added++;
+    int lowdeg = maxdeg < 7 ? maxdeg : 7;
+    int ex[4096][5], nx = 0, eu[4096][5], nu = 0;
+    if (nterms > 4096)
+        nterms = 4096;
+    for (int tries = 0; nx < nterms && tries < 100000; tries++) {
+        fixture_monomial(g, lowdeg, 1, 0, ex[nx]);
+        if (fixture_add(s, p, 0, ex[nx], g))
+            nx++;
+    }
+    for (int tries = 0; nu < nterms && tries < 100000; tries++) {
+        int *e = eu[nu];
+        if (fixture_uniform(g) < 0.5)
+            memcpy(e, ex[(int)(nx * fixture_uniform(g)) % nx], sizeof eu[0]);
+        else
+            fixture_monomial(g, lowdeg, 1, 0, e);
+        if (fixture_add(s, p, 2, e, g))
+            nu++;
+    }
+    for (int k = 0; k < nx; k++) {
+        int m[5] = {ex[k][1], ex[k][0], ex[k][3], ex[k][2], ex[k][4]};
+        fixture_add(s, p, 1, m, g);
+    }
+    for (int k = 0; k < nu; k++) {
+        int m[5] = {eu[k][1], eu[k][0], eu[k][3], eu[k][2], eu[k][4]};
+        fixture_add(s, p, 3, m, g);
+    }
+    int added = 0;
+    for (int tries = 0; added < nterms && tries < 100000; tries++) {
+        int e[5];
+        fixture_monomial(g, maxdeg, 0, 0, e);
+        if (added == nterms - 1) { /* the highest degree occurs at least once */
+            memset(e, 0, sizeof e);
+            e[0] = maxdeg & 1 ? maxdeg - 1 : maxdeg;
+            e[4] = maxdeg & 1;
         }
+        added += fixture_add(s, p, 4, e, g);
     }
 }
 
