@@ -63,7 +63,7 @@ static int map_exact(void *ctx, const double in[5], double org[3], double dir[3]
 static int map_poly(void *ctx, const double in[5], double org[3], double dir[3], double *eta)
 {
     const render_lens_ctx *c = ctx;
-    double x[8], y[8];
+    double x[16], y[16];
     for (int i = 0; i < c->nin; i++) x[i] = 0;
     for (int k = 0; k < 5; k++)
         if (c->in_idx[k] >= 0) x[c->in_idx[k]] = in[k];
@@ -125,7 +125,7 @@ render_lens_ctx *render_lens_poly(const poly_system *sys, const lens_t *lens, do
     c->nsurf = (int)lens->nsurf;
     c->nin = poly_ninputs(sys);
     c->nout = poly_noutputs(sys);
-    if (c->nin > 8 || c->nout > 8) {
+    if (c->nin > 16 || c->nout > 16) {
         lens_errf(err, poly_lens_path(sys), 0, "system has too many inputs or outputs to render");
         free(c);
         return NULL;
