@@ -29,9 +29,10 @@ typedef struct {
 /* Camera-ray directions at a sensor point, with their density p(u, v) in du dv.
  *  REAR:  a uniform point on the rear element's disk (the plane of its vertex), the
  *         naive sampler; p = rear_dist^2 / (pi rear_radius^2).
- *  PUPIL: the "line pupil": per ring of sensor radius, the box in (u, v) (in the frame
- *         turned to the point's azimuth) that holds every direction that passes the
- *         lens, found by probing the lens map; uniform in the box. */
+ *  PUPIL: the "line pupil": per ring of sensor radius, the cells of a grid in (u, v)
+ *         (in the frame turned to the point's azimuth) that hold a direction that
+ *         passes the lens, found by probing the lens map and grown by one cell; a
+ *         uniform cell, then a uniform point in it. */
 typedef enum { RENDER_SAMPLE_REAR, RENDER_SAMPLE_PUPIL } render_sampling;
 
 typedef struct {
@@ -39,7 +40,10 @@ typedef struct {
     double rear_dist, rear_radius;
     int nbins;
     double rmax;
-    double *box; /* PUPIL: per bin u0 u1 v1 (box [u0, u1] x [-v1, v1]); u1 < u0 when empty */
+    int grid;       /* PUPIL: cells per side */
+    double *win;    /* PUPIL: per ring u0 v0 du dv (cell 0's corner and the cell size) */
+    int *start;     /* PUPIL: ring b's cells are cells[start[b] .. start[b + 1]) */
+    int *cells;     /* PUPIL: cell index iu * grid + iv */
 } render_sampler;
 
 void render_sampler_rear(render_sampler *s, const render_camera *cam);

@@ -1,20 +1,23 @@
 /* Camera-ray direction samplers with known densities (render.h): the rear element's
  * disk, and the line pupil found by probing the lens.
  *
- * Why the line pupil is unbiased: it samples uniformly inside a box that holds every
- * direction that passes the lens at that sensor radius, so the estimator's support
- * (P_a = 1) lies inside the sampler's; directions in the box that do not pass score 0.
- * The box is found by probing a grid, so it is grown by two grid cells (and probed at
- * several radii per ring) to keep directions between probes inside it. */
+ * Why the line pupil is unbiased: it samples uniformly over grid cells that together
+ * hold every direction that passes the lens at that sensor radius, so the estimator's
+ * support (P_a = 1) lies inside the sampler's; directions in those cells that do not
+ * pass score 0. The cells are found by probing their centres at several radii per ring,
+ * then grown by one cell on every side, so that the edge of the passing set, which
+ * moves with the radius and lies between probes, stays inside. By rotational symmetry
+ * the set at (x, y) is the set at (r, 0) turned by the point's azimuth, and it is
+ * symmetric in v. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "render.h"
 
-#define PROBE_GRID 64  /* directions per axis probed per radius */
-#define PROBE_RADII 5  /* radii probed per ring */
-#define PROBE_MARGIN 2 /* grid cells added around the passing directions */
+#define COARSE_GRID 16 /* cells per side of the first, wide probe of a ring */
+#define PROBE_GRID 64  /* cells per side of a ring's (u, v) window */
+#define PROBE_RADII 3  /* radii probed per ring: its ends and middle */
 
 void render_sampler_rear(render_sampler *s, const render_camera *cam)
 {
@@ -26,29 +29,11 @@ void render_sampler_rear(render_sampler *s, const render_camera *cam)
 
 void render_sampler_free(render_sampler *s)
 {
-    free(s->box);
-    s->box = NULL;
-}
-
-/* Bounding box of the passing directions at sensor point (r, 0), within the probe
- * window [uc - w, uc + w] x [-w, w]; grows box (u0 u1 v1). */
-static void probe(const render_camera *cam, double lambda, double r, double *box)
-{
-    double h = cam->rear_dist, R = cam->rear_radius;
-    /* every passing ray crosses the rear element's plane within about its disk; the
-     * window is that cone widened by half, since the rear surface is curved */
-    double w = 1.5 * R / h, uc = -r / h;
-    double cell = 2 * w / (PROBE_GRID - 1);
-    for (int i = 0; i < PROBE_GRID; i++) {
-        for (int j = 0; j < PROBE_GRID / 2; j++) { /* v >= 0: the set is symmetric in v */
-            double u = uc - w + i * cell, v = j * cell;
-            double in[5] = {r, 0, u, v, lambda}, o[3], d[3], eta;
-            if (!cam->map(cam->ctx, in, o, d, &eta)) continue;
-            box[0] = fmin(box[0], u - PROBE_MARGIN * cell);
-            box[1] = fmax(box[1], u + PROBE_MARGIN * cell);
-            box[2] = fmax(box[2], v + PROBE_MARGIN * cell);
-        }
-    }
+    free(s->win);
+    free(s->start);
+    free(s->cells);
+    s->win = NULL;
+    s->start = s->cells = NULL;
 }
 
 int render_sampler_pupil(render_sampler *s, const render_camera *cam, double lambda,
@@ -60,24 +45,82 @@ int render_sampler_pupil(render_sampler *s, const render_camera *cam, double lam
                   rmax);
         return -1;
     }
+    const int G = PROBE_GRID;
     s->kind = RENDER_SAMPLE_PUPIL;
     s->rear_dist = cam->rear_dist;
     s->rear_radius = cam->rear_radius;
     s->nbins = nbins;
     s->rmax = rmax;
-    s->box = malloc(3 * (size_t)nbins * sizeof *s->box);
-    if (!s->box) {
+    s->grid = G;
+    s->win = malloc(4 * (size_t)nbins * sizeof *s->win);
+    s->start = malloc(((size_t)nbins + 1) * sizeof *s->start);
+    s->cells = malloc((size_t)nbins * G * G * sizeof *s->cells);
+    unsigned char *hit = malloc((size_t)G * G), *grown = malloc((size_t)G * G);
+    if (!s->win || !s->start || !s->cells || !hit || !grown) {
+        free(hit);
+        free(grown);
+        render_sampler_free(s);
         lens_errf(err, NULL, 0, "out of memory");
         return -1;
     }
+    double h = cam->rear_dist;
+    /* every passing ray crosses the rear element's vertex plane within about its disk;
+     * the wide window is that cone widened by half, since the rear surface is curved */
+    double w = 1.5 * cam->rear_radius / h;
+    int total = 0;
     for (int b = 0; b < nbins; b++) {
-        double *box = s->box + 3 * b;
-        box[0] = INFINITY, box[1] = -INFINITY, box[2] = 0;
+        double rlo = rmax * b / nbins, rhi = rmax * (b + 1) / nbins;
+        /* coarse: where in the wide window do rays pass at all? */
+        double cu0 = -rhi / h - w, cdu = (-rlo / h + w - cu0) / COARSE_GRID,
+               cdv = 2 * w / COARSE_GRID;
+        double lo_u = INFINITY, hi_u = -INFINITY, hi_v = 0;
         for (int k = 0; k < PROBE_RADII; k++) {
-            double r = rmax * (b + (double)k / (PROBE_RADII - 1)) / nbins;
-            probe(cam, lambda, r, box);
+            double r = rlo + (rhi - rlo) * k / (PROBE_RADII - 1);
+            for (int i = 0; i <= COARSE_GRID; i++)
+                for (int j = 0; j <= COARSE_GRID / 2; j++) {
+                    double u = cu0 + i * cdu, v = j * cdv;
+                    double in[5] = {r, 0, u, v, lambda}, o[3], d[3], eta;
+                    if (!cam->map(cam->ctx, in, o, d, &eta)) continue;
+                    lo_u = fmin(lo_u, u), hi_u = fmax(hi_u, u), hi_v = fmax(hi_v, v);
+                }
         }
+        double *win = s->win + 4 * b;
+        if (!(hi_u >= lo_u)) { /* nothing passes in this ring */
+            win[0] = win[1] = 0, win[2] = win[3] = 1;
+            s->start[b] = total;
+            continue;
+        }
+        /* fine: the window of the passing directions, one coarse cell wider all round */
+        double u0 = lo_u - cdu, u1 = hi_u + cdu, v1 = hi_v + cdv;
+        win[0] = u0, win[1] = -v1, win[2] = (u1 - u0) / G, win[3] = 2 * v1 / G;
+        memset(hit, 0, (size_t)G * G);
+        for (int k = 0; k < PROBE_RADII; k++) {
+            double r = rlo + (rhi - rlo) * k / (PROBE_RADII - 1);
+            for (int i = 0; i < G; i++)
+                for (int j = G / 2; j < G; j++) { /* v >= 0; mirrored below */
+                    if (hit[i * G + j]) continue;
+                    double u = u0 + (i + 0.5) * win[2], v = win[1] + (j + 0.5) * win[3];
+                    double in[5] = {r, 0, u, v, lambda}, o[3], d[3], eta;
+                    if (cam->map(cam->ctx, in, o, d, &eta)) hit[i * G + j] = hit[i * G + G - 1 - j] = 1;
+                }
+        }
+        memset(grown, 0, (size_t)G * G);
+        for (int i = 0; i < G; i++)
+            for (int j = 0; j < G; j++) {
+                if (!hit[i * G + j]) continue;
+                for (int di = -1; di <= 1; di++)
+                    for (int dj = -1; dj <= 1; dj++) {
+                        int a = i + di, c = j + dj;
+                        if (a >= 0 && a < G && c >= 0 && c < G) grown[a * G + c] = 1;
+                    }
+            }
+        s->start[b] = total;
+        for (int c = 0; c < G * G; c++)
+            if (grown[c]) s->cells[total++] = c;
     }
+    s->start[nbins] = total;
+    free(hit);
+    free(grown);
     return 0;
 }
 
@@ -95,12 +138,19 @@ double render_sampler_sample(const render_sampler *s, double x, double y, double
     double r = hypot(x, y);
     int b = (int)(r / s->rmax * s->nbins);
     if (b >= s->nbins) return 0; /* outside the probed sensor area */
-    const double *box = s->box + 3 * b;
-    if (!(box[1] > box[0]) || !(box[2] > 0)) return 0;
-    double up = box[0] + r1 * (box[1] - box[0]), vp = box[2] * (2 * r2 - 1);
+    int n = s->start[b + 1] - s->start[b];
+    if (n == 0) return 0;
+    /* r1 picks the cell and, rescaled, the position across it */
+    double f = r1 * n;
+    int k = (int)f;
+    if (k >= n) k = n - 1;
+    double fu = f - k;
+    int c = s->cells[s->start[b] + k];
+    const double *win = s->win + 4 * b;
+    double up = win[0] + (c / s->grid + fu) * win[2], vp = win[1] + (c % s->grid + r2) * win[3];
     /* turn from the frame of point (r, 0) to the point's azimuth; a rotation keeps du dv */
-    double c = r > 0 ? x / r : 1, sn = r > 0 ? y / r : 0;
-    *u = c * up - sn * vp;
-    *v = sn * up + c * vp;
-    return 1 / ((box[1] - box[0]) * 2 * box[2]);
+    double cs = r > 0 ? x / r : 1, sn = r > 0 ? y / r : 0;
+    *u = cs * up - sn * vp;
+    *v = sn * up + cs * vp;
+    return 1 / (n * win[2] * win[3]);
 }
