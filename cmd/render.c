@@ -9,7 +9,8 @@
 
 static const char *usage =
     "usage: lens-render SCENE -o IMAGE.exr [--png PREVIEW.png] [--exact] [--spp N]\n"
-    "                   [--threads N] [--cache DIR] [--rear-sampling] [--quiet]\n"
+    "                   [--threads N] [--cache DIR] [--rear-sampling] [--reference REF.exr]\n"
+    "                   [--quiet]\n"
     "Renders SCENE (man 5 lens-scene) through its lens with the Monte Carlo estimator of\n"
     "the supplement (Eq. 13): camera rays start on the pixel, take their direction from\n"
     "the line pupil, cross the lens by a polynomial system fitted for the effects the\n"
@@ -22,6 +23,7 @@ static const char *usage =
     "  --threads N        threads (default: all)\n"
     "  --cache DIR        fitted systems (default $XDG_CACHE_HOME/sparselens)\n"
     "  --rear-sampling    draw directions over the rear element instead of the line pupil\n"
+    "  --reference FILE   print the RMS error against this image (same size)\n"
     "  --quiet            no decisions, progress or figures on stderr\n";
 
 typedef struct {
@@ -53,6 +55,7 @@ int main(int argc, char **argv)
         else if (cli_opt(prog, argc, argv, &i, "--threads", &v))
             o.threads = (int)cli_count(prog, "--threads", v, 1, 1024);
         else if (cli_opt(prog, argc, argv, &i, "--cache", &v)) o.cache_dir = v;
+        else if (cli_opt(prog, argc, argv, &i, "--reference", &v)) o.reference = v;
         else if (!strcmp(argv[i], "--exact")) o.exact = 1;
         else if (!strcmp(argv[i], "--rear-sampling")) o.rear_sampling = 1;
         else if (!strcmp(argv[i], "--quiet")) quiet = 1;

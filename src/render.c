@@ -13,7 +13,9 @@
  *   W_e / p_A(s0)      = 1: s0 is uniform over the pixel, p_A(s0) = 1/A_pixel = W_e.
  *   P_a                the return value of cam->map (exact: the tracer's status;
  *                      polynomial: the system's pass circles). See render_sample.
- *   T_r                eta from cam->map when job->use_eta, else 1. See render_sample.
+ *   T_r                eta from cam->map when job->use_eta, else the constant
+ *                      job->eta_const (the lens's mean transmittance when the scene
+ *                      leaves out its variation). See render_sample.
  *   L                  radiance from s1 towards s_f: L_e if s1 is on an emitter (seen
  *                      directly), else the next-event estimate scene_direct (one light
  *                      sample per emitter). See scene_radiance.
@@ -139,7 +141,8 @@ static void render_sample(const render_job *job, int px, int py, long k, pix_rng
     double in[5] = {x, y, uu, vv, lambda}, ol[3], dl[3], eta = 1;
     if (!cam->map(cam->ctx, in, ol, dl, &eta)) return; /* P_a = 0 */
     (*passed)++;
-    double w = render_ray_weight(uu, vv, pdf, job->use_eta ? eta : 1);
+    double w = render_ray_weight(uu, vv, pdf,
+                                 job->use_eta ? eta : job->eta_const > 0 ? job->eta_const : 1);
     double os[3], ds[3], rgb[3];
     render_lens_to_scene(ol, os);
     render_lens_to_scene(dl, ds);

@@ -60,7 +60,8 @@ typedef struct {
     const scene_t *scene;
     const render_camera *cam;
     const render_sampler *sampler;
-    int use_eta;  /* weight by the Fresnel transmittance T_r */
+    int use_eta;  /* weight by the Fresnel transmittance T_r ... */
+    double eta_const; /* ... else by this constant (0 means 1) */
     long spp;
     int threads;  /* <= 0: OpenMP default */
     /* called now and then from one thread with the fraction of rows done; may be NULL */

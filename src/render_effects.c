@@ -5,7 +5,8 @@
  *    of four inputs has far fewer candidate terms than one of five);
  *  - transmittance: on/off as the scene says; auto: on when the mean Fresnel
  *    transmittance changes by more than 1% from the centre to the edge of the sensor in
- *    use (a constant factor is only exposure);
+ *    use; when off, the image is still weighted by the mean transmittance on the axis,
+ *    so that its exposure matches the exact lens;
  *  - vignetting: the pass circle of the front element beside the stop's; auto: on when
  *    more than 2% of the rays through the stop at the edge of the sensor in use are
  *    clipped by the front group (the cat's eye); below that it is under the noise of
@@ -86,6 +87,7 @@ int render_effects_decide(const scene_t *s, const lens_t *lens, double sw, doubl
         if (eta_edge > 0) break;
     }
     e->vignetting_loss = loss_edge;
+    e->eta_centre = eta_centre;
     e->eta_variation = eta_centre > 0 ? fabs(eta_edge - eta_centre) / eta_centre : 0;
     e->vignetting = s->vignetting == EFFECT_AUTO ? loss_edge > 0.02 : s->vignetting == EFFECT_ON;
     e->transmittance =

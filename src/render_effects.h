@@ -22,6 +22,7 @@ typedef struct {
     /* why: the measured quantities behind the "auto" choices */
     double vignetting_loss;   /* share of stop-passing rays clipped elsewhere at the field edge */
     double eta_variation;     /* relative change of the mean transmittance centre -> edge */
+    double eta_centre;        /* mean transmittance on the axis: used when transmittance is off */
 } render_effects;
 
 /* Decides from the scene and a quick exact probe of the lens (at the d line). */

@@ -73,6 +73,40 @@ static int write_exr(const char *path, int w, int h, const float *rgb, lens_err 
     return rc;
 }
 
+int render_compare(const char *ref, int w, int h, const float *rgb, double *rms, double *rel,
+                   lens_err *err)
+{
+    exr_image im;
+    if (exr_read_float(ref, &im, err)) return -1;
+    const char *names[3] = {"R", "G", "B"};
+    const float *pl[3];
+    int rc = -1;
+    if (im.width != w || im.height != h) {
+        lens_errf(err, ref, 0, "reference is %dx%d, the render %dx%d", im.width, im.height, w, h);
+        goto done;
+    }
+    for (int k = 0; k < 3; k++)
+        if (!(pl[k] = exr_image_channel(&im, names[k]))) {
+            lens_errf(err, ref, 0, "reference has no channel %s", names[k]);
+            goto done;
+        }
+    double se = 0, mean = 0;
+    size_t n = (size_t)w * h;
+    for (size_t i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++) {
+            double d = rgb[3 * i + k] - pl[k][i];
+            se += d * d;
+            mean += pl[k][i];
+        }
+    *rms = sqrt(se / (3.0 * n));
+    mean /= 3.0 * n;
+    *rel = mean > 0 ? *rms / mean : NAN;
+    rc = 0;
+done:
+    exr_image_free(&im);
+    return rc;
+}
+
 int render_run(const render_options *o, render_stats *st, lens_err *err)
 {
     scene_t sc;
@@ -133,6 +167,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
     }
 
     int use_eta = 1;
+    double eta_const = 1;
     render_camera cam;
     if (o->exact) {
         lc = render_lens_exact(&lens, sw, sh, &cam, err);
@@ -150,6 +185,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
             sys = render_effects_system(&lens, &e, dir, o->threads, o->log, err);
             if (!sys) goto done;
             use_eta = e.transmittance;
+            eta_const = e.eta_centre;
         } else {
             if (o->log) fprintf(o->log, "lens: polynomial system %s\n", sc.camera);
             if (sc.mode != SCENE_GREY && poly_input_index(sys, "lambda") < 0 && o->log)
@@ -176,11 +212,17 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         fprintf(o->log, "rendering %dx%d, %ld spp, %s mode, %s sampling\n", sc.width, sc.height,
                 sc.spp, scene_mode_name(sc.mode), o->rear_sampling ? "rear-element" : "line-pupil");
     render_job job = {.scene = &sc, .cam = &cam, .sampler = &smp, .use_eta = use_eta,
-                      .spp = sc.spp, .threads = o->threads, .progress = o->progress,
+                      .eta_const = eta_const, .spp = sc.spp, .threads = o->threads, .progress = o->progress,
                       .progress_ctx = o->progress_ctx};
     if (render_image(&job, img, NULL, st, err)) goto done;
     if (write_exr(o->exr, sc.width, sc.height, img, err)) goto done;
     if (o->png && render_write_png(o->png, sc.width, sc.height, img, err)) goto done;
+    if (o->reference) {
+        double rms, rel;
+        if (render_compare(o->reference, sc.width, sc.height, img, &rms, &rel, err)) goto done;
+        if (o->log) fprintf(o->log, "error vs %s: rms %.4g (%.2f%% of its mean)\n", o->reference, rms,
+                            100 * rel);
+    }
     rc = 0;
 done:
     free(img);

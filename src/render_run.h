@@ -16,12 +16,18 @@ typedef struct {
     int rear_sampling;      /* sample the rear element instead of the line pupil */
     long spp;               /* 0: the scene's */
     int threads;            /* <= 0: OpenMP default */
+    const char *reference;  /* an EXR to compare with (RMS error printed to log), or NULL */
     FILE *log;              /* decisions and figures (stderr in lens-render); may be NULL */
     void (*progress)(void *ctx, double done);
     void *progress_ctx;
 } render_options;
 
 int render_run(const render_options *opt, render_stats *st, lens_err *err);
+
+/* RMS difference of rgb (width x height, as render_image fills it) from the R, G, B
+ * channels of the EXR file ref, and that over ref's mean. 0 on success. */
+int render_compare(const char *ref, int width, int height, const float *rgb, double *rms,
+                   double *rel, lens_err *err);
 
 /* Writes the preview: exposure so that the 99th percentile of the luminance maps to
  * white, then the sRGB curve. rgb as render_image fills it. */
