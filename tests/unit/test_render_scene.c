@@ -161,12 +161,44 @@ static void test_checker(void **state)
     scene_free(&s);
 }
 
+/* An image texture (binary PPM) on a plane facing the camera: left pixel red, right
+ * pixel blue, upright as drawn. */
+static void test_image_texture(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/scene-tex-XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char ppm[256], scn[256];
+    snprintf(ppm, sizeof ppm, "%s/t.ppm", dir);
+    snprintf(scn, sizeof scn, "%s/t.scene", dir);
+    FILE *f = fopen(ppm, "wb");
+    assert_non_null(f);
+    fprintf(f, "P6\n# two pixels\n2 1\n255\n");
+    unsigned char px[6] = {255, 0, 0, 0, 0, 255};
+    fwrite(px, 1, 6, f);
+    fclose(f);
+    f = fopen(scn, "w");
+    assert_non_null(f);
+    fprintf(f, "camera a.lens\nplane 0 0 100 0 0 -1 image t.ppm 20\n");
+    fclose(f);
+    scene_t s;
+    lens_err err = {{0}};
+    assert_int_equal(scene_load(scn, &s, &err), 0);
+    double left[3] = {-5, 0, 100}, right[3] = {5, 0, 100};
+    assert_true(scene_albedo(&s, 0, left, 0) == 1 && scene_albedo(&s, 0, left, 2) == 0);
+    assert_true(scene_albedo(&s, 0, right, 0) == 0 && scene_albedo(&s, 0, right, 2) == 1);
+    scene_free(&s);
+    remove(ppm);
+    remove(scn);
+    remove(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_parse_good),   cmocka_unit_test(test_parse_errors),
         cmocka_unit_test(test_intersect),    cmocka_unit_test(test_direct_light),
-        cmocka_unit_test(test_checker),
+        cmocka_unit_test(test_checker),      cmocka_unit_test(test_image_texture),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
