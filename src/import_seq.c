@@ -327,7 +327,7 @@ static int fictitious(const char *name, double *nd, double *vd)
     if (name[6] != '\0' && name[6] != '.')
         return 0;
     long code = strtol(name, NULL, 10); /* six digits: cannot overflow */
-    *nd = 1.0 + (double)(code / 1000) / 1000.0;
+    *nd = (double)(1000 + code / 1000) / 1000.0; /* 1699 / 1000, not 1 + 0.699 (inexact) */
     *vd = (double)(code % 1000) / 10.0;
     return 1;
 }
