@@ -524,6 +524,10 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
         lens->surf[0].is_stop = 1;
         lens_add_note(lens, "no STO in the file; the first surface is the stop");
     }
+    int missing_stop_cir = missing[lens->stop >= 0 ? lens->stop : 0];
+    for (size_t i = 0; i < lens->nsurf; i++)
+        if (lens->surf[i].is_stop)
+            missing_stop_cir = missing[i];
     int rc = missing_cir ? estimate_apertures(st, missing, err) : 0;
     free(missing);
     if (rc != 0)
@@ -532,10 +536,11 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
     import_skips_note(&st->skips, lens);
     if (lens_finish(lens, err) != 0)
         return -1;
+    int hard = !missing_stop_cir;
     if (isfinite(st->fno) && st->fno > 0)
-        return import_set_aperture(lens, st->fno, 0, "FNO", err);
+        return import_set_aperture(lens, st->fno, 0, "FNO", hard, err);
     if (isfinite(st->epd) && st->epd > 0)
-        return import_set_aperture(lens, 0, st->epd * u, "EPD", err);
+        return import_set_aperture(lens, 0, st->epd * u, "EPD", hard, err);
     return 0;
 }
 
