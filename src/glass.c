@@ -7,9 +7,14 @@
  * 1e-4 in index; outside that range it is an error, not an extrapolation. */
 #include "glass.h"
 
+#include <ctype.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <unistd.h>
 
 #include "glass_formula.h"
 
@@ -80,4 +85,300 @@ int glass_index(const glass_t *g, double l, double *n, lens_err *err)
     }
     *n = v;
     return 0;
+}
+
+/* ---- catalogs ------------------------------------------------------------------ */
+
+struct glass_catalog {
+    glass_t *g;
+    size_t n, cap;
+    char *sources; /* "a.catalog, b.agf" */
+};
+
+glass_catalog *glass_catalog_new(void)
+{
+    return calloc(1, sizeof(glass_catalog));
+}
+
+void glass_catalog_free(glass_catalog *cat)
+{
+    if (!cat)
+        return;
+    free(cat->g);
+    free(cat->sources);
+    free(cat);
+}
+
+int glass_catalog_add(glass_catalog *cat, const glass_t *g, lens_err *err)
+{
+    if (!g->name[0]) {
+        lens_errf(err, NULL, 0, "a catalog glass needs a name");
+        return -1;
+    }
+    if (cat->n == cat->cap) {
+        size_t cap = cat->cap ? 2 * cat->cap : 64;
+        glass_t *ng = realloc(cat->g, cap * sizeof *ng);
+        if (!ng) {
+            lens_errf(err, NULL, 0, "out of memory");
+            return -1;
+        }
+        cat->g = ng;
+        cat->cap = cap;
+    }
+    cat->g[cat->n++] = *g;
+    return 0;
+}
+
+int glass_catalog_add_source(glass_catalog *cat, const char *path)
+{
+    size_t old = cat->sources ? strlen(cat->sources) : 0;
+    char *s = realloc(cat->sources, old + strlen(path) + 3);
+    if (!s)
+        return -1;
+    if (old)
+        strcpy(s + old, ", ");
+    strcpy(s + old + (old ? 2 : 0), path);
+    cat->sources = s;
+    return 0;
+}
+
+const glass_t *glass_catalog_find(const glass_catalog *cat, const char *name)
+{
+    if (!cat)
+        return NULL;
+    for (size_t i = 0; i < cat->n; i++)
+        if (strcasecmp(cat->g[i].name, name) == 0)
+            return &cat->g[i];
+    return NULL;
+}
+
+size_t glass_catalog_size(const glass_catalog *cat)
+{
+    return cat ? cat->n : 0;
+}
+
+const glass_t *glass_catalog_at(const glass_catalog *cat, size_t i)
+{
+    return cat && i < cat->n ? &cat->g[i] : NULL;
+}
+
+const char *glass_catalog_sources(const glass_catalog *cat)
+{
+    return cat && cat->sources ? cat->sources : "";
+}
+
+/* Keywords of the .catalog format, indexed by AGF formula number. */
+static const char *const formula_keyword[] = {
+    [GLASS_F_SCHOTT] = "schott",         [GLASS_F_SELLMEIER1] = "sellmeier1",
+    [GLASS_F_HERZBERGER] = "herzberger", [GLASS_F_SELLMEIER2] = "sellmeier2",
+    [GLASS_F_CONRADY] = "conrady",       [GLASS_F_SELLMEIER3] = "sellmeier3",
+    [GLASS_F_HANDBOOK1] = "handbook1",   [GLASS_F_HANDBOOK2] = "handbook2",
+    [GLASS_F_SELLMEIER4] = "sellmeier4", [GLASS_F_EXTENDED1] = "extended1",
+    [GLASS_F_SELLMEIER5] = "sellmeier5", [GLASS_F_EXTENDED2] = "extended2",
+    [GLASS_F_EXTENDED3] = "extended3",
+};
+
+static int formula_from_token(const char *t)
+{
+    for (int f = GLASS_F_SCHOTT; f <= GLASS_F_EXTENDED3; f++)
+        if (strcasecmp(t, formula_keyword[f]) == 0)
+            return f;
+    long v;
+    if (parse_long(t, &v) == 0 && v >= GLASS_F_SCHOTT && v <= GLASS_F_EXTENDED3)
+        return (int)v;
+    return 0;
+}
+
+/* A catalog's nominal n_d must agree with its own formula; a coefficient typed in the
+ * wrong column shows up here rather than as a subtly wrong lens. */
+#define CATALOG_ND_TOLERANCE 1e-3
+
+static int parse_catalog_line(char *line, const char *path, long lineno, glass_t *g,
+                              lens_err *err)
+{
+    char *tok[GLASS_MAX_COEF + 8];
+    int nt = 0;
+    char *save = NULL;
+    for (char *t = strtok_r(line, " \t\r\n", &save); t; t = strtok_r(NULL, " \t\r\n", &save)) {
+        if (nt == (int)(sizeof tok / sizeof *tok)) {
+            lens_errf(err, path, lineno, "too many fields");
+            return -1;
+        }
+        tok[nt++] = t;
+    }
+    if (nt < 2) {
+        lens_errf(err, path, lineno, "expected: name formula coefficients... lambda_min "
+                                     "lambda_max nd vd");
+        return -1;
+    }
+    memset(g, 0, sizeof *g);
+    g->kind = GLASS_FORMULA;
+    if (strlen(tok[0]) >= sizeof g->name) {
+        lens_errf(err, path, lineno, "glass name '%s' is too long", tok[0]);
+        return -1;
+    }
+    strcpy(g->name, tok[0]);
+    g->formula = formula_from_token(tok[1]);
+    if (!g->formula) {
+        lens_errf(err, path, lineno, "unknown dispersion formula '%s' (sellmeier1, schott, "
+                                     "... or an AGF formula number 1-13)", tok[1]);
+        return -1;
+    }
+    int nc = glass_formula_ncoef(g->formula);
+    if (nt != 2 + nc + 4) {
+        lens_errf(err, path, lineno,
+                  "glass %s: formula %s takes %d coefficients, then lambda_min lambda_max "
+                  "nd vd (%d fields expected, %d found)",
+                  g->name, glass_formula_name(g->formula), nc, 2 + nc + 4, nt);
+        return -1;
+    }
+    double v[GLASS_MAX_COEF + 4];
+    for (int i = 0; i < nc + 4; i++)
+        if (parse_double(tok[2 + i], &v[i]) != 0) {
+            lens_errf(err, path, lineno, "glass %s: '%s' is not a finite number", g->name,
+                      tok[2 + i]);
+            return -1;
+        }
+    memcpy(g->coef, v, (size_t)nc * sizeof *v);
+    g->lambda_min = v[nc];
+    g->lambda_max = v[nc + 1];
+    g->nd = v[nc + 2];
+    g->vd = v[nc + 3];
+    if (!(g->lambda_min > 0 && g->lambda_max > g->lambda_min)) {
+        lens_errf(err, path, lineno, "glass %s: wavelength range %g..%g um is empty", g->name,
+                  g->lambda_min, g->lambda_max);
+        return -1;
+    }
+    if (!(g->nd >= 1) || !(g->vd >= 0)) {
+        lens_errf(err, path, lineno, "glass %s: nd %g must be >= 1 and vd %g >= 0", g->name,
+                  g->nd, g->vd);
+        return -1;
+    }
+    if (GLASS_D_LINE >= g->lambda_min && GLASS_D_LINE <= g->lambda_max) {
+        double n = glass_formula_eval(g->formula, g->coef, GLASS_D_LINE);
+        if (!(fabs(n - g->nd) <= CATALOG_ND_TOLERANCE)) {
+            lens_errf(err, path, lineno,
+                      "glass %s: the formula gives n_d %.6f, the catalog says nd %.6f "
+                      "(coefficients in the wrong order?)",
+                      g->name, n, g->nd);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static int ends_with_ci(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && strcasecmp(s + n - m, suffix) == 0;
+}
+
+static int load_text_catalog(glass_catalog *cat, FILE *f, const char *path, lens_err *err)
+{
+    size_t first = cat->n;
+    char buf[4096];
+    long lineno = 0;
+    while (fgets(buf, sizeof buf, f)) {
+        lineno++;
+        if (!strchr(buf, '\n') && !feof(f)) {
+            lens_errf(err, path, lineno, "line too long");
+            return -1;
+        }
+        char *hash = strchr(buf, '#');
+        if (hash)
+            *hash = '\0';
+        char *p = buf;
+        while (isspace((unsigned char)*p))
+            p++;
+        if (!*p)
+            continue;
+        glass_t g;
+        if (parse_catalog_line(p, path, lineno, &g, err) != 0)
+            return -1;
+        for (size_t i = first; i < cat->n; i++)
+            if (strcasecmp(cat->g[i].name, g.name) == 0) {
+                lens_errf(err, path, lineno, "glass %s is listed twice in this file", g.name);
+                return -1;
+            }
+        if (glass_catalog_add(cat, &g, err) != 0)
+            return -1;
+    }
+    if (ferror(f)) {
+        lens_errf(err, path, 0, "read error");
+        return -1;
+    }
+    return 0;
+}
+
+int glass_catalog_load(glass_catalog **catp, const char *path, lens_err *err)
+{
+    if (ends_with_ci(path, ".agf")) {
+        lens_errf(err, path, 0, "AGF glass catalogs are not supported yet");
+        return -1;
+    }
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        lens_errf(err, path, 0, "cannot open the glass catalog");
+        return -1;
+    }
+    int created = 0;
+    if (!*catp) {
+        *catp = glass_catalog_new();
+        created = 1;
+        if (!*catp) {
+            fclose(f);
+            lens_errf(err, path, 0, "out of memory");
+            return -1;
+        }
+    }
+    size_t before = (*catp)->n;
+    int rc = load_text_catalog(*catp, f, path, err);
+    fclose(f);
+    if (rc == 0 && glass_catalog_add_source(*catp, path) != 0) {
+        lens_errf(err, path, 0, "out of memory");
+        rc = -1;
+    }
+    if (rc != 0) {
+        /* Leave the catalog as it was before this file. */
+        (*catp)->n = before;
+        if (created) {
+            glass_catalog_free(*catp);
+            *catp = NULL;
+        }
+    }
+    return rc;
+}
+
+static int readable(const char *p)
+{
+    return access(p, R_OK) == 0;
+}
+
+const char *glass_default_catalog_path(void)
+{
+    /* One buffer per thread: the answer depends only on the environment and the
+     * executable's location, so recomputing it per call is harmless. */
+    static _Thread_local char buf[PATH_MAX + 64];
+    const char *env = getenv("SPARSELENS_GLASS_CATALOG");
+    if (env && *env)
+        return readable(env) ? env : NULL;
+    char exe[PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n > 0) {
+        exe[n] = '\0';
+        char *slash = strrchr(exe, '/');
+        if (slash) {
+            *slash = '\0';
+            /* bin/ of the source tree, an installed prefix, and build/tests/. */
+            static const char *const rel[] = {"/../lenses/glass.catalog",
+                                              "/../share/sparselens/lenses/glass.catalog",
+                                              "/../../lenses/glass.catalog"};
+            for (size_t i = 0; i < sizeof rel / sizeof *rel; i++) {
+                snprintf(buf, sizeof buf, "%s%s", exe, rel[i]);
+                if (readable(buf))
+                    return buf;
+            }
+        }
+    }
+    return NULL;
 }

@@ -59,6 +59,15 @@ const glass_t *glass_catalog_at(const glass_catalog *cat, size_t i);
 const char *glass_catalog_sources(const glass_catalog *cat);
 void glass_catalog_free(glass_catalog *cat);
 
+/* An empty catalog (NULL on allocation failure), and adding one glass to it (readers of
+ * other catalog formats build on these). The glass is copied. Names may repeat across
+ * files: glass_catalog_find returns the first one added, so catalogs loaded first take
+ * precedence. Names are compared without regard to case. */
+glass_catalog *glass_catalog_new(void);
+int glass_catalog_add(glass_catalog *cat, const glass_t *g, lens_err *err);
+/* Records a file name for glass_catalog_sources (readers of other formats). */
+int glass_catalog_add_source(glass_catalog *cat, const char *path);
+
 /* The shipped default catalog: $SPARSELENS_GLASS_CATALOG, else lenses/glass.catalog
  * beside the executable's ../lenses or ../share/sparselens/lenses. NULL if not found. */
 const char *glass_default_catalog_path(void);
