@@ -228,7 +228,7 @@ int main(int argc, char **argv)
         count++;
     }
     char lens_buf[256];
-    lens_name_from(lens ? lens : samples_path(r), lens_buf, sizeof lens_buf);
+    lens_name_from(lens ? lens : path, lens_buf, sizeof lens_buf);
     samples_close(r);
     if (count == 0)
         diag_die(prog, "%s: no samples (the file has no data rows)", path);
