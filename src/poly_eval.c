@@ -81,22 +81,18 @@ int poly_eval(const poly_system *s, const double *in, double *out)
  * ones. Only IEEE multiplies, adds and divides: every clone gives the same bits. */
 typedef double vblk __attribute__((vector_size(BLK * sizeof(double))));
 
-/* n <= BLK rays, row idx[r] of in; v holds nslots blocks. Unused lanes repeat the
- * first ray so no lane computes on garbage. */
+/* The arithmetic of one block: v[1 + i] holds the raw inputs of BLK rays on entry;
+ * res[nout] gets the outputs. Pure vector arithmetic without calls, so the wide
+ * clones return with the upper register state cleared and never slow down the SSE
+ * code around them. */
 __attribute__((target_clones("avx512f", "avx2", "default"))) static void
-eval_block(const poly_system *s, const poly_part *p, int n, const size_t *idx,
-           const double *in, double *out, unsigned char *pass, vblk *v)
+eval_block(const poly_system *s, const poly_part *p, vblk *v, vblk *res)
 {
     const int nin = s->nin, nout = s->nout;
     for (int r = 0; r < BLK; r++)
         v[0][r] = 1;
-    for (int i = 0; i < nin; i++) {
-        double off = s->offset[i], sc = s->scale[i];
-        vblk x;
-        for (int r = 0; r < BLK; r++)
-            x[r] = in[idx[r < n ? r : 0] * (size_t)nin + (size_t)i];
-        v[1 + i] = (x - off) / sc;
-    }
+    for (int i = 0; i < nin; i++)
+        v[1 + i] = (v[1 + i] - s->offset[i]) / s->scale[i];
     const int *sa = p->slot_a, *sb = p->slot_b, *ord = p->stored;
     for (int j = 0; j < p->nstored; j++) {
         int k = ord[j];
@@ -120,13 +116,27 @@ eval_block(const poly_system *s, const poly_part *p, int n, const size_t *idx,
             a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
         if (t + 2 < nt)
             a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
-        vblk acc = (a0 + a1) + (a2 + a3);
-        for (int r = 0; r < n; r++)
-            out[idx[r] * (size_t)nout + (size_t)o] = acc[r];
+        res[o] = (a0 + a1) + (a2 + a3);
     }
-    if (pass)
-        for (int r = 0; r < n; r++)
-            pass[idx[r]] = (unsigned char)passes(s, out + idx[r] * (size_t)nout);
+}
+
+/* n <= BLK rays, rows idx[r] of in. Unused lanes repeat the first ray so no lane
+ * computes on garbage. */
+static void run_block(const poly_system *s, const poly_part *p, int n, const size_t *idx,
+                      const double *in, double *out, unsigned char *pass, vblk *v, vblk *res)
+{
+    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout;
+    for (size_t i = 0; i < nin; i++)
+        for (int r = 0; r < BLK; r++)
+            v[1 + i][r] = in[idx[r < n ? r : 0] * nin + i];
+    eval_block(s, p, v, res);
+    for (int r = 0; r < n; r++) {
+        double *o = out + idx[r] * nout;
+        for (size_t k = 0; k < nout; k++)
+            o[k] = res[k][r];
+        if (pass)
+            pass[idx[r]] = (unsigned char)passes(s, o);
+    }
 }
 
 void poly_eval_batch(const poly_system *s, size_t count, const double *in, double *out,
@@ -139,8 +149,9 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
         if (s->parts[p].nslots > maxslots)
             maxslots = s->parts[p].nslots;
     vblk *v = s->nparts ? aligned_alloc(sizeof(vblk), (size_t)maxslots * sizeof(vblk)) : NULL;
+    vblk *res = aligned_alloc(sizeof(vblk), (size_t)s->nout * sizeof(vblk));
     size_t *idx = s->nparts > 1 ? malloc(CHUNK * sizeof(size_t)) : NULL;
-    if (!v || (s->nparts > 1 && !idx)) {
+    if (!v || !res || (s->nparts > 1 && !idx)) {
         /* no parts, or out of memory: the rays do not pass */
         for (size_t r = 0; r < count; r++) {
             fill_nan(out + r * (size_t)s->nout, s->nout);
@@ -148,6 +159,7 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
                 pass[r] = 0;
         }
         free(v);
+        free(res);
         free(idx);
         return;
     }
@@ -157,7 +169,7 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
             int n = count - r0 < BLK ? (int)(count - r0) : BLK;
             for (int r = 0; r < BLK; r++)
                 id[r] = r0 + (size_t)(r < n ? r : 0);
-            eval_block(s, &s->parts[0], n, id, in, out, pass, v);
+            run_block(s, &s->parts[0], n, id, in, out, pass, v, res);
         }
     } else {
         /* Sort each chunk's rays by part (a counting sort), then run blocks per part. */
@@ -180,7 +192,7 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
                 for (int q = 0; q < s->nparts; q++)
                     for (int b = start[q]; b < start[q + 1]; b += BLK) {
                         int m = start[q + 1] - b < BLK ? start[q + 1] - b : BLK;
-                        eval_block(s, &s->parts[q], m, idx + b, in, out, pass, v);
+                        run_block(s, &s->parts[q], m, idx + b, in, out, pass, v, res);
                     }
             }
         }
@@ -189,6 +201,7 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
         free(cur);
     }
     free(v);
+    free(res);
     free(idx);
 }
 
