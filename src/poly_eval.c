@@ -32,27 +32,41 @@ static void fill_nan(double *out, int n)
         out[o] = NAN;
 }
 
-/* Slot values of one ray into v[nslots]. */
+/* Slot values of one ray into v[nslots] (the stored ones: the batch plan's). */
 static void slots_one(const poly_system *s, const poly_part *p, const double *in, double *v)
 {
     v[0] = 1;
     for (int i = 0; i < s->nin; i++)
         v[1 + i] = (in[i] - s->offset[i]) / s->scale[i];
-    const int *sa = p->slot_a, *sb = p->slot_b, *ord = p->order;
-    for (int j = 0, nj = p->nslots - 1 - s->nin; j < nj; j++) {
+    const int *sa = p->slot_a, *sb = p->slot_b, *ord = p->stored;
+    for (int j = 0; j < p->nstored; j++) {
         int k = ord[j];
         v[k] = v[sa[k]] * v[sb[k]];
     }
 }
 
+/* The same sums as the batch path, term t into partial sum t % 4. */
 static void dots_one(const poly_system *s, const poly_part *p, const double *v, double *out)
 {
     for (int o = 0; o < s->nout; o++) {
         const poly_out_terms *ot = &p->out[o];
-        double acc[POLY_NSUMS] = {0};
-        for (int t = 0; t < ot->nterms; t++)
-            acc[t % POLY_NSUMS] += ot->coef[t] * v[ot->slot[t]];
-        out[o] = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+        const double *c = ot->coef;
+        const int *fa = ot->fa, *fb = ot->fb;
+        double a0 = 0, a1 = 0, a2 = 0, a3 = 0;
+        int t = 0, nt = ot->nterms;
+        for (; t + 4 <= nt; t += 4) {
+            a0 += c[t] * (v[fa[t]] * v[fb[t]]);
+            a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
+            a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
+            a3 += c[t + 3] * (v[fa[t + 3]] * v[fb[t + 3]]);
+        }
+        if (t < nt)
+            a0 += c[t] * (v[fa[t]] * v[fb[t]]);
+        if (t + 1 < nt)
+            a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
+        if (t + 2 < nt)
+            a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
+        out[o] = (a0 + a1) + (a2 + a3);
     }
 }
 
