@@ -9,7 +9,8 @@
  *   emitted   the C of poly_emit_c, compiled now with $CC (or cc) -O2, one call per ray
  *   trace     the exact tracer (trace_batch, one thread) on passing fisheye-ii rays,
  *             for the speed-up of the polynomial system over tracing
- * Usage: bench_poly [RAYS]   (default 1000000) */
+ * Usage: bench_poly [RAYS [SYSTEM.poly]]   (default 1000000 rays, the fixture system;
+ * a system file must have the inputs x y u v lambda) */
 #include <dlfcn.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -125,7 +126,23 @@ int main(int argc, char **argv)
     size_t n = argc > 1 ? strtoul(argv[1], NULL, 10) : 1000000;
     if (n == 0)
         n = 1000000;
-    poly_system *s = fixture_system(40, 11, 1, 2016);
+    poly_system *s = NULL;
+    if (argc > 2) {
+        lens_err err;
+        if (poly_read(argv[2], &s, &err) != 0) {
+            fprintf(stderr, "bench_poly: %s\n", err.msg);
+            return 1;
+        }
+        for (int i = 0; i < 5; i++)
+            if (poly_ninputs(s) != 5 || poly_input_index(s, fixture_inputs[i]) != i ||
+                poly_noutputs(s) != 5 || poly_nparts(s) != 1) {
+                fprintf(stderr, "bench_poly: %s: needs inputs x y u v lambda, 5 outputs, 1 part\n",
+                        argv[2]);
+                return 1;
+            }
+    } else {
+        s = fixture_system(40, 11, 1, 2016);
+    }
     double *in = malloc(n * 5 * sizeof(double)), *out = malloc(n * 5 * sizeof(double));
     unsigned char *pass = malloc(n);
     fixture_rng g = {77};
@@ -133,8 +150,11 @@ int main(int argc, char **argv)
         fixture_ray(&g, in + r * 5);
 
     flat F;
-    F.exps = malloc(5 * 40 * 5 * sizeof(int));
-    F.coef = malloc(5 * 40 * sizeof(double));
+    int total = 0;
+    for (int o = 0; o < 5; o++)
+        total += poly_nterms(s, 0, o);
+    F.exps = malloc((size_t)total * 5 * sizeof(int));
+    F.coef = malloc((size_t)total * sizeof(double));
     int k = 0;
     for (int o = 0; o < 5; o++) {
         F.nterms[o] = poly_nterms(s, 0, o);

@@ -94,13 +94,14 @@ int poly_eval(const poly_system *s, const double *in, double *out)
  * into 2-wide operations, on AVX2 and AVX-512 machines the clones below use wider
  * ones. Only IEEE multiplies, adds and divides: every clone gives the same bits. */
 typedef double vblk __attribute__((vector_size(BLK * sizeof(double))));
+typedef long long vmask __attribute__((vector_size(BLK * sizeof(long long))));
 
 /* The arithmetic of one block: v[1 + i] holds the raw inputs of BLK rays on entry;
- * res[nout] gets the outputs. Pure vector arithmetic without calls, so the wide
- * clones return with the upper register state cleared and never slow down the SSE
- * code around them. */
+ * res[nout] gets the outputs and *ok the passage test of passes() per lane (all bits
+ * set: passes). Pure vector arithmetic without calls, so the wide clones return with
+ * the upper register state cleared and never slow down the SSE code around them. */
 __attribute__((target_clones("avx512f", "avx2", "default"))) static void
-eval_block(const poly_system *s, const poly_part *p, vblk *v, vblk *res)
+eval_block(const poly_system *s, const poly_part *p, vblk *v, vblk *res, vmask *ok)
 {
     const int nin = s->nin, nout = s->nout;
     for (int r = 0; r < BLK; r++)
@@ -132,6 +133,15 @@ eval_block(const poly_system *s, const poly_part *p, vblk *v, vblk *res)
             a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
         res[o] = (a0 + a1) + (a2 + a3);
     }
+    vmask m = res[0] == res[0]; /* all lanes set */
+    for (int o = 0; o < nout; o++)
+        m &= (res[o] - res[o]) == 0; /* finite: inf - inf and nan give nan */
+    for (int c = 0; c < s->ncircles; c++) {
+        const vblk a = res[s->circles[c].a], b = res[s->circles[c].b];
+        const double r = s->circles[c].radius;
+        m &= a * a + b * b <= r * r;
+    }
+    *ok = m;
 }
 
 /* n <= BLK rays, rows idx[r] of in. Unused lanes repeat the first ray so no lane
@@ -143,13 +153,14 @@ static void run_block(const poly_system *s, const poly_part *p, int n, const siz
     for (size_t i = 0; i < nin; i++)
         for (int r = 0; r < BLK; r++)
             v[1 + i][r] = in[idx[r < n ? r : 0] * nin + i];
-    eval_block(s, p, v, res);
+    vmask ok;
+    eval_block(s, p, v, res, &ok);
     for (int r = 0; r < n; r++) {
         double *o = out + idx[r] * nout;
         for (size_t k = 0; k < nout; k++)
             o[k] = res[k][r];
         if (pass)
-            pass[idx[r]] = (unsigned char)passes(s, o);
+            pass[idx[r]] = ok[r] != 0;
     }
 }
 
