@@ -16,6 +16,7 @@
 #include <strings.h>
 #include <unistd.h>
 
+#include "agf.h"
 #include "glass_formula.h"
 
 #define NDVD_LAMBDA_MIN 0.36
@@ -310,12 +311,14 @@ static int load_text_catalog(glass_catalog *cat, FILE *f, const char *path, lens
     return 0;
 }
 
+/* agf.c hands each glass to a callback; this is it. */
+static int agf_add(void *cat, const glass_t *g, lens_err *err)
+{
+    return glass_catalog_add(cat, g, err);
+}
+
 int glass_catalog_load(glass_catalog **catp, const char *path, lens_err *err)
 {
-    if (ends_with_ci(path, ".agf")) {
-        lens_errf(err, path, 0, "AGF glass catalogs are not supported yet");
-        return -1;
-    }
     FILE *f = fopen(path, "r");
     if (!f) {
         lens_errf(err, path, 0, "cannot open the glass catalog");
@@ -332,7 +335,9 @@ int glass_catalog_load(glass_catalog **catp, const char *path, lens_err *err)
         }
     }
     size_t before = (*catp)->n;
-    int rc = load_text_catalog(*catp, f, path, err);
+    /* AGF catalogs (Zemax's format) are read by agf.c, one glass_catalog_add each. */
+    int rc = ends_with_ci(path, ".agf") ? agf_read(path, agf_add, *catp, err)
+                                        : load_text_catalog(*catp, f, path, err);
     fclose(f);
     if (rc == 0 && glass_catalog_add_source(*catp, path) != 0) {
         lens_errf(err, path, 0, "out of memory");

@@ -52,4 +52,46 @@ int poly_add_pass_circle(poly_system *sys, int out_a, int out_b, double radius);
 void poly_set_meta(poly_system *sys, const char *key, const char *value);
 const char *poly_get_meta(const poly_system *sys, const char *key);
 
+/* Builder details. poly_new returns NULL on bad arguments (no inputs or outputs, a
+ * name that is empty, holds whitespace or '#', or repeats). A new system has no
+ * parts: call poly_add_part(sys, 0, INFINITY) for one part over the whole sensor.
+ * Scaling defaults to offset 0, scale 1; the domain to (-inf, inf).
+ * poly_add_part returns -1 if rmin < 0, rmax <= rmin, or the range overlaps a part;
+ * parts with rmin > 0 need inputs named x and y.
+ * poly_add_term returns 0, or -1 for a bad part or output, a negative exponent, a total
+ * degree past POLY_MAX_DEGREE, a non-finite coefficient, or a monomial the output
+ * already has. Terms are evaluated and written in the order they were added.
+ * poly_add_pass_circle returns 0, or -1 for a bad output or radius. */
+#define POLY_MAX_DEGREE 24
+
+/* Reading a system back (for reports, fitters and the emitter). */
+int poly_nparts(const poly_system *sys);
+void poly_part_range(const poly_system *sys, int part, double *rmin, double *rmax);
+int poly_nterms(const poly_system *sys, int part, int output);
+/* exponents[ninputs] and the coefficient of term t (in add order). */
+void poly_get_term(const poly_system *sys, int part, int output, int t, int *exponents,
+                   double *coef);
+void poly_get_scaling(const poly_system *sys, int input, double *offset, double *scale);
+void poly_get_domain(const poly_system *sys, int input, double *lo, double *hi);
+int poly_npass_circles(const poly_system *sys);
+void poly_get_pass_circle(const poly_system *sys, int c, int *out_a, int *out_b,
+                          double *radius);
+int poly_nmeta(const poly_system *sys);
+const char *poly_meta_key(const poly_system *sys, int i);
+int poly_max_degree(const poly_system *sys, int output); /* over all parts */
+/* The part evaluation uses for in[] (by sensor radius; the nearest part outside all). */
+int poly_part_of(const poly_system *sys, const double *in);
+/* Distinct monomials per ray that evaluation computes (for reports and benchmarks). */
+int poly_nmonomials(const poly_system *sys, int part);
+
+/* Reads a system from an open stream; name is used in error messages. */
+int poly_read_stream(FILE *f, const char *name, poly_system **sys, lens_err *err);
+
+/* Writes a C function
+ *   int func_name(const double in[ninputs], double out[noutputs])
+ * that evaluates sys exactly as poly_eval does (same scaling, part selection, products
+ * and summation order) and returns the same pass flag. Compiles as C99 on its own
+ * (includes <math.h>). Returns 0, or -1 on a bad name or write error. */
+int poly_emit_c(FILE *f, const poly_system *sys, const char *func_name);
+
 #endif

@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# lens-eval: predictions, bad rows, extrapolation, the report, --emit c against itself.
+source "$(dirname "$0")/lib.sh"
+E=$BIN/lens-eval
+tiny=tests/data/eval_tiny.poly
+
+if run $E --help | grep -q '^usage: lens-eval'; then ok eval_help; else fail eval_help; fi
+
+# predictions: out_x = x for rays the system passes; blocked rays get nan and out_eta 0
+run $E $tiny tests/data/eval_tiny.txt >$T/pred.txt 2>$T/err.txt
+if [ "$(grep -vc '^#' $T/pred.txt)" = 6 ] && head -1 $T/pred.txt | grep -q '^# columns: x y out_x out_u out_eta$' &&
+   awk '!/^#/ && $1 <= 10 && ($3 != $1 || $5 != 1) { bad = 1 } !/^#/ && $1 > 10 && ($3 != "nan" || $5 != 0) { bad = 1 } END { exit bad }' $T/pred.txt
+then ok eval_predictions; else fail eval_predictions "$(head -3 $T/pred.txt)"; fi
+# extrapolation is reported, not silent (x = 20 and 50 lie outside the domain [-10, 10])
+if grep -q '^lens-eval: 2 of 6 rays outside the training domain (extrapolated): x 2$' $T/err.txt
+then ok eval_extrapolation; else fail eval_extrapolation "$(cat $T/err.txt)"; fi
+
+# a bad row: a nan row in its place, FILE:LINE on stderr, the rest evaluated, exit 1
+printf '# columns: y x\n0 1\nzz 2\n0 3\n' >$T/bad.txt
+run $E $tiny $T/bad.txt >$T/out.txt 2>$T/err.txt; rc=$?
+if [ $rc -ne 0 ] && grep -q "bad.txt:3:" $T/err.txt && [ "$(sed -n 3p $T/out.txt)" = "nan nan nan nan nan" ] &&
+   [ "$(awk 'NR == 4 { print $3 }' $T/out.txt)" = 3 ]
+then ok eval_bad_row; else fail eval_bad_row "rc=$rc $(cat $T/err.txt) $(cat $T/out.txt)"; fi
+
+# the report, against the hand computation in tests/unit/test_eval_report.c
+run $E $tiny tests/data/eval_tiny.txt --report --bins 2 >$T/rep.txt 2>/dev/null
+rms=$(awk '$1 == "out_x" && $NF == "mm" && NF == 7 { print $3 }' $T/rep.txt)
+if head -1 $T/rep.txt | grep -q '^# columns: output rays rms mean p99 max unit' && near "$rms" 0.661438 1e-6 &&
+   [ "$(awk '$1 == "false_pass" { print $2 }' $T/rep.txt)" = 1 ] && [ "$(awk '$1 == "false_block" { print $2 }' $T/rep.txt)" = 1 ]
+then ok eval_report; else fail eval_report "$(head -3 $T/rep.txt)"; fi
+expect_error eval_report_needs_reference "no reference column 'out_x'" \
+  $E $tiny $T/bad.txt --report
+
+# errors: FILE:LINE for a bad system, a missing column, a missing file; -o leaves nothing behind
+printf 'lens-poly 1\ninputs x\noutputs a\nscaling x 0 1 nan 1\n' >$T/bad.poly
+expect_error eval_bad_system "^lens-eval: .*bad.poly:4: domain minimum 'nan'" $E $T/bad.poly tests/data/eval_tiny.txt
+printf '# columns: x z\n1 2\n' >$T/noy.txt
+expect_error eval_missing_column "^lens-eval: .*'y'" $E $tiny $T/noy.txt
+expect_error eval_missing_file "^lens-eval: .*nonexistent" $E $tiny $T/nonexistent.txt -o $T/o.txt
+if [ ! -e $T/o.txt ] && ! ls $T | grep -q tmp; then ok eval_no_partial_output; else fail eval_no_partial_output "$(ls $T)"; fi
+run $E $tiny tests/data/eval_tiny.txt -o $T/o.txt 2>/dev/null
+if cmp -s $T/o.txt $T/pred.txt; then ok eval_output_file; else fail eval_output_file; fi
+expect_error eval_unknown_option "unknown option" $E $tiny --frobnicate
+
+# --emit c: the compiled function gives what lens-eval gives, on a two-part system
+sys=tests/data/eval_parts.poly
+awk 'BEGIN { srand(5); print "# columns: x y u v lambda";
+             for (i = 0; i < 300; i++) printf "%.6f %.6f %.6f %.6f %.4f\n",
+               36*rand()-18, 36*rand()-18, 1.2*rand()-0.6, 1.2*rand()-0.6, 0.4+0.3*rand() }' >$T/rays.txt
+run $E $sys --emit c --name lens_fn -o $T/fn.c
+cat >$T/main.c <<'C'
+#include <stdio.h>
+int lens_fn(const double in[5], double out[5]);
+int main(void) {
+    char line[512];
+    double in[5], out[5];
+    while (fgets(line, sizeof line, stdin)) {
+        if (line[0] == '#' || sscanf(line, "%lf %lf %lf %lf %lf", &in[0], &in[1], &in[2], &in[3], &in[4]) != 5)
+            continue;
+        int p = lens_fn(in, out);
+        printf("%d %.17g %.17g %.17g %.17g %.17g\n", p, out[0], out[1], out[2], out[3], out[4]);
+    }
+    return 0;
+}
+C
+CC=${CC:-cc}
+if $CC -std=c99 -O2 -Wall -Werror $T/fn.c $T/main.c -o $T/fn -lm; then
+  $T/fn <$T/rays.txt >$T/c.txt
+  run $E $sys $T/rays.txt --raw 2>/dev/null | grep -v '^#' >$T/e.txt
+  # compare to 1e-12 relative
+  if paste -d' ' $T/c.txt $T/e.txt | awk '{ for (k = 0; k < 5; k++) { c = $(2 + k); e = $(12 + k);
+        d = c - e; if (d < 0) d = -d; s = e < 0 ? -e : e; if (s < 1e-300) s = 1;
+        if (d > 1e-12 * s) { print "row " NR ": " c " vs " e; exit 1 } } }
+        END { if (NR != 300) { print NR " rows"; exit 1 } }'
+  then ok eval_emit_c_matches; else fail eval_emit_c_matches; fi
+else
+  fail eval_emit_c_matches "emitted C does not compile"
+fi
+expect_error eval_emit_bad_name "not a C identifier" $E $sys --emit c --name 9x
