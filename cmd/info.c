@@ -6,8 +6,8 @@
 #include <string.h>
 
 #include "cli.h"
-#include "field_of_view.h"
 #include "lens_cli_options.h"
+#include "field_of_view.h"
 #include "paraxial.h"
 
 static const char *prog = "lens-info";
@@ -21,7 +21,7 @@ static const char *usage =
     "  --focus MM        print the lens refocused on an object MM in front of its first surface\n"
     "                    ('inf' for infinity): the last thickness changes\n"
     LENS_CLI_OPTIONS_HELP
-    "See lens-info(1), lens-import(5).\n";
+    "See lens-info(1).\n";
 
 static void print_key(const char *key, double v)
 {
