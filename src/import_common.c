@@ -288,8 +288,16 @@ static const glass_t *find_loose(const glass_catalog *cat, const char *name)
     return hit;
 }
 
-void import_glass_model(lens_surface *s, double nd, double vd)
+int import_glass_model(lens_surface *s, double nd, double vd, const char *file, long line,
+                       lens_err *err)
 {
+    if (!isfinite(vd))
+        vd = 0; /* not given: a bare index */
+    if (!isfinite(nd) || nd < 1 || vd < 0) {
+        lens_errf(err, file, line, "model glass n_d %g, V_d %g: n_d must be at least 1 and V_d "
+                                   "positive (or 0 for none)", nd, vd);
+        return -1;
+    }
     if (vd > 0) {
         s->medium = glass_from_ndvd(nd, vd);
         snprintf(s->material, sizeof s->material, "%.10g/%.10g", nd, vd);
@@ -297,6 +305,7 @@ void import_glass_model(lens_surface *s, double nd, double vd)
         s->medium = glass_constant(nd);
         snprintf(s->material, sizeof s->material, "%.10g", nd);
     }
+    return 0;
 }
 
 int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double vd,
@@ -328,7 +337,8 @@ int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double
     }
     int have_ndvd = isfinite(nd) && nd > 1.0 && isfinite(vd) && vd > 0;
     if (have_ndvd && g->opt && g->opt->ndvd_fallback) {
-        import_glass_model(s, nd, vd);
+        if (import_glass_model(s, nd, vd, file, line, err) != 0)
+            return -1;
         char what[96];
         snprintf(what, sizeof what, "%s as %s", name, s->material);
         append(g->fallbacks, sizeof g->fallbacks, what);
@@ -360,10 +370,11 @@ int import_set_aperture(lens_t *lens, double fnumber, double epd_mm, const char 
 {
     paraxial_data p;
     lens_err e;
+    e.msg[0] = '\0';
     if (paraxial_compute(lens, GLASS_D_LINE, &p, &e) != 0 || !(p.fnumber > 0) ||
-        !isfinite(p.fnumber)) {
-        lens_add_note(lens, "aperture %s not applied (no paraxial f-number: %s)", what,
-                      e.msg);
+        !isfinite(p.fnumber) || !isfinite(p.efl)) {
+        lens_add_note(lens, "aperture %s not applied: %s", what,
+                      e.msg[0] ? e.msg : "the lens has no finite paraxial f-number");
         return 0;
     }
     double target = fnumber > 0 ? fnumber : fabs(p.efl) / epd_mm;
@@ -405,4 +416,49 @@ double import_radius(double c, double unit)
         }
     }
     return r * unit;
+}
+
+/* Control characters become '?', and blanks at both ends go: what the native format's
+ * header lines can carry and read back unchanged. */
+static void clean_line(char *s, size_t cap)
+{
+    for (char *p = s; *p; p++)
+        if ((unsigned char)*p < 0x20 || (unsigned char)*p == 0x7F)
+            *p = '?';
+    char *b = s;
+    while (*b == ' ')
+        b++;
+    size_t n = strlen(b);
+    while (n && b[n - 1] == ' ')
+        n--;
+    memmove(s, b, n);
+    s[n] = '\0';
+    if (!n && cap > 1) {
+        s[0] = '?';
+        s[1] = '\0';
+    }
+}
+
+void import_clean_text(lens_t *lens)
+{
+    if (lens->name[0])
+        clean_line(lens->name, sizeof lens->name);
+    clean_line(lens->source, sizeof lens->source);
+    char out[sizeof lens->notes], line[sizeof lens->notes];
+    size_t o = 0;
+    for (const char *p = lens->notes; *p;) {
+        size_t n = strcspn(p, "\n");
+        memcpy(line, p, n);
+        line[n] = '\0';
+        clean_line(line, sizeof line);
+        int w = snprintf(out + o, sizeof out - o, "%s%s", o ? "\n" : "", line);
+        if (w < 0 || (size_t)w >= sizeof out - o)
+            break;
+        o += (size_t)w;
+        p += n;
+        if (*p == '\n')
+            p++;
+    }
+    out[o] = '\0';
+    memcpy(lens->notes, out, o + 1);
 }

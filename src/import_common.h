@@ -55,6 +55,10 @@ void import_note(lens_t *lens, const char *fmt, ...) __attribute__((format(print
  * R = -435.7604 stores c = 1/R, and this gives back -435.7604, not -435.76040000000006. */
 double import_radius(double c, double unit);
 
+/* Makes the name, source and each note line writable and readable back unchanged in
+ * the native format's header: control characters become '?', end blanks go. */
+void import_clean_text(lens_t *lens);
+
 /* The system aperture of a design file, applied to a finished lens: the stop's
  * semi-diameter is scaled so that the paraxial f-number (d line, object at infinity) is
  * fnumber, or efl / epd_mm when fnumber is 0 (design programs derive the stop size from
@@ -84,8 +88,10 @@ void import_glass_free(import_glass_ctx *g);
 int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double vd,
                         const char *file, long line, lens_surface *s, lens_err *err);
 
-/* A model glass from n_d and V_d (vd <= 0: a bare index). */
-void import_glass_model(lens_surface *s, double nd, double vd);
+/* A model glass from n_d and V_d (vd 0 or not finite: a bare index) into s->medium and
+ * s->material; -1 (err at file:line) when n_d < 1 or V_d < 0. */
+int import_glass_model(lens_surface *s, double nd, double vd, const char *file, long line,
+                       lens_err *err);
 
 /* Appends the fallbacks (if any) to the notes. */
 void import_glass_note(const import_glass_ctx *g, lens_t *lens);

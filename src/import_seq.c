@@ -612,7 +612,11 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
             s->medium = glass_air();
             strcpy(s->material, "air");
         } else if (fictitious(q->glass, &nd, &vd)) {
-            import_glass_model(s, nd, vd);
+            if (import_glass_model(s, nd, vd, st->path, q->glass_line, err) != 0) {
+                import_glass_free(&gl);
+                free(missing);
+                return -1;
+            }
         } else if ((pk = find_private(st, q->glass)) >= 0) {
             if (st->prv[pk].why[0]) {
                 import_glass_free(&gl);
@@ -621,7 +625,12 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
                           st->prv[pk].why);
                 return -1;
             }
-            import_glass_model(s, st->prv[pk].nd, st->prv[pk].vd);
+            if (import_glass_model(s, st->prv[pk].nd, st->prv[pk].vd, st->path, q->glass_line,
+                                   err) != 0) {
+                import_glass_free(&gl);
+                free(missing);
+                return -1;
+            }
             lens_add_note(lens, "private glass %s as %s%s", q->glass, s->material,
                           st->prv[pk].vd > 0 ? " (n_d/V_d model)" : " (no dispersion)");
         } else if (import_glass_lookup(&gl, q->glass, NAN, NAN, st->path, q->glass_line, s,
@@ -647,6 +656,7 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
         return -1;
     notes(st);
     import_skips_note(&st->skips, lens);
+    import_clean_text(lens);
     if (lens_finish(lens, err) != 0)
         return -1;
     int hard = !missing_stop_cir;

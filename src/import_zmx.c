@@ -456,12 +456,10 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
             s->medium = glass_air();
             strcpy(s->material, "air");
         } else if (z->model) {
-            if (!(z->nd >= 1.0)) {
+            if (import_glass_model(s, z->nd, z->vd, st->path, z->glas_line, err) != 0) {
                 import_glass_free(&gl);
-                lens_errf(err, st->path, z->glas_line, "model glass without a valid n_d");
                 return -1;
             }
-            import_glass_model(s, z->nd, z->vd);
         } else if (import_glass_lookup(&gl, z->glas, z->nd, z->vd, st->path, z->glas_line, s,
                                        err) != 0) {
             import_glass_free(&gl);
@@ -484,6 +482,7 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
                     merged > 1 ? "s" : "");
     fields_and_waves_note(st);
     import_skips_note(&st->skips, lens);
+    import_clean_text(lens);
     if (lens_finish(lens, err) != 0)
         return -1;
     int hard = stop_clap;
