@@ -54,7 +54,7 @@ static void probe(const prober *p, double x, int m, const double *u, const doubl
             }
             if (!c)
                 break;
-            trace_packet_to_object(p->lens, nl, c, r, 0, res);
+            trace_packet_to_object(p->lens, nl, c, r, 0, res, NULL);
             for (int k = 0; k < c; k++)
                 if (res[k].status == TRACE_PASSED)
                     pass[idx[k]] = 1;
