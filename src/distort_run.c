@@ -102,7 +102,7 @@ int distort_run(const distort_request *rq, distort_report *rep, lens_err *err)
             for (int fe = 0; fe < 2; fe++) {
                 lens_err e2;
                 rep->fit_ok[m][fe] =
-                    distort_opencv(&im[m], rq->lambda, fe, rep->pts[m], n * n, rep->scale, hw, hh,
+                    distort_opencv(&im[m], rq->lambda, fe, rep->mapping, rep->pts[m], n * n, rep->scale, hw, hh,
                                    rq->cv_width, rq->cv_height, fe ? 85 : 80, &rep->fit[m][fe], &e2) == 0;
                 if (!rep->fit_ok[m][fe])
                     snprintf(rep->fit_msg[m][fe], sizeof rep->fit_msg[m][fe], "%s", e2.msg);

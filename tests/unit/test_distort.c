@@ -188,6 +188,32 @@ static void symmetric_lens_grid_is_radial(void **state)
     lens_free(&l);
 }
 
+/* OpenCV's fisheye model describes the fisheye to a small fraction of a pixel, with k1
+ * near the equisolid projection's -1/24 (2 f sin(t/2) = f t (1 - t^2/24 + ...)), which
+ * the lens follows within a few percent; Brown-Conrady cannot follow it. */
+static void opencv_models_of_the_fisheye(void **state)
+{
+    (void)state;
+    lens_t l;
+    assert_int_equal(fixture_fisheye_ii(&l), 0);
+    imaging im = {.lens = &l, .object_distance = INFINITY};
+    const int n = 13;
+    double *pts = malloc(sizeof(double) * 4 * n * n), f = fixture_efl(&l);
+    assert_true(distort_grid(&im, GLASS_D_LINE, PROJ_EQUISOLID, f, 11.8, 7.85, n, n, pts) > 100);
+    cv_camera_fit fe, br;
+    lens_err err;
+    assert_int_equal(distort_opencv(&im, GLASS_D_LINE, 1, PROJ_EQUISOLID, pts, n * n, f, 11.8, 7.85,
+                                    2000, 1330, 85, &fe, &err), 0);
+    assert_true(fe.rms < 0.05);
+    assert_true(fabs(fe.k[0] + 1.0 / 24) < 0.01);
+    assert_true(fabs(fe.cx - 1000) < 1e-9 && fabs(fe.cy - 665) < 1e-9);
+    assert_int_equal(distort_opencv(&im, GLASS_D_LINE, 0, PROJ_EQUISOLID, pts, n * n, f, 11.8, 7.85,
+                                    2000, 1330, 80, &br, &err), 0);
+    assert_true(br.rms > 20 * fe.rms);
+    free(pts);
+    lens_free(&l);
+}
+
 static void bad_fields(void **state)
 {
     (void)state;
@@ -210,6 +236,7 @@ int main(void)
         cmocka_unit_test(dgauss_distortion_as_chief_rays_say),
         cmocka_unit_test(fisheye_distortion_as_chief_rays_say),
         cmocka_unit_test(symmetric_lens_grid_is_radial),
+        cmocka_unit_test(opencv_models_of_the_fisheye),
         cmocka_unit_test(bad_fields),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
