@@ -24,6 +24,7 @@
 
 #define DEP 1e-11
 #define MAX_EXCHANGE_PASSES 8
+#define CAP_MARGIN 0.01
 
 enum { AVAIL = 0, CHOSEN = 1, DEPENDENT = 2, OFF = 3 };
 
@@ -527,11 +528,15 @@ int fit_select(const fit_basis *b, const double *mom, const double *by,
     double tol = o->tolerance > floor_tol ? o->tolerance : floor_tol;
     /* Degree caps 3, 5, 7, ... below the maximum, and the maximum: the best by
      * held-out error wins, so offering higher degrees can only help (the caps of a
-     * lower maximum are a subset). */
+     * lower maximum are a subset). A higher cap must win by CAP_MARGIN on both the
+     * held-out and the training error: the held-out error of a few hundred rays is a
+     * noisy estimate, the training error alone would not see overfitting, and a
+     * smaller difference is noise (parsimony). */
     int D = b->D, first = 1;
     for (int cap = D < 3 ? D : 3; cap <= D; cap = cap + 2 <= D || cap == D ? cap + 2 : D) {
         select_capped(&s, cap, jmax, tol, o->patience, o->exchange_passes, hist, &cur);
-        if (first || cur.hold_rms < res->hold_rms) {
+        if (first || (cur.hold_rms < res->hold_rms * (1 - CAP_MARGIN) &&
+                      cur.train_rms < res->train_rms * (1 - CAP_MARGIN))) {
             int *c = res->cand; double *f = res->coef;
             *res = cur;
             res->cand = c;
