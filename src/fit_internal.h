@@ -10,7 +10,7 @@
  * always precedes its child. */
 #include <stddef.h>
 
-enum { FIT_MAX_VARS = 16, FIT_MAX_DEG = 40, FIT_BLOCK = 128 }; /* moments to degree 2 * FIT_MAX_DEG */
+enum { FIT_MAX_VARS = 16, FIT_MAX_DEG = 24, FIT_BLOCK = 128 }; /* moments to degree 2 * FIT_MAX_DEG */
 
 /* Numbering of the monomials of degree <= M in nvar variables. */
 typedef struct {
