@@ -1,0 +1,221 @@
+/* The camera-ray estimator of the supplement (Section 1, Eq. 1-13) and the render loop.
+ *
+ * What a pixel measures: its mean irradiance,
+ *   I_j = integral over the pixel and the hemisphere of W_e L(s0, w0) cos(theta_s0) dw0 dA(s0),
+ *   W_e = 1 / A_pixel,
+ * where L(s0, w0) is the radiance arriving at sensor point s0 from direction w0 through
+ * the lens: T_r times the radiance that leaves the scene point s1 towards the front
+ * element point s_f (air on both sides of the lens, so radiance is not rescaled).
+ *
+ * Eq. 13 of the supplement, term by term, and where each one is in this file:
+ *   1/N sum            spp samples per pixel, the mean in render_pixel (N counts rays
+ *                      that fail the lens too: they score 0).
+ *   W_e / p_A(s0)      = 1: s0 is uniform over the pixel, p_A(s0) = 1/A_pixel = W_e.
+ *   P_a                the return value of cam->map (exact: the tracer's status;
+ *                      polynomial: the system's pass circles). See render_sample.
+ *   T_r                eta from cam->map when job->use_eta, else the constant
+ *                      job->eta_const (the lens's mean transmittance when the scene
+ *                      leaves out its variation). See render_sample.
+ *   L                  radiance from s1 towards s_f: L_e if s1 is on an emitter (seen
+ *                      directly), else the next-event estimate scene_direct (one light
+ *                      sample per emitter). See scene_radiance.
+ *   p_A(s0')           the line pupil is the plane 1 mm in front of the sensor, where
+ *                      s0' = s0 + (u, v, -1) mm; its area measure is du dv, so
+ *                      p_A(s0') = p(u, v), the sampler's density (render_pupil.c).
+ *   |J_all| |A|        cancel between G-bar (Eq. 12) and p_A(s1) (Eq. 8), as Eq. 13 shows:
+ *                      neither is evaluated per ray. (The system's Jacobian is what
+ *                      Eq. 8's p_A(s1) needs; nothing here needs p_A(s1) alone.)
+ *   cos(theta_s0) cos^2(theta_s1) cos(theta_sf) / (cos^2(theta_s0') |s_f - s1|^2)
+ *                      the remaining geometry. Eq. 5 writes ds1/ds_f as a function of s_f
+ *                      alone (cos^2 theta_sf / cos^2 theta_s1), while G (Eq. 10) is
+ *                      cos theta_sf / |s_f - s1|^2; done as one exact change of variables
+ *                      s0' -> (ray at s_f) -> s1, the same Jacobian of s1 enters G-bar
+ *                      and p_A(s1) and every s1- and s_f-factor cancels. What remains is
+ *                      the solid angle at s0 seen through the line pupil:
+ *                        cos(theta_s0) dw0 = cos(theta_s0) cos(theta_s0') / |s0' - s0|^2 dA(s0')
+ *                      and with the pupil plane parallel to the sensor at 1 mm,
+ *                      cos(theta_s0') = cos(theta_s0) and |s0' - s0| = 1 / cos(theta_s0):
+ *                        = cos^4(theta_s0) du dv.
+ *   So one camera ray scores  P_a T_r L cos^4(theta_s0) / p(u, v)   (render_ray_weight),
+ *   with cos(theta_s0) = 1 / sqrt(1 + u^2 + v^2). tests/unit/test_render.c checks this
+ *   weight against a finite-difference solid angle, and the whole estimator against the
+ *   closed-form irradiance behind a circular aperture and against rear-element sampling.
+ */
+#include "render.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "glass.h"
+
+double render_channel_lambda(int c)
+{
+    static const double lam[3] = {0.61, 0.55, 0.465}; /* red, green, blue band centres */
+    return lam[c];
+}
+
+void render_lens_to_scene(const double l[3], double s[3])
+{
+    s[0] = -l[0];
+    s[1] = l[1];
+    s[2] = -l[2];
+}
+
+double render_ray_weight(double u, double v, double pdf_uv, double eta)
+{
+    double c2 = 1 / (1 + u * u + v * v); /* cos^2(theta_s0) */
+    return eta * c2 * c2 / pdf_uv;
+}
+
+/* A small counter-based generator (splitmix64): each pixel gets its own stream from
+ * (seed, pixel), so images do not depend on the number of threads. */
+typedef struct {
+    uint64_t s;
+} pix_rng;
+
+static double rng_next(pix_rng *r)
+{
+    uint64_t z = (r->s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return (double)(z >> 11) * 0x1.0p-53;
+}
+
+/* L: radiance leaving the scene towards the lens along the ray (scene frame). */
+static void scene_radiance(const scene_t *sc, const double o[3], const double d[3],
+                           pix_rng *rng, double *u, double rgb[3])
+{
+    scene_hit h;
+    rgb[0] = rgb[1] = rgb[2] = 0;
+    if (!scene_intersect(sc, o, d, 1e-6, INFINITY, &h)) return;
+    if (scene_is_emitter(&sc->obj[h.obj])) {
+        double back[3] = {-d[0], -d[1], -d[2]};
+        scene_emitted(sc, h.obj, h.p, back, rgb);
+        return;
+    }
+    size_t ne = scene_emitter_count(sc);
+    for (size_t j = 0; j < 2 * ne; j++) u[j] = rng_next(rng);
+    scene_direct(sc, h.obj, h.p, h.n, u, rgb);
+}
+
+/* One camera sample, number k of spp, at pixel (px, py): adds its contribution per
+ * channel to acc. Wavelengths are stratified over the pixel's samples: rgb mode
+ * cycles through the three bands (each band's samples are weighted by spp / their
+ * count, so the pixel's mean is each band's mean), spectral mode jitters lambda in
+ * spp equal strata (so lambda is still uniform, p = 1 / range). */
+static void render_sample(const render_job *job, int px, int py, long k, pix_rng *rng,
+                          double *u_nee, double acc[3], int *passed)
+{
+    const render_camera *cam = job->cam;
+    const scene_t *sc = job->scene;
+    /* s0 uniform over the pixel (row 0 at the top; see scene.h for why no flip) */
+    double x = ((px + rng_next(rng)) / sc->width - 0.5) * cam->sensor_w;
+    double y = ((py + rng_next(rng)) / sc->height - 0.5) * cam->sensor_h;
+    /* wavelength and the channel(s) it scores in, with the weight of that choice */
+    double lambda, cw[3] = {0, 0, 0};
+    double r = rng_next(rng);
+    long spp = job->spp;
+    if (sc->mode == SCENE_GREY) {
+        lambda = GLASS_D_LINE;
+        cw[0] = cw[1] = cw[2] = 1;
+    } else if (sc->mode == SCENE_RGB) {
+        long shift = (px + 7L * py) % 3; /* neighbours start on different bands */
+        int c = (int)((k + shift) % 3);
+        long count = spp / 3 + ((spp % 3) > ((c - shift + 3) % 3) ? 1 : 0);
+        lambda = render_channel_lambda(c);
+        cw[c] = (double)spp / count;
+    } else {
+        lambda = RENDER_LAMBDA_MIN + (k + r) / spp * (RENDER_LAMBDA_MAX - RENDER_LAMBDA_MIN);
+        int c = lambda < 0.49 ? 2 : lambda < 0.58 ? 1 : 0;
+        double width = c == 2 ? 0.09 : c == 1 ? 0.09 : 0.12;
+        /* the band's mean over lambda: 1 / (p(lambda) * width) */
+        cw[c] = (RENDER_LAMBDA_MAX - RENDER_LAMBDA_MIN) / width;
+    }
+    double uu, vv;
+    double pdf = render_sampler_sample(job->sampler, x, y, rng_next(rng), rng_next(rng), &uu, &vv);
+    if (!(pdf > 0)) return;
+    double in[5] = {x, y, uu, vv, lambda}, ol[3], dl[3], eta = 1;
+    if (!cam->map(cam->ctx, in, ol, dl, &eta)) return; /* P_a = 0 */
+    (*passed)++;
+    double w = render_ray_weight(uu, vv, pdf,
+                                 job->use_eta ? eta : job->eta_const > 0 ? job->eta_const : 1);
+    double os[3], ds[3], rgb[3];
+    render_lens_to_scene(ol, os);
+    render_lens_to_scene(dl, ds);
+    scene_radiance(sc, os, ds, rng, u_nee, rgb);
+    if (sc->mode == SCENE_GREY) {
+        double g = (rgb[0] + rgb[1] + rgb[2]) / 3;
+        rgb[0] = rgb[1] = rgb[2] = g;
+    }
+    for (int c = 0; c < 3; c++) acc[c] = w * cw[c] * rgb[c];
+}
+
+int render_image(const render_job *job, float *rgb, float *var, render_stats *st,
+                 lens_err *err)
+{
+    const scene_t *sc = job->scene;
+    int W = sc->width, H = sc->height;
+    if (job->spp < 1 || W < 1 || H < 1) {
+        lens_errf(err, sc->path, 0, "nothing to render (spp %ld, %dx%d)", job->spp, W, H);
+        return -1;
+    }
+    size_t ne = scene_emitter_count(sc);
+    double t0 = omp_get_wtime();
+    long rows_done = 0;
+    double passed_total = 0;
+    int threads = job->threads > 0 ? job->threads : omp_get_max_threads();
+    int fail = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : passed_total)
+    {
+        double *u_nee = malloc((2 * ne + 1) * sizeof *u_nee);
+        if (!u_nee) {
+#pragma omp atomic write
+            fail = 1;
+        }
+#pragma omp for schedule(dynamic, 1)
+        for (int py = 0; py < H; py++) {
+            if (!u_nee) continue;
+            for (int px = 0; px < W; px++) {
+                size_t pix = (size_t)py * W + px;
+                pix_rng rng = {sc->seed * 0x632BE59BD9B4E019ull + pix * 0xD1B54A32D192ED03ull};
+                double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
+                int passed = 0;
+                for (long k = 0; k < job->spp; k++) {
+                    double a[3] = {0, 0, 0};
+                    render_sample(job, px, py, k, &rng, u_nee, a, &passed);
+                    for (int c = 0; c < 3; c++) sum[c] += a[c], sum2[c] += a[c] * a[c];
+                }
+                passed_total += passed;
+                double n = (double)job->spp;
+                for (int c = 0; c < 3; c++) {
+                    double mean = sum[c] / n;
+                    rgb[3 * pix + c] = (float)mean;
+                    if (var) {
+                        double v = n > 1 ? (sum2[c] - n * mean * mean) / (n - 1) : 0;
+                        var[3 * pix + c] = (float)(fmax(v, 0) / n);
+                    }
+                }
+            }
+            long done;
+#pragma omp atomic capture
+            done = ++rows_done;
+            if (job->progress && omp_get_thread_num() == 0)
+                job->progress(job->progress_ctx, (double)done / H);
+        }
+        free(u_nee);
+    }
+    if (fail) {
+        lens_errf(err, sc->path, 0, "out of memory");
+        return -1;
+    }
+    if (st) {
+        st->camera_rays = (double)W * H * job->spp;
+        st->passed_rays = passed_total;
+        st->seconds = omp_get_wtime() - t0;
+    }
+    return 0;
+}

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# lens-render: help, errors with FILE:LINE, outputs written whole, the cache, the
+# effects it reports. Values are checked by the unit tests (test_render*.c).
+source "$(dirname "$0")/lib.sh"
+R=$BIN/lens-render
+
+$R --help | grep -q "usage: lens-render" && ok help || fail help "no usage"
+[ -f man/lens-render.1 ] && [ -f man/lens-scene.5 ] && ok man-pages || fail man-pages "missing"
+
+# a tiny scene next to a copy of the lens: relative camera paths resolve against it
+cp lenses/dgauss.50mm.lens "$T/"
+cat >"$T/s.scene" <<'S'
+camera dgauss.50mm.lens
+sensor 36 24
+resolution 12 8
+mode grey
+spp 4
+plane 0 0 1000 0 0 -1 checker 0.2 0.8 100
+disk 0 500 500 0 -1 0 300 emit 5
+S
+printf 'camera dgauss.50mm.lens\nresolution 12 8\nsphere 0 0 100 5 glow 3\n' >"$T/bad.scene"
+
+expect_error no-output 'give -o' $R "$T/s.scene"
+expect_error bad-scene "bad.scene:3: unknown modifier 'glow'" $R "$T/bad.scene" -o "$T/x.exr"
+expect_error no-scene 'cannot open' $R "$T/none.scene" -o "$T/x.exr"
+[ ! -e "$T/x.exr" ] && ok no-partial-output || fail no-partial-output "x.exr left behind"
+expect_error bad-spp 'spp' $R "$T/s.scene" -o "$T/x.exr" --spp 0
+
+err=$($R "$T/s.scene" -o "$T/e.exr" --png "$T/e.png" --exact 2>&1)
+if [ -s "$T/e.exr" ] && [ -s "$T/e.png" ] && grep -q 'camera rays/s' <<<"$err"; then
+  ok exact-render; else fail exact-render "$err"; fi
+
+err=$($R "$T/s.scene" -o "$T/p.exr" --cache "$T/cache" 2>&1)
+if [ -s "$T/p.exr" ] && grep -q '^effects on:' <<<"$err" && grep -q '^effects off:.*dispersion' <<<"$err" \
+   && ls "$T"/cache/*.poly >/dev/null 2>&1; then ok poly-render-fits-and-caches; else fail poly-render-fits-and-caches "$err"; fi
+err=$($R "$T/s.scene" -o "$T/p2.exr" --cache "$T/cache" 2>&1)
+grep -q 'system: cached' <<<"$err" && ok cache-reused || fail cache-reused "$err"
+cmp -s "$T/p.exr" "$T/p2.exr" && ok reproducible || fail reproducible "same seed, different image"
+
+# a .poly camera: the cached system, named in a scene
+poly=$(ls "$T"/cache/*.poly | head -1)
+sed "s|^camera .*|camera $poly|" "$T/s.scene" >"$T/poly.scene"
+cp "$T/dgauss.50mm.lens" "$T/cache/"
+err=$($R "$T/poly.scene" -o "$T/q.exr" --threads 1 2>&1)
+[ -s "$T/q.exr" ] && ok poly-camera || fail poly-camera "$err"
