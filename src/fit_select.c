@@ -36,7 +36,7 @@ typedef struct {
     size_t n, nh, nc;
     double yy;
     int kcap, k;
-    double *R, *Ri, *z, *C, *dd, *ee, *H, *beta, *score;
+    double *R, *Ri, *z, *C, *dd, *ee, *H, *beta;
     unsigned char *status, *slot_used;
     int *chosen, *hcol; /* hcol[l]: column of H holding the term at position l */
     double *g;
@@ -504,7 +504,6 @@ int fit_select(const fit_basis *b, const double *mom, const double *by,
     s.C = calloc(nc * km, sizeof(double));
     s.dd = malloc(nc * sizeof(double));
     s.ee = malloc(nc * sizeof(double));
-    s.score = malloc(nc * sizeof(double));
     s.H = malloc((s.nh ? s.nh : 1) * km * sizeof(double));
     s.status = calloc(nc, 1);
     s.chosen = calloc(km, sizeof(int));
@@ -518,7 +517,7 @@ int fit_select(const fit_basis *b, const double *mom, const double *by,
     res->cand = malloc(km * sizeof(int));
     res->coef = malloc(km * sizeof(double));
     int rc = -1;
-    if (!s.R || !s.Ri || !s.z || !s.beta || !s.C || !s.dd || !s.ee || !s.score || !s.H ||
+    if (!s.R || !s.Ri || !s.z || !s.beta || !s.C || !s.dd || !s.ee || !s.H ||
         !s.status || !s.chosen || !s.hcol || !s.slot_used || !s.g || !hist || !cur.cand || !cur.coef || !res->cand || !res->coef) {
         fit_selection_free(res);
         goto out;
@@ -551,7 +550,7 @@ int fit_select(const fit_basis *b, const double *mom, const double *by,
     rc = 0;
 out:
     free(s.R); free(s.Ri); free(s.z); free(s.beta); free(s.C); free(s.dd); free(s.ee);
-    free(s.score); free(s.H); free(s.status); free(s.chosen); free(s.hcol); free(s.slot_used); free(s.g); free(hist);
+    free(s.H); free(s.status); free(s.chosen); free(s.hcol); free(s.slot_used); free(s.g); free(hist);
     free(cur.cand); free(cur.coef);
     return rc;
 }
