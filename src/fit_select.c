@@ -293,37 +293,79 @@ static int exchange_pass(sel *s)
     return swaps;
 }
 
+/* The term whose removal raises the training RSS least, beta_t^2 / [(R^T R)^-1]_tt,
+ * among the first k, and that increase. Ties: the later term. */
+static int least_useful(sel *s, int k, double *cost_out)
+{
+    int kc = s->kcap;
+    for (int c = 0; c < k; c++)
+        for (int i = c; i >= 0; i--) {
+            double t = i == c ? 1.0 : 0.0;
+            for (int l = i + 1; l <= c; l++)
+                t -= RR(s, i, l) * s->Ri[(size_t)c * kc + l];
+            s->Ri[(size_t)c * kc + i] = t / RR(s, i, i);
+        }
+    int worst = -1;
+    double wcost = INFINITY;
+    for (int t = 0; t < k; t++) {
+        double bt = 0, nr = 0;
+        for (int c = t; c < k; c++) {
+            double ri = s->Ri[(size_t)c * kc + t];
+            bt += ri * s->z[c];
+            nr += ri * ri;
+        }
+        double cost = bt * bt / nr;
+        if (cost <= wcost) {
+            wcost = cost;
+            worst = t;
+        }
+    }
+    *cost_out = wcost;
+    return worst;
+}
+
+/* Floating steps: add the best candidate, then take out the least useful term if that
+ * is not the new one. The RSS falls at every step that changes the set (the term taken
+ * out costs less than the new one brought), so this ends. These moves reach sets that
+ * single exchanges cannot: the addition is judged with every current term present. */
+static int float_pass(sel *s, int max_steps)
+{
+    int moves = 0;
+    for (int it = 0; it < max_steps && s->k < s->kcap; it++) {
+        double sc;
+        int j = pick(s, -1, &sc);
+        if (j < 0 || !(sc > 0))
+            break;
+        int k = s->k;
+        add(s, j);
+        double cost;
+        int w = least_useful(s, k + 1, &cost);
+        if (w == k || !(cost < sc * (1 - 1e-9))) {
+            w = k; /* the new term is the least useful: undo */
+        }
+        for (int l = w; l < k; l++)
+            swap_adjacent(s, l, 1, k + 1);
+        drop_last(s, 1.0);
+        s->status[s->chosen[k]] = AVAIL;
+        s->k = k;
+        if (w == k && s->chosen[k] == j)
+            break;
+        moves++;
+    }
+    return moves;
+}
+
 /* Backward elimination from k terms: repeatedly removes the term whose removal raises
  * the training RSS least (beta_t^2 / [(R^T R)^-1]_tt), moving it behind the others, so
  * that the first j positions are the j-term model for every j. hist[j] gets its error
  * for j <= jmax. */
 static void eliminate(sel *s, int jmax, double *hist)
 {
-    int kc = s->kcap, kend = s->k;
+    int kend = s->k;
     while (s->k > 1) {
         int k = s->k;
-        for (int c = 0; c < k; c++)
-            for (int i = c; i >= 0; i--) {
-                double t = i == c ? 1.0 : 0.0;
-                for (int l = i + 1; l <= c; l++)
-                    t -= RR(s, i, l) * s->Ri[(size_t)c * kc + l];
-                s->Ri[(size_t)c * kc + i] = t / RR(s, i, i);
-            }
-        int worst = -1;
-        double wcost = INFINITY;
-        for (int t = 0; t < k; t++) {
-            double bt = 0, nr = 0;
-            for (int c = t; c < k; c++) {
-                double ri = s->Ri[(size_t)c * kc + t];
-                bt += ri * s->z[c];
-                nr += ri * ri;
-            }
-            double cost = bt * bt / nr;
-            if (cost <= wcost) { /* ties: the later term */
-                wcost = cost;
-                worst = t;
-            }
-        }
+        double cost;
+        int worst = least_useful(s, k, &cost);
         /* Rotating all kend columns keeps R a factor of every stored term, so that
          * each prefix stays the factor of its terms. */
         for (int l = worst; l < k - 1; l++)
@@ -398,6 +440,7 @@ static void select_capped(sel *s, int cap, int jmax, double tol, int patience, i
     reset_to(s, kstar);
     for (int p = 0; p < MAX_EXCHANGE_PASSES && p < passes && s->k > 0; p++) {
         int sw = exchange_pass(s);
+        sw += float_pass(s, 4 * s->k);
         res->swaps += sw;
         if (!sw)
             break;

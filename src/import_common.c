@@ -334,13 +334,18 @@ int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double
         append(g->fallbacks, sizeof g->fallbacks, what);
         return 0;
     }
+    char hint[200] = "";
+    if (g->maker_catalogs[0])
+        snprintf(hint, sizeof hint, "; the file names the catalogs %s: add their AGF files "
+                                    "with --glass-catalog",
+                 g->maker_catalogs);
     if (have_ndvd)
         lens_errf(err, file, line,
                   "glass %s not found in %s (the file gives n_d %g, V_d %g: "
-                  "--glass-fallback ndvd would use them)",
-                  name, searched, nd, vd);
+                  "--glass-fallback ndvd would use them)%s",
+                  name, searched, nd, vd, hint);
     else
-        lens_errf(err, file, line, "glass %s not found in %s", name, searched);
+        lens_errf(err, file, line, "glass %s not found in %s%s", name, searched, hint);
     return -1;
 }
 

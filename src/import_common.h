@@ -69,6 +69,7 @@ typedef struct {
     const lens_load_options *opt;
     material_ctx m;      /* the catalogs, in lens_load's order, read on first use */
     char fallbacks[200]; /* glasses that fell back to nd/Vd, for the note */
+    char maker_catalogs[100]; /* catalogs the file names (Zemax GCAT), for the message */
 } import_glass_ctx;
 
 void import_glass_init(import_glass_ctx *g, const lens_load_options *opt, const char *lens_path);

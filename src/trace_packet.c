@@ -63,7 +63,11 @@ int trace_packet_width(void)
 void trace_packet_to_object(const lens_t *lens, const double *const *n, int count,
                             lens_ray *r, int last, trace_result *res)
 {
-    trace_packet_to_object_w(lens, n, count, r, last, res, trace_packet_width());
+    /* A lone ray takes the narrowest kernel: padding lanes cost as much as real ones. */
+    int w = trace_packet_width();
+    while (w > 2 && count <= w / 2)
+        w /= 2;
+    trace_packet_to_object_w(lens, n, count, r, last, res, w);
 }
 
 void trace_packet_to_object_w(const lens_t *lens, const double *const *n, int count,

@@ -273,6 +273,11 @@ static void test_missing_glass(void **state)
     assert_non_null(strstr(err.msg, "mem.zmx:9: glass XG-NOPE not found in"));
     assert_non_null(strstr(err.msg, "test.agf"));
     assert_non_null(strstr(err.msg, "--glass-fallback ndvd"));
+    /* With GCAT, the message says which maker catalogs the design used. */
+    char with_gcat[1100];
+    snprintf(with_gcat, sizeof with_gcat, "GCAT SCHOTT OHARA\n%s", text);
+    assert_int_not_equal(parse(with_gcat, &with_catalog, &lens, &err), 0);
+    assert_non_null(strstr(err.msg, "the file names the catalogs SCHOTT OHARA"));
     lens_load_options fb = {test_catalogs, 1};
     if (parse(text, &fb, &lens, &err) != 0)
         fail_msg("%s", err.msg);
