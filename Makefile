@@ -84,7 +84,7 @@ bench: deps
 
 reports: deps
 	@$(MAKE) --no-print-directory all
-	@$(MAKE) --no-print-directory -f tools/reports.mk BIN=$(BIN)
+	@$(MAKE) --no-print-directory -f tools/reports.mk BIN=$(BIN) BUILD=$(BUILD)
 
 fuzz: deps
 	@tools/fuzz.sh $(or $(FUZZ_SECONDS),60)

@@ -13,8 +13,6 @@
 #include "poly.h"
 #include "samples.h"
 
-/* TEMPORARY until the polysys branch's emitter lands: lets lens-fit link without it. */
-#pragma weak poly_emit_c
 
 static const char *prog = "lens-fit";
 
@@ -25,7 +23,7 @@ static const char *usage =
     "  --terms N          terms per output and part (default 40)\n"
     "  --degree D         candidates: all monomials up to degree D (default 11)\n"
     "  --tolerance T      stop an output when its held-out RMS error <= T (output units,\n"
-    "                     mm for positions; default 0: off)\n"
+    "                     mm for positions; default 0: off); or name=T,... per output\n"
     "  --parts P          allow up to P radial parts where one polynomial misses T (default 1)\n"
     "  --inputs LIST      input columns (default x,y,u,v,lambda); without lambda the samples\n"
     "                     must hold a single wavelength\n"
@@ -79,6 +77,7 @@ int main(int argc, char **argv)
     const char *inputs_s = "x,y,u,v,lambda", *outputs_s = "out_x,out_y,out_u,out_v,out_eta";
     const char *path = "-", *outpath = "-", *emit = NULL, *lens = NULL, *fname = "lens_poly";
     int quiet = 0, npos = 0;
+    const char *tol_s = NULL;
     for (int i = 1; i < argc; i++) {
         const char *v;
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0)
@@ -87,11 +86,9 @@ int main(int argc, char **argv)
             opt.max_terms = (int)cli_count(prog, "--terms", v, 1, 10000);
         else if (cli_opt(prog, argc, argv, &i, "--degree", &v))
             opt.max_degree = (int)cli_count(prog, "--degree", v, 0, POLY_MAX_DEGREE);
-        else if (cli_opt(prog, argc, argv, &i, "--tolerance", &v)) {
-            opt.tolerance = cli_double(prog, "--tolerance", v);
-            if (opt.tolerance < 0)
-                diag_die(prog, "--tolerance: must not be negative, not %s", v);
-        } else if (cli_opt(prog, argc, argv, &i, "--parts", &v))
+        else if (cli_opt(prog, argc, argv, &i, "--tolerance", &v))
+            tol_s = v;
+        else if (cli_opt(prog, argc, argv, &i, "--parts", &v))
             opt.max_parts = (int)cli_count(prog, "--parts", v, 1, 64);
         else if (cli_opt(prog, argc, argv, &i, "--inputs", &v))
             inputs_s = v;
@@ -128,6 +125,38 @@ int main(int argc, char **argv)
     const char **in_names, **out_names;
     int nin = split_list("--inputs", inputs_s, &incopy, &in_names);
     int nout = split_list("--outputs", outputs_s, &outcopy, &out_names);
+
+    /* --tolerance T (every output) or name=T,name=T (those outputs only). */
+    double *tols = NULL;
+    if (tol_s && strchr(tol_s, '=')) {
+        char *tcopy;
+        const char **items;
+        int nt = split_list("--tolerance", tol_s, &tcopy, &items);
+        tols = calloc((size_t)nout, sizeof *tols);
+        if (!tols)
+            diag_die(prog, "out of memory");
+        for (int t = 0; t < nt; t++) {
+            char *eq = strchr(items[t], '=');
+            if (!eq)
+                diag_die(prog, "--tolerance: expected name=T, got '%s'", items[t]);
+            *eq = '\0';
+            int o = 0;
+            while (o < nout && strcmp(out_names[o], items[t]) != 0)
+                o++;
+            if (o == nout)
+                diag_die(prog, "--tolerance: '%s' is not among the outputs", items[t]);
+            tols[o] = cli_double(prog, "--tolerance", eq + 1);
+            if (tols[o] < 0)
+                diag_die(prog, "--tolerance: must not be negative, not %s", eq + 1);
+        }
+        opt.output_tolerance = tols;
+        free(items);
+        free(tcopy);
+    } else if (tol_s) {
+        opt.tolerance = cli_double(prog, "--tolerance", tol_s);
+        if (opt.tolerance < 0)
+            diag_die(prog, "--tolerance: must not be negative, not %s", tol_s);
+    }
 
     lens_err err;
     samples_reader *r = samples_open(path, &err);
@@ -199,7 +228,7 @@ int main(int argc, char **argv)
         count++;
     }
     char lens_buf[256];
-    lens_name_from(lens ? lens : samples_path(r), lens_buf, sizeof lens_buf);
+    lens_name_from(lens ? lens : path, lens_buf, sizeof lens_buf);
     samples_close(r);
     if (count == 0)
         diag_die(prog, "%s: no samples (the file has no data rows)", path);
@@ -225,8 +254,6 @@ int main(int argc, char **argv)
         snprintf(buf, sizeof buf, "%.17g", lam0);
         poly_set_meta(sys, "lambda", buf);
     }
-    if (emit && !poly_emit_c)
-        diag_die(prog, "--emit c: the C emitter is not built into this lens-fit");
     outfile *of = outfile_open(outpath, &err);
     if (!of) {
         diag_print(prog, &err);
@@ -259,6 +286,6 @@ int main(int argc, char **argv)
     }
     poly_free(sys);
     free(in); free(out); free(vals); free(inmap); free(outmap);
-    free(in_names); free(out_names); free(incopy); free(outcopy);
+    free(in_names); free(out_names); free(tols); free(incopy); free(outcopy);
     return 0;
 }

@@ -1,4 +1,5 @@
 #include "cli.h"
+#include "lens_cli_options.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -72,6 +73,7 @@ void cli_load_lens(const char *prog, const char *path, const lens_load_options *
         diag_print(prog, &err);
         exit(1);
     }
+    lens_cli_warn_notes(prog, lens); /* what an importer skipped, one warning line each */
 }
 
 void cli_help(const char *text)

@@ -14,7 +14,8 @@ double cli_positive(const char *prog, const char *opt, const char *s);
 long cli_count(const char *prog, const char *opt, const char *s, long lo, long hi);
 /* "AxB" or "A:B" (sep) into two numbers; fatal if malformed. */
 void cli_pair(const char *prog, const char *opt, const char *s, char sep, double *a, double *b);
-/* Loads a lens or exits with "prog: FILE:LINE: ...". */
+/* Loads a lens or exits with "prog: FILE:LINE: ..."; prints an importer's notes as
+ * "prog: warning: FILE: ..." lines (lens_cli_options.h). */
 void cli_load_lens(const char *prog, const char *path, const lens_load_options *opt, lens_t *lens);
 /* Prints a usage text to stdout for --help and exits 0. */
 void cli_help(const char *text) __attribute__((noreturn));

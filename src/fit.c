@@ -26,6 +26,7 @@ void fit_options_default(fit_options *opt)
     opt->max_terms = 40;
     opt->max_degree = 11;
     opt->tolerance = 0;
+    opt->output_tolerance = NULL;
     opt->max_parts = 1;
     opt->holdout = 0.2;
     opt->seed = 1;
@@ -54,6 +55,11 @@ typedef struct {
     double *rms;       /* per output, held-out, over all parts */
     double *jump;      /* per output, largest jump between neighbouring parts */
 } sys_fit;
+
+static double tol_of(const fit_options *opt, int o)
+{
+    return opt->output_tolerance ? opt->output_tolerance[o] : opt->tolerance;
+}
 
 typedef struct {
     const fit_options *opt;
@@ -166,7 +172,6 @@ static int fit_part(const ctx *c, const size_t *rows, size_t flo, size_t fhi, si
         goto out;
     }
     fit_moments(&c->b.mom, &tr, NULL, mom, c->threads);
-    fit_select_opt so = {c->opt->max_terms, c->opt->tolerance, PATIENCE, EXCHANGE_PASSES};
     int failed = 0;
     /* Outputs are independent and each is computed by one thread start to end, so the
      * result does not depend on the number of threads. */
@@ -175,6 +180,7 @@ static int fit_part(const ctx *c, const size_t *rows, size_t flo, size_t fhi, si
         out_fit *of = pf->o + o;
         double *by = malloc(c->b.cand.count * sizeof *by);
         fit_selection sel = {0};
+        fit_select_opt so = {c->opt->max_terms, tol_of(c->opt, o), PATIENCE, EXCHANGE_PASSES};
         if (!by) {
             failed++;
             continue;
@@ -340,6 +346,11 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
                   FIT_MAX_DEG < POLY_MAX_DEGREE ? FIT_MAX_DEG : POLY_MAX_DEGREE);
         return NULL;
     }
+    for (int o = 0; opt->output_tolerance && o < noutputs; o++)
+        if (!(opt->output_tolerance[o] >= 0)) {
+            lens_errf(err, NULL, 0, "tolerance of %s must not be negative", outputs[o]);
+            return NULL;
+        }
     if (count == 0) {
         lens_errf(err, NULL, 0, "no samples to fit");
         return NULL;
@@ -475,10 +486,14 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
     if (fit_partition(&c, 1, &best, err) != 0)
         goto fail;
     /* Radial parts, fewest that meet the tolerance; else the best tried. */
-    if (opt->tolerance > 0 && opt->max_parts > 1 && ix >= 0 && iy >= 0) {
+    int any_tol = 0;
+    for (int o = 0; o < noutputs; o++)
+        any_tol |= tol_of(opt, o) > 0;
+    if (any_tol && opt->max_parts > 1 && ix >= 0 && iy >= 0) {
         double worst = 0;
         for (int o = 0; o < noutputs; o++)
-            worst = fmax(worst, best.rms[o] / opt->tolerance);
+            if (tol_of(opt, o) > 0)
+                worst = fmax(worst, best.rms[o] / tol_of(opt, o));
         for (int P = 2; P <= opt->max_parts && worst > 1; P++) {
             lens_err perr;
             if (fit_partition(&c, P, &cur, &perr) != 0) {
@@ -487,7 +502,8 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
             }
             double w = 0;
             for (int o = 0; o < noutputs; o++)
-                w = fmax(w, cur.rms[o] / opt->tolerance);
+                if (tol_of(opt, o) > 0)
+                    w = fmax(w, cur.rms[o] / tol_of(opt, o));
             if (w < worst) {
                 sys_fit_free(&best, noutputs);
                 best = cur;
@@ -527,9 +543,8 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
             rmax = fmax(rmax, hypot(c.y[r * noutputs + a], c.y[r * noutputs + bb]));
         poly_add_pass_circle(sys, a, bb, rmax * (1 + 1e-9));
     }
-    set_metaf(sys, "fit_flags", "--terms %d --degree %d --tolerance %.17g --parts %d "
-              "--holdout %.17g --seed %lu", opt->max_terms, opt->max_degree, opt->tolerance,
-              opt->max_parts, opt->holdout, opt->seed);
+    set_metaf(sys, "fit_flags", "--terms %d --degree %d --parts %d --holdout %.17g --seed %lu",
+              opt->max_terms, opt->max_degree, opt->max_parts, opt->holdout, opt->seed);
     set_metaf(sys, "fit_samples", "%zu usable (%zu held out) of %zu", n, nho, count);
     set_metaf(sys, "fit_parts", "%d", best.nparts);
     for (int o = 0; o < noutputs; o++) {
@@ -542,7 +557,8 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
                 dmax = c.b.deg[of->cand[t]] > dmax ? c.b.deg[of->cand[t]] : dmax;
         }
         snprintf(key, sizeof key, "fit_%s", outputs[o]);
-        set_metaf(sys, key, "terms %d degree %d holdout_rms %.6g", kmax, dmax, best.rms[o]);
+        set_metaf(sys, key, "terms %d degree %d holdout_rms %.6g tolerance %.6g", kmax, dmax,
+                  best.rms[o], tol_of(opt, o));
         if (best.nparts > 1) {
             snprintf(key, sizeof key, "part_jump_%s", outputs[o]);
             set_metaf(sys, key, "%.6g", best.jump[o]);

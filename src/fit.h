@@ -12,6 +12,7 @@ typedef struct {
     int max_terms;      /* per output and part (default 40) */
     int max_degree;     /* candidates: all monomials up to this total degree (default 11) */
     double tolerance;   /* stop an output when its held-out RMS error <= tolerance (output units); 0 = off */
+    const double *output_tolerance; /* per output (noutputs values) instead of tolerance; NULL: none */
     int max_parts;      /* radial parts allowed when one polynomial misses the tolerance (default 1) */
     double holdout;     /* fraction of samples held out for stopping (default 0.2) */
     unsigned long seed; /* for the held-out split */

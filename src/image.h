@@ -59,8 +59,11 @@ typedef struct {
 int cv_fit_brown(int width, int height, double f_px, int nviews, const size_t *counts,
                  const double *obj, const double *pix, cv_camera_fit *fit, lens_err *err);
 /* Kannala-Brandt model through cv::fisheye::calibrate (every object point in front of the
- * camera: z > 0 in the camera frame after the view's pose). */
-int cv_fit_fisheye(int width, int height, double f_px, int nviews, const size_t *counts,
-                   const double *obj, const double *pix, cv_camera_fit *fit, lens_err *err);
+ * camera: z > 0 in the camera frame after the view's pose). fix_focal keeps fx = fy =
+ * f_px (OpenCV 4.6's fisheye::CALIB_FIX_FOCAL_LENGTH: it fails to converge even on exact
+ * synthetic data, so lens-distort leaves the focal length free). */
+int cv_fit_fisheye(int width, int height, double f_px, int fix_focal, int nviews,
+                   const size_t *counts, const double *obj, const double *pix, cv_camera_fit *fit,
+                   lens_err *err);
 
 #endif

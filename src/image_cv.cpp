@@ -316,7 +316,7 @@ int cv_fit_brown(int width, int height, double f_px, int nviews, const size_t *c
         std::vector<cv::Mat> rv, tv;
         int flags = cv::CALIB_USE_INTRINSIC_GUESS | cv::CALIB_FIX_PRINCIPAL_POINT |
                     cv::CALIB_FIX_ASPECT_RATIO;
-        cv::TermCriteria tc(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 500, 1e-15);
+        cv::TermCriteria tc(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 200, 1e-12);
         cv::calibrateCamera(o, p, cv::Size(width, height), K, D, rv, tv, flags, tc);
         fit->fx = K.at<double>(0, 0);
         fit->fy = K.at<double>(1, 1);
@@ -335,8 +335,9 @@ int cv_fit_brown(int width, int height, double f_px, int nviews, const size_t *c
     return 0;
 }
 
-int cv_fit_fisheye(int width, int height, double f_px, int nviews, const size_t *counts,
-                   const double *obj, const double *pix, cv_camera_fit *fit, lens_err *err)
+int cv_fit_fisheye(int width, int height, double f_px, int fix_focal, int nviews,
+                   const size_t *counts, const double *obj, const double *pix, cv_camera_fit *fit,
+                   lens_err *err)
 {
     std::vector<std::vector<cv::Point3d>> o;
     std::vector<std::vector<cv::Point2d>> p;
@@ -348,8 +349,9 @@ int cv_fit_fisheye(int width, int height, double f_px, int nviews, const size_t 
         std::vector<cv::Vec3d> rv, tv;
         int flags = cv::fisheye::CALIB_USE_INTRINSIC_GUESS | cv::fisheye::CALIB_FIX_SKEW |
                     cv::fisheye::CALIB_FIX_PRINCIPAL_POINT |
-                    cv::fisheye::CALIB_RECOMPUTE_EXTRINSIC;
-        cv::TermCriteria tc(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 500, 1e-15);
+                    cv::fisheye::CALIB_RECOMPUTE_EXTRINSIC |
+                    (fix_focal ? cv::fisheye::CALIB_FIX_FOCAL_LENGTH : 0);
+        cv::TermCriteria tc(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 200, 1e-12);
         cv::fisheye::calibrate(o, p, cv::Size(width, height), K, D, rv, tv, flags, tc);
         fit->fx = K(0, 0);
         fit->fy = K(1, 1);

@@ -40,8 +40,8 @@ static int parse_aspheric(const char *spec, lens_surface *s, const char *path, l
     for (char *t = strtok_r(buf, ", \t\r\n", &save); t; t = strtok_r(NULL, ", \t\r\n", &save)) {
         double v;
         if (n >= 5 || parse_double(t, &v) != 0) {
-            lens_errf(err, path, line, "#!aspheric= expects k,A4,A6,A8,A10 as numbers, not '%s'",
-                      spec);
+            lens_errf(err, path, line, "#!aspheric= expects k,A4,A6,A8,A10 as numbers, not '%.*s'",
+                      (int)strcspn(spec, "\r\n"), spec);
             return -1;
         }
         if (n == 0)

@@ -4,6 +4,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "import.h"
 #include "lens.h"
 #include "lens_import.h"
 
@@ -14,6 +15,8 @@ static const struct {
     {".lens", lens_read_native},
     {".fx", lens_read_fx},
     {".dat", lens_read_pbrt},
+    {".zmx", lens_read_zmx},
+    {".seq", lens_read_seq},
 };
 
 static int has_ext(const char *path, const char *ext)
@@ -23,12 +26,19 @@ static int has_ext(const char *path, const char *ext)
 }
 
 /* Unknown extension (or stdin): an "iris" line means .fx; rows of exactly four numbers
- * mean pbrt; anything else is read as the native format, whose messages then explain. */
+ * mean pbrt; a UTF-16 byte-order mark or a VERS/SURF line means Zemax, an RDM/LEN/SO
+ * line CODE V; anything else is read as the native format, whose messages then explain. */
 static lens_reader sniff(FILE *f)
 {
     char line[1024];
     int numeric4 = 0, other = 0;
     lens_reader r = lens_read_native;
+    int c0 = getc(f);
+    if (c0 == 0xFF || c0 == 0xFE) {
+        rewind(f);
+        return lens_read_zmx;
+    }
+    rewind(f);
     while (fgets(line, sizeof line, f)) {
         char *p = line;
         while (isspace((unsigned char)*p))
@@ -41,6 +51,14 @@ static lens_reader sniff(FILE *f)
             r = lens_read_fx;
             break;
         }
+        if (!strncmp(p, "vers ", 5) || !strncmp(p, "surf ", 5)) {
+            r = lens_read_zmx;
+            break;
+        }
+        if (!strncmp(p, "rdm", 3) || !strncmp(p, "len", 3) || !strncmp(p, "so ", 3)) {
+            r = lens_read_seq;
+            break;
+        }
         double a, b, c, d;
         char extra;
         if (sscanf(p, "%lf %lf %lf %lf %c", &a, &b, &c, &d, &extra) == 4)
@@ -48,7 +66,7 @@ static lens_reader sniff(FILE *f)
         else
             other++;
     }
-    if (r != lens_read_fx && numeric4 > 0 && other == 0)
+    if (r == lens_read_native && numeric4 > 0 && other == 0)
         r = lens_read_pbrt;
     rewind(f);
     return r;

@@ -43,9 +43,12 @@ static int header_key(char *body, char **key, char **value)
     char *p = body;
     while (isalpha((unsigned char)*p) || *p == '_')
         p++;
-    if (p == body || *p != ':')
+    char *end = p;
+    while (*p == ' ' || *p == '\t')
+        p++;
+    if (end == body || *p != ':')
         return 0;
-    *p = '\0';
+    *end = '\0';
     *key = body;
     *value = trim(p + 1);
     return 1;

@@ -104,3 +104,22 @@ int proj_point(proj_kind k, double f, const double dir[3], double xy[2])
     xy[1] = r * cos(a);
     return 0;
 }
+
+double proj_theta(proj_kind k, double f, double r)
+{
+    double q = r / f;
+    switch (k) {
+    case PROJ_RECTILINEAR:
+        return atan(q);
+    case PROJ_EQUIDISTANT:
+        return q >= 0 && q <= M_PI ? q : NAN;
+    case PROJ_EQUISOLID:
+        return q >= 0 && q <= 2 ? 2 * asin(q / 2) : NAN;
+    case PROJ_STEREOGRAPHIC:
+        return 2 * atan(q / 2);
+    case PROJ_ORTHOGRAPHIC:
+        return q >= 0 && q <= 1 ? asin(q) : NAN;
+    default:
+        return NAN;
+    }
+}

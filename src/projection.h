@@ -42,4 +42,9 @@ double proj_radius(proj_kind k, double f, double theta);
  * NAN) where the projection has no image. */
 int proj_point(proj_kind k, double f, const double dir[3], double xy[2]);
 
+/* The field angle (radians) whose ideal image height is r: the inverse of proj_radius,
+ * in closed form (GeographicLib's reverse projections need a centre and azimuth, which
+ * add nothing on the axis of symmetry). NAN outside the projection's range. */
+double proj_theta(proj_kind k, double f, double r);
+
 #endif

@@ -6,6 +6,7 @@
 #include "intersect.h"
 #include "refract.h"
 #include "trace_core.h"
+#include "trace_packet.h"
 
 const char *trace_status_name(trace_status s)
 {
@@ -23,6 +24,10 @@ const char *trace_status_name(trace_status s)
 int lens_indices(const lens_t *lens, double lambda_um, double *n, lens_err *err)
 {
     for (size_t i = 0; i < lens->nsurf; i++) {
+        if (lens->surf[i].medium.kind == GLASS_AIR) { /* half the surfaces of most lenses */
+            n[i] = 1.0;
+            continue;
+        }
         if (glass_index(&lens->surf[i].medium, lambda_um, &n[i], err)) {
             const char *file = lens->path[0] ? lens->path : NULL;
             lens_err e2;
@@ -83,7 +88,10 @@ trace_result trace_to_object(const lens_t *lens, const double *n, lens_ray *r, i
 {
     if (last < 0 || (size_t)last >= lens->nsurf)
         return stopped(TRACE_INVALID, -1);
-    return trace_path(lens, n, r, (int)lens->nsurf - 1, last, last == 0, 1);
+    /* One lane of the packet tracer, so that single rays and batches agree bit for bit. */
+    trace_result res;
+    trace_packet_to_object(lens, &n, 1, r, last, &res);
+    return res;
 }
 
 trace_result trace_to_sensor(const lens_t *lens, const double *n, lens_ray *r)
@@ -109,6 +117,13 @@ trace_result trace_sample(const lens_t *lens, const double *n, trace_target targ
     lens_ray r;
     ray_from_sensor(lens, in, &r);
     trace_result res = trace_to_object(lens, n, &r, target == TRACE_TO_STOP ? lens->stop : 0);
+    return trace_sample_finish(lens, target, &r, res, out);
+}
+
+trace_result trace_sample_finish(const lens_t *lens, trace_target target, const lens_ray *rr,
+                                 trace_result res, double out[4])
+{
+    lens_ray r = *rr;
     if (res.status != TRACE_PASSED) {
         out[0] = out[1] = out[2] = out[3] = NAN;
         res.transmittance = 0;

@@ -141,7 +141,6 @@ static void check_planted(const planted *pl, size_t n, int D, uint64_t seed, dou
     fit_select_opt o = {40, 0, 8, 2};
     fit_selection r;
     assert_int_equal(fit_select(&b, mom, by, &tr, y, &ho, y + nt, &o, &r), 0);
-    if (getenv("FIT_DEBUG")) { fprintf(stderr, "terms %d steps %d swaps %d train %g hold %g\n", r.nterms, r.steps, r.swaps, r.train_rms, r.hold_rms); for (int u = 0; u < r.nterms; u++) { int *a = b.exps + r.cand[u] * 5; fprintf(stderr, "  %d%d%d%d%d %.10g\n", a[0], a[1], a[2], a[3], a[4], r.coef[u]); } }
     assert_int_equal(r.nterms, pl->nterms);
     double *coef = malloc((size_t)r.nterms * sizeof *coef);
     assert_int_equal(fit_lsq(&b, &all, y, r.nterms, r.cand, coef), 0);

@@ -127,7 +127,7 @@ static void fisheye_recovers_coefficients(void **state)
     }
     cv_camera_fit fit;
     lens_err err;
-    int rc = cv_fit_fisheye(W, H, 450, nv, counts, obj, pix, &fit, &err);
+    int rc = cv_fit_fisheye(W, H, 450, 0, nv, counts, obj, pix, &fit, &err);
     if (rc)
         fprintf(stderr, "%s\n", err.msg);
     assert_int_equal(rc, 0);

@@ -70,7 +70,7 @@ static const char *full_lens =
     "# name: test triplet\n"
     "# source: made up for test_lens_io.c\n"
     "# focal: 50.5\n"
-    "# fnumber: 2.8\n"
+    "# fnumber : 2.8\n"
     "# sensor: 36x24\n"
     "# note: first note\n"
     "# note: second note\n"
@@ -116,6 +116,7 @@ static void test_native_parse(void **state)
     assert_string_equal(l.name, "test triplet");
     assert_string_equal(l.notes, "first note\nsecond note");
     near(l.focal, 50.5, 0);
+    near(l.fnumber, 2.8, 0); /* spaces before the colon are allowed */
     near(l.sensor_w, 36, 0);
     near(l.sensor_h, 24, 0);
     assert_int_equal(l.nsurf, 6);

@@ -74,6 +74,16 @@ static void points_keep_azimuth(void **state)
     assert_true(fabs(xy[0] - f * atan2(1, -0.2)) < 1e-11);
 }
 
+static void inverse_round_trip(void **state)
+{
+    (void)state;
+    for (int k = 0; k < PROJ_COUNT; k++)
+        for (int i = 1; i < 90; i += 7) {
+            double t = i * M_PI / 180, r = proj_radius((proj_kind)k, 7.0, t);
+            assert_true(fabs(proj_theta((proj_kind)k, 7.0, r) - t) < 1e-12);
+        }
+}
+
 static void names(void **state)
 {
     (void)state;
@@ -91,6 +101,7 @@ int main(void)
         cmocka_unit_test(closed_forms),
         cmocka_unit_test(angle_between_directions),
         cmocka_unit_test(points_keep_azimuth),
+        cmocka_unit_test(inverse_round_trip),
         cmocka_unit_test(names),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# Zemax .zmx / CODE V .seq / AGF through lens-info: first-order data against closed forms,
+# warnings for skipped parts, conversion to .lens and back, the glass flags, refusals.
+source "$(dirname "$0")/lib.sh"
+if [ ! -x "$BIN/lens-info" ]; then
+  echo "# $BIN/lens-info not built: import skipped"
+  exit 0
+fi
+D=tests/data/import
+AGF="--glass-catalog $D/test.agf"
+
+# Thick lens R = +-50, t = 5, n = 1.5: f = 1 / (0.5 (0.04 - 2.5/3750)), bfl = f (1 - 1/30).
+f=$(awk 'BEGIN { printf "%.12f", 1 / (0.5 * (0.04 - 2.5 / 3750)) }')
+b=$(awk -v f="$f" 'BEGIN { printf "%.12f", f * (1 - 1 / 30) }')
+for file in singlet.zmx singlet_cm.zmx singlet.seq; do
+  out=$(run "$BIN/lens-info" "$D/$file" 2>"$T/err") || { fail "singlet-$file" "$(cat "$T/err")"; continue; }
+  e=$(value efl <<<"$out") bb=$(value bfl <<<"$out")
+  if near "$e" "$f" 1e-6 && near "$bb" "$b" 1e-6; then ok "singlet-$file"; else fail "singlet-$file" "efl $e bfl $bb, expected $f $b"; fi
+done
+
+# Skipped parts are said on stderr, one "lens-info: warning:" line each.
+run "$BIN/lens-info" "$D/singlet.zmx" >/dev/null 2>"$T/err"
+if grep -q "^lens-info: warning: $D/singlet.zmx: skipped: coatings (2), tolerance operands (3)" "$T/err"; then
+  ok warn-skipped; else fail warn-skipped "stderr: $(cat "$T/err")"; fi
+
+# Converted: the header keeps source and notes; the .lens gives the same first-order data.
+if run "$BIN/lens-info" "$D/cooke.zmx" $AGF --format lens >"$T/cooke.lens" 2>/dev/null &&
+   grep -q '^# source: Zemax file cooke.zmx' "$T/cooke.lens" &&
+   grep -q '^# note: wavelengths' "$T/cooke.lens"; then
+  a=$(run "$BIN/lens-info" "$D/cooke.zmx" $AGF 2>/dev/null | value efl)
+  c=$(run "$BIN/lens-info" "$T/cooke.lens" $AGF 2>/dev/null | value efl)
+  if near "$a" "$c" 1e-9 && near "$a" 50 0.05; then ok convert-cooke; else fail convert-cooke "efl $a vs $c (design 50)"; fi
+else
+  fail convert-cooke "no source/note header in $(head -5 "$T/cooke.lens")"
+fi
+
+# Each .seq gives the .zmx twin's focal length.
+for n in singlet doublet asphere cooke dgauss; do
+  a=$(run "$BIN/lens-info" "$D/$n.zmx" $AGF 2>/dev/null | value efl)
+  s=$(run "$BIN/lens-info" "$D/$n.seq" $AGF 2>/dev/null | value efl)
+  if [ -n "$a" ] && near "$a" "$s" 1e-9; then ok "seq-$n"; else fail "seq-$n" "zmx efl '$a', seq efl '$s'"; fi
+done
+
+# Missing glass: one line naming the glass and the catalogs; the fallback reads it.
+sed 's/GLAS N-BK7 0 0 1.5168 64.17/GLAS XG-NOPE 0 0 1.5168 64.17/' "$D/doublet.zmx" >"$T/nope.zmx"
+expect_error missing-glass "^lens-info: $T/nope.zmx:[0-9]+: glass XG-NOPE not found in .*test.agf" \
+  "$BIN/lens-info" "$T/nope.zmx" $AGF
+if run "$BIN/lens-info" "$T/nope.zmx" $AGF --glass-fallback ndvd >/dev/null 2>"$T/err" &&
+   grep -q "warning: .*XG-NOPE" "$T/err"; then ok glass-fallback; else fail glass-fallback "$(cat "$T/err")"; fi
+
+# A fold mirror is refused with the surface and the reason.
+sed 's/GLAS N-F2 0 0 1.62004 36.37/GLAS MIRROR/' "$D/doublet.zmx" >"$T/fold.zmx"
+expect_error refuse-mirror "^lens-info: $T/fold.zmx:[0-9]+: surface 2 is a mirror" "$BIN/lens-info" "$T/fold.zmx" $AGF

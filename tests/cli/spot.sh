@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# lens-spot: the table, pictures read back, focus, errors, no partial files.
+source "$(dirname "$0")/lib.sh"
+S=$BIN/lens-spot
+DG=lenses/dgauss.50mm.lens
+rays=200; [ -n "${SANITIZE:-}" ] && rays=40
+
+if run $S --help | grep -q '^usage: lens-spot'; then ok spot_help; else fail spot_help; fi
+
+# the table: a header naming the columns, a row per field and wavelength, "all" per field
+run $S $DG --fields 0,10,14 --rays $rays >$T/s.txt 2>$T/err.txt
+if head -1 $T/s.txt | grep -q '^# columns: model field_deg lambda_um rays passed vignetted .* rms_centroid_um' &&
+   [ "$(grep -vc '^#' $T/s.txt)" = 12 ] && [ "$(awk '$3 == "all"' $T/s.txt | wc -l)" = 3 ]
+then ok spot_table; else fail spot_table "$(cat $T/err.txt; head -3 $T/s.txt)"; fi
+# the chief ray of a field lies where lens-distort puts it (two paths to the same ray)
+y1=$(awk '$2 == 10 && $3 == 0.5875618 { print $8 }' $T/s.txt)
+y2=$(run $BIN/lens-distort $DG --fields 0,10 --illum-rays 0 | awk '!/^#/ && $2 == 10 { print $3 }')
+if near "$y1" "$y2" 1e-9; then ok spot_chief_matches_distort; else fail spot_chief_matches_distort "$y1 vs $y2"; fi
+
+# best focus is never worse than the file's plane (summed over fields and wavelengths)
+run $S $DG --fields 0,10 --rays $rays --focus best >$T/b.txt
+b=$(awk '!/^#/ && $3 != "all" && ($2 == 0 || $2 == 10) { s += $13 * $13 } END { print s }' $T/b.txt)
+a=$(awk '!/^#/ && $3 != "all" && ($2 == 0 || $2 == 10) { s += $13 * $13 } END { print s }' $T/s.txt)
+if awk -v a="$a" -v b="$b" 'BEGIN { exit !(b <= a + 1e-9) }' && grep -q '^# sensor plane moved' $T/b.txt
+then ok spot_best_focus; else fail spot_best_focus "best $b file $a"; fi
+
+# pictures: a PNG of the expected size, an EXR with its magic number
+run $S $DG --fields 0,14 --rays $rays --png $T/s.png --exr $T/s.exr >$T/p.txt 2>$T/err.txt
+size=$(od -An -tu1 -j16 -N8 $T/s.png 2>/dev/null | awk '{ print $3 * 256 + $4, $7 * 256 + $8 }')
+w=${size% *}
+if [ "$(head -c 4 $T/s.png | od -An -tx1 | tr -d ' ')" = 89504e47 ] && [ "${w:-0}" -ge 600 ]
+then ok spot_png; else fail spot_png "size '$size' $(cat $T/err.txt)"; fi
+if [ "$(head -c 4 $T/s.exr | od -An -tx1 | tr -d ' ')" = 762f3101 ] && grep -q '^# exr .*um per pixel' $T/p.txt
+then ok spot_exr; else fail spot_exr "$(cat $T/err.txt)"; fi
+
+# errors: one line naming the problem
+expect_error spot_unknown_wavelength "unknown wavelength 'X'" run $S $DG --wavelengths d,X
+expect_error spot_field_too_far "field 80 deg: no chief ray" run $S $DG --fields 0,80 --rays 10
+expect_error spot_empty_fields "empty field list" run $S $DG --fields ''
+expect_error spot_bad_field "bad field 'ten'" run $S $DG --fields 0,ten
+expect_error spot_no_file "nonexistent.lens" run $S $T/nonexistent.lens
+expect_error spot_bad_focus "--focus" run $S $DG --focus sharp
+# a picture that cannot be written leaves nothing behind
+run $S $DG --fields 0 --rays 10 --png $T/no/such/dir/x.png >/dev/null 2>&1
+if [ $? -ne 0 ] && [ -z "$(ls $T/no 2>/dev/null)" ]; then ok spot_png_error; else fail spot_png_error; fi
+
+# --compare: a window does not focus (its spot is the 10 mm stop: radius 5000 um about the
+# centroid), the perfect system beside it does (RMS 0), at 50 sin(theta)
+run $S tests/data/window.lens --compare tests/data/perfect-50mm.poly --fields 0,5 --wavelengths d \
+    --rays 61 --png $T/c.png >$T/c.txt 2>$T/err.txt
+if awk '$1 == "lens" { if (($14 - 5000)^2 > 1e-6) bad = 1; n++ }
+        $1 == "poly" { if ($13 > 1e-6) bad = 1; if (($10 - 50 * sin($2 * 3.14159265358979 / 180))^2 > 1e-14) bad = 1; m++ }
+        END { exit bad || n != 2 || m != 2 }' $T/c.txt && [ -s $T/c.png ]
+then ok spot_compare; else fail spot_compare "$(cat $T/err.txt $T/c.txt)"; fi
+# a system on its own finds its lens through the path it records
+if [ "$(run $S tests/data/perfect-50mm.poly --fields 10 --wavelengths d --rays 7 | awk '$1 == "poly" { print $8 }')" = 8.68240888 ]
+then ok spot_system_alone; else fail spot_system_alone; fi
+expect_error spot_compare_not_a_system "lens-poly|poly" run $S $DG --compare $DG
