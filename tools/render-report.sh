@@ -66,6 +66,17 @@ for s in dgauss fisheye; do
   done
   echo
 done
+if [ -x "${BUILD:-build}/bench/bench_render" ]; then
+  echo "## The lens part alone"
+  echo
+  echo "\`build/bench/bench_render\` (ns per camera ray through the lens map, one thread, the same"
+  echo "line-pupil rays; systems fitted for a grey scene at 240x160):"
+  echo
+  echo '```'
+  "${BUILD:-build}/bench/bench_render" 100000
+  echo '```'
+  echo
+fi
 echo "## Notes"
 echo
 echo "- Time per spp is the whole render (scene intersection and next-event estimation"
