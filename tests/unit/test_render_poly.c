@@ -132,7 +132,7 @@ static void test_cache(void **state)
     while (fgets(line, sizeof line, log)) cached += strstr(line, "system: cached") != NULL;
     assert_true(cached >= 1);
     fclose(log);
-    double in[4] = {3, -2, -0.05, 0.04}, oa[16], ob[16];
+    double in[5] = {3, -2, -0.05, 0.04, 0.55}, oa[16], ob[16]; /* x y u v lambda: dispersion is on */
     assert_int_equal(poly_eval(a, in, oa), poly_eval(b, in, ob));
     assert_true(fabs(oa[0] - ob[0]) < 1e-12);
     char cmd[128];
