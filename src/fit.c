@@ -557,8 +557,11 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
                 dmax = c.b.deg[of->cand[t]] > dmax ? c.b.deg[of->cand[t]] : dmax;
         }
         snprintf(key, sizeof key, "fit_%s", outputs[o]);
-        set_metaf(sys, key, "terms %d degree %d holdout_rms %.6g tolerance %.6g", kmax, dmax,
-                  best.rms[o], tol_of(opt, o));
+        char rms[64] = "none"; /* no held-out rows: nothing measured */
+        if (isfinite(best.rms[o]))
+            snprintf(rms, sizeof rms, "%.6g", best.rms[o]);
+        set_metaf(sys, key, "terms %d degree %d holdout_rms %s tolerance %.6g", kmax, dmax, rms,
+                  tol_of(opt, o));
         if (best.nparts > 1) {
             snprintf(key, sizeof key, "part_jump_%s", outputs[o]);
             set_metaf(sys, key, "%.6g", best.jump[o]);

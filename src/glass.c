@@ -451,9 +451,14 @@ const char *glass_default_catalog_path(void)
                                               "/../share/sparselens/lenses/glass.catalog",
                                               "/../../lenses/glass.catalog"};
             for (size_t i = 0; i < sizeof rel / sizeof *rel; i++) {
-                snprintf(buf, sizeof buf, "%s%s", exe, rel[i]);
-                if (readable(buf))
+                char cand[PATH_MAX + 64];
+                snprintf(cand, sizeof cand, "%s%s", exe, rel[i]);
+                if (readable(cand)) {
+                    /* "/x/bin/../lenses/..." reads badly in messages. */
+                    if (!realpath(cand, buf))
+                        snprintf(buf, sizeof buf, "%s", cand);
                     return buf;
+                }
             }
         }
     }

@@ -356,7 +356,7 @@ void import_glass_note(const import_glass_ctx *g, lens_t *lens)
 }
 
 int import_set_aperture(lens_t *lens, double fnumber, double epd_mm, const char *what,
-                        lens_err *err)
+                        int hard, lens_err *err)
 {
     paraxial_data p;
     lens_err e;
@@ -375,11 +375,18 @@ int import_set_aperture(lens_t *lens, double fnumber, double epd_mm, const char 
                   sd, lens->stop + 1);
         return -1;
     }
+    lens->fnumber = target;
+    if (hard && sd > old * (1 + 1e-6)) {
+        /* A hard aperture on the stop clips the beam the system aperture asks for. */
+        lens_add_note(lens, "%s asks for a stop semi-diameter of %.6g mm; the stop's clear "
+                            "aperture %g mm is kept (f/%.4g, not f/%.4g)",
+                      what, sd, old, p.fnumber, target);
+        return 0;
+    }
     s->semi_diameter = sd;
     if (fabs(sd - old) > 1e-6 * old)
         lens_add_note(lens, "stop semi-diameter %.6g mm from %s (the file's is %g)", sd, what,
                       old);
-    lens->fnumber = target;
     return 0;
 }
 

@@ -71,7 +71,7 @@ static int silent_system_key(const char *k)
         "HYPR", "PICB", "FWGN", "FWGT", "POLS", "GLRS", "GSTD", "COFN", "SURP", "BLNK",
         "NOTE", "WWGT", "WWGN", "VDSZ", "SCOL", "SLAB", "RWRE", "BLNS", "TOLE", "MAZH",
         "PPAR", "DMFS", "EFFL", "SDMS", "NSCD", "NSCS", "FIMP", "MAZH",
-        "XFLM", "YFLM", "FWGM", "FTYM", NULL};
+        "XFLM", "YFLM", "FWGM", "FTYM", "DBDT", NULL};
     for (int i = 0; keys[i]; i++)
         if (import_eq(k, keys[i]))
             return 1;
@@ -418,7 +418,7 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
     import_glass_init(&gl, opt, st->path);
     snprintf(gl.maker_catalogs, sizeof gl.maker_catalogs, "%s", st->gcat);
     double u = st->unit;
-    int air_before = 1, merged = 0, have_stop = 0;
+    int air_before = 1, merged = 0, have_stop = 0, stop_clap = 0;
     for (size_t i = 1; i + 1 < st->ns; i++) {
         const zsurf *z = &st->s[i];
         if (!isfinite(z->disz)) {
@@ -450,6 +450,8 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
             }
         s->is_stop = z->stop;
         have_stop |= z->stop;
+        if (z->stop)
+            stop_clap = z->clap > 0;
         if (!z->has_glas || import_eq(z->glas, "AIR")) {
             s->medium = glass_air();
             strcpy(s->material, "air");
@@ -484,10 +486,11 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
     import_skips_note(&st->skips, lens);
     if (lens_finish(lens, err) != 0)
         return -1;
+    int hard = stop_clap;
     if (isfinite(st->fnum) && st->fnum > 0)
-        return import_set_aperture(lens, st->fnum, 0, "FNUM", err);
+        return import_set_aperture(lens, st->fnum, 0, "FNUM", hard, err);
     if (isfinite(st->epd) && st->epd > 0)
-        return import_set_aperture(lens, 0, st->epd * u, "ENPD", err);
+        return import_set_aperture(lens, 0, st->epd * u, "ENPD", hard, err);
     return 0;
 }
 

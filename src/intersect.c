@@ -136,9 +136,12 @@ static isect_status asphere_root(const lens_surface *s, double c, double k1, con
         *tout = asph_solve(s, q, d, lo, hi, glo, t0);
         return ISECT_HIT;
     }
-    /* No sign change end to end: the ray may touch the surface twice or not at all.
-     * Look for the first sign change on a grid. */
-    enum { NSCAN = 64 };
+    /* No sign change end to end: the ray crosses the surface twice inside the aperture
+     * (a grazing ray over a bump) or not at all (the common case: it crosses outside,
+     * i.e. it is clipped). Look for the first sign change on a grid coarse enough to
+     * keep clipped rays cheap; double crossings closer than 1/16 of the chord are
+     * treated as a miss. */
+    enum { NSCAN = 16 };
     double tp = lo, gp = glo;
     for (int i = 1; i <= NSCAN; i++) {
         double tn = lo + (hi - lo) * i / NSCAN;
