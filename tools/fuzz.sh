@@ -126,7 +126,7 @@ for t in $(targets); do
   before=$(ls "tests/fuzz/regressions/$t" | wc -l)
   seeds=("tests/fuzz/corpus/$t")
   [ -d "tests/fuzz/corpus/fuzz_$t" ] && seeds+=("tests/fuzz/corpus/fuzz_$t")
-  "$OUT/fuzz_$t" -max_total_time="$seconds" -print_final_stats=1 -timeout=20 -rss_limit_mb=2048 \
+  "$OUT/fuzz_$t" -max_total_time="$seconds" -print_final_stats=1 -timeout=60 -rss_limit_mb=2048 \
     -max_len=16384 -artifact_prefix="tests/fuzz/regressions/$t/" \
     "$OUT/corpus/$t" "${seeds[@]}" >"$log" 2>&1
   rc=$?
