@@ -1,23 +1,89 @@
 /* Evaluation throughput of a polynomial system of 5 outputs x 40 terms, degree <= 11, in
- * 5 inputs (the size of the supplement's fisheye-ii system), single thread.
- * Prints "bench NAME VALUE UNIT" lines: the median of 5 runs for
- *   naive   each term's powers computed from scratch (the baseline)
- *   scalar  poly_eval, one ray at a time
- *   batch   poly_eval_batch
- * Usage: bench_poly [RAYS]   (default 1000000) */
+ * 5 inputs (the size of the supplement's fisheye-ii system; the term set of
+ * tests/unit/poly_fixture.h, random coefficients: speed does not depend on them),
+ * single thread, CPU time of this thread.
+ * Prints "bench NAME VALUE UNIT" lines, each the median of 5 runs, for
+ *   naive     each term's powers computed from scratch (the baseline)
+ *   scalar    poly_eval, one ray at a time
+ *   batch     poly_eval_batch
+ *   emitted   the C of poly_emit_c, compiled now with $CC (or cc) -O2, one call per ray
+ *   trace     the exact tracer (trace_batch, one thread) on passing fisheye-ii rays,
+ *             for the speed-up of the polynomial system over tracing
+ * Usage: bench_poly [RAYS [SYSTEM.poly]]   (default 1000000 rays, the fixture system;
+ * a system file must have the inputs x y u v lambda) */
+#include <dlfcn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "../tests/unit/poly_fixture.h"
+#include "lens.h"
 #include "poly.h"
+#include "trace.h"
 
 static double now(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+typedef int (*emitted_fn)(const double *in, double *out);
+
+/* Compiles the emitted C into a shared object and loads it; NULL if no compiler. */
+static emitted_fn load_emitted(const poly_system *s, char *dir, void **handle)
+{
+    char src[300], so[300], cmd[1024];
+    snprintf(src, sizeof src, "%s/fn.c", dir);
+    snprintf(so, sizeof so, "%s/fn.so", dir);
+    FILE *f = fopen(src, "w");
+    if (!f || poly_emit_c(f, s, "bench_fn") != 0) {
+        if (f)
+            fclose(f);
+        return NULL;
+    }
+    fclose(f);
+    const char *cc = getenv("CC");
+    snprintf(cmd, sizeof cmd, "%s -std=c99 -O2 -fPIC -shared %s -o %s -lm", cc && *cc ? cc : "cc",
+             src, so);
+    if (system(cmd) != 0)
+        return NULL;
+    *handle = dlopen(so, RTLD_NOW);
+    if (!*handle)
+        return NULL;
+    return (emitted_fn)(uintptr_t)dlsym(*handle, "bench_fn");
+}
+
+/* Passing fisheye-ii rays: sensor points over the sensor, aimed at the rear element
+ * at 0.55 um, keeping those the tracer passes. Returns how many it made (0 if the lens is not found). */
+static size_t tracer_rays(lens_t *lens, double *in, size_t n)
+{
+    lens_err err;
+    lens_init(lens);
+    if (lens_load("lenses/fisheye-ii.lens", NULL, lens, &err) != 0)
+        return 0;
+    double idx[64];
+    if (lens->nsurf + 1 > 64 || lens_indices(lens, 0.55, idx, &err) != 0)
+        return 0;
+    double w = isfinite(lens->sensor_w) ? lens->sensor_w : 24, h = isfinite(lens->sensor_h) ? lens->sensor_h : 16;
+    size_t last = lens->nsurf - 1;
+    double rear = lens->surf[last].semi_diameter;
+    double dist = lens_total_track(lens) - lens->vertex_z[last];
+    fixture_rng g = {5};
+    size_t m = 0;
+    for (size_t tries = 0; m < n && tries < 20 * n; tries++) {
+        double x = w * (fixture_uniform(&g) - 0.5), y = h * (fixture_uniform(&g) - 0.5);
+        double a = 6.283185307179586 * fixture_uniform(&g), r = rear * sqrt(fixture_uniform(&g));
+        double u = (r * cos(a) - x) / dist, v = (r * sin(a) - y) / dist, out[4];
+        double xyuv[4] = {x, y, u, v};
+        if (trace_sample(lens, idx, TRACE_TO_OUTER, xyuv, out).status != TRACE_PASSED)
+            continue;
+        double *row = in + 5 * m++;
+        row[0] = x, row[1] = y, row[2] = u, row[3] = v, row[4] = 0.55;
+    }
+    return m;
 }
 
 static int cmp(const void *a, const void *b)
@@ -60,7 +126,23 @@ int main(int argc, char **argv)
     size_t n = argc > 1 ? strtoul(argv[1], NULL, 10) : 1000000;
     if (n == 0)
         n = 1000000;
-    poly_system *s = fixture_system(40, 11, 1, 2016);
+    poly_system *s = NULL;
+    if (argc > 2) {
+        lens_err err;
+        if (poly_read(argv[2], &s, &err) != 0) {
+            fprintf(stderr, "bench_poly: %s\n", err.msg);
+            return 1;
+        }
+        for (int i = 0; i < 5; i++)
+            if (poly_ninputs(s) != 5 || poly_input_index(s, fixture_inputs[i]) != i ||
+                poly_noutputs(s) != 5 || poly_nparts(s) != 1) {
+                fprintf(stderr, "bench_poly: %s: needs inputs x y u v lambda, 5 outputs, 1 part\n",
+                        argv[2]);
+                return 1;
+            }
+    } else {
+        s = fixture_system(40, 11, 1, 2016);
+    }
     double *in = malloc(n * 5 * sizeof(double)), *out = malloc(n * 5 * sizeof(double));
     unsigned char *pass = malloc(n);
     fixture_rng g = {77};
@@ -68,8 +150,11 @@ int main(int argc, char **argv)
         fixture_ray(&g, in + r * 5);
 
     flat F;
-    F.exps = malloc(5 * 40 * 5 * sizeof(int));
-    F.coef = malloc(5 * 40 * sizeof(double));
+    int total = 0;
+    for (int o = 0; o < 5; o++)
+        total += poly_nterms(s, 0, o);
+    F.exps = malloc((size_t)total * 5 * sizeof(int));
+    F.coef = malloc((size_t)total * sizeof(double));
     int k = 0;
     for (int o = 0; o < 5; o++) {
         F.nterms[o] = poly_nterms(s, 0, o);
@@ -79,9 +164,16 @@ int main(int argc, char **argv)
     for (int i = 0; i < 5; i++)
         poly_get_scaling(s, i, &F.off[i], &F.scale[i]);
 
-    const char *names[3] = {"naive", "scalar", "batch"};
-    double checksum = 0;
-    for (int m = 0; m < 3; m++) {
+    char dir[] = "/tmp/bench_poly_XXXXXX";
+    void *handle = NULL;
+    emitted_fn fn = mkdtemp(dir) ? load_emitted(s, dir, &handle) : NULL;
+    const char *names[4] = {"naive", "scalar", "batch", "emitted_c"};
+    double checksum = 0, batch_ns = 0;
+    for (int m = 0; m < 4; m++) {
+        if (m == 3 && !fn) {
+            fprintf(stderr, "bench_poly: no C compiler: emitted C not measured\n");
+            continue;
+        }
         double t[5];
         for (int run = 0; run < 5; run++) {
             double t0 = now();
@@ -90,16 +182,51 @@ int main(int argc, char **argv)
             else if (m == 1)
                 for (size_t r = 0; r < n; r++)
                     pass[r] = (unsigned char)poly_eval(s, in + r * 5, out + r * 5);
-            else
+            else if (m == 2)
                 poly_eval_batch(s, n, in, out, pass);
+            else
+                for (size_t r = 0; r < n; r++)
+                    pass[r] = (unsigned char)fn(in + r * 5, out + r * 5);
             t[run] = now() - t0;
             checksum += out[n / 2 * 5];
         }
         qsort(t, 5, sizeof t[0], cmp);
         double ns = t[2] / (double)n * 1e9;
+        if (m == 2)
+            batch_ns = ns;
         printf("bench poly_eval_%s_ns_per_ray %.2f ns\n", names[m], ns);
         printf("bench poly_eval_%s_mrays_per_s %.2f Mrays/s\n", names[m], 1e3 / ns);
     }
+    if (handle)
+        dlclose(handle);
+    char cmd[400];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "bench_poly: could not remove %s\n", dir);
+
+    /* the exact tracer on the same machine, in the same run */
+    lens_t lens;
+    size_t nt = n / 20 < 20000 ? n / 20 : 20000;
+    double *tin = malloc(nt * 5 * sizeof(double)), *tout = malloc(nt * 5 * sizeof(double));
+    size_t got = tracer_rays(&lens, tin, nt);
+    if (got > 0) {
+        double t[5];
+        lens_err err;
+        for (int run = 0; run < 5; run++) {
+            double t0 = now();
+            trace_batch(&lens, TRACE_TO_OUTER, got, tin, tout, NULL, 1, &err);
+            t[run] = now() - t0;
+        }
+        qsort(t, 5, sizeof t[0], cmp);
+        double ns = t[2] / (double)got * 1e9;
+        printf("bench trace_fisheye_ii_ns_per_ray %.2f ns\n", ns);
+        printf("bench poly_batch_speedup_over_trace %.1f x\n", ns / batch_ns);
+        lens_free(&lens);
+    } else {
+        fprintf(stderr, "bench_poly: lenses/fisheye-ii.lens not usable: tracer not measured\n");
+    }
+    free(tin);
+    free(tout);
     printf("bench poly_eval_monomials %d count\n", poly_nmonomials(s, 0));
     fprintf(stderr, "checksum %g\n", checksum);
     free(in);

@@ -62,14 +62,34 @@ static void bench_lens(const lens_t *L, const char *name, double sw, double sh, 
         size_t passed = 0;
         for (size_t i = 0; i < N; i++)
             passed += out[5 * i + 4] > 0;
-        printf("bench trace_%s_%s %.1f ns/ray\n", name, pass ? "all_threads" : "1_thread",
+        printf("bench trace_%s_%s_ns_per_ray %.1f ns\n", name, pass ? "allthreads" : "1thread",
                t[2] / N * 1e9);
-        if (pass)
+        if (pass) {
             printf("bench trace_%s_threads %d threads\n", name, th);
-        else
-            printf("bench trace_%s_rear_pass_fraction %.3f fraction\n", name,
+        } else {
+            printf("bench trace_%s_1thread_ns_per_passing_ray %.1f ns\n", name,
+                   t[2] / passed * 1e9);
+            printf("bench sampling_%s_rear_pass_fraction %.3f fraction\n", name,
                    (double)passed / N);
+        }
     }
+    /* The pupil-aware strategy: build time and the fraction of its rays that pass. */
+    so.strategy = SAMPLING_PUPIL;
+    so.threads = 1;
+    double t0 = now(1);
+    g = ray_generator_new(L, &so, &err);
+    double tb = now(1) - t0;
+    if (!g || ray_generator_fill(g, 0, N, in, &err)) {
+        fprintf(stderr, "bench_trace: %s\n", err.msg);
+        exit(1);
+    }
+    ray_generator_free(g);
+    trace_batch(L, TRACE_TO_OUTER, N, in, out, NULL, 0, &err);
+    size_t passed = 0;
+    for (size_t i = 0; i < N; i++)
+        passed += out[5 * i + 4] > 0;
+    printf("bench sampling_%s_pupil_build_s %.3f s\n", name, tb);
+    printf("bench sampling_%s_pupil_pass_fraction %.3f fraction\n", name, (double)passed / N);
     free(in);
     free(out);
 }

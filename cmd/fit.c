@@ -13,8 +13,6 @@
 #include "poly.h"
 #include "samples.h"
 
-/* TEMPORARY until the polysys branch's emitter lands: lets lens-fit link without it. */
-#pragma weak poly_emit_c
 
 static const char *prog = "lens-fit";
 
@@ -230,7 +228,7 @@ int main(int argc, char **argv)
         count++;
     }
     char lens_buf[256];
-    lens_name_from(lens ? lens : samples_path(r), lens_buf, sizeof lens_buf);
+    lens_name_from(lens ? lens : path, lens_buf, sizeof lens_buf);
     samples_close(r);
     if (count == 0)
         diag_die(prog, "%s: no samples (the file has no data rows)", path);
@@ -256,8 +254,6 @@ int main(int argc, char **argv)
         snprintf(buf, sizeof buf, "%.17g", lam0);
         poly_set_meta(sys, "lambda", buf);
     }
-    if (emit && !poly_emit_c)
-        diag_die(prog, "--emit c: the C emitter is not built into this lens-fit");
     outfile *of = outfile_open(outpath, &err);
     if (!of) {
         diag_print(prog, &err);

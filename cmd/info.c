@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "lens_cli_options.h"
 #include "field_of_view.h"
 #include "paraxial.h"
 
@@ -19,6 +20,7 @@ static const char *usage =
     "  --format lens     print the lens in the project's format instead (converts importers' files)\n"
     "  --focus MM        print the lens refocused on an object MM in front of its first surface\n"
     "                    ('inf' for infinity): the last thickness changes\n"
+    LENS_CLI_OPTIONS_HELP
     "See lens-info(1).\n";
 
 static void print_key(const char *key, double v)
@@ -34,8 +36,11 @@ int main(int argc, char **argv)
     const char *path = NULL, *v;
     double lambda = GLASS_D_LINE, sw = NAN, sh = NAN, focus = NAN;
     int as_lens = 0;
-    lens_load_options lopt = {0};
+    lens_cli_options lopt;
+    lens_cli_options_init(&lopt);
     for (int i = 1; i < argc; i++) {
+        if (lens_cli_options_take(prog, argc, argv, &i, &lopt))
+            continue;
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h"))
             cli_help(usage);
         else if (cli_opt(prog, argc, argv, &i, "--wavelength", &v))
@@ -63,7 +68,8 @@ int main(int argc, char **argv)
 
     lens_t lens;
     lens_err err;
-    cli_load_lens(prog, path, &lopt, &lens);
+    cli_load_lens(prog, path, lens_cli_options_get(&lopt), &lens);
+    lens_cli_options_free(&lopt);
     if (!isnan(sw)) {
         lens.sensor_w = sw;
         lens.sensor_h = sh;

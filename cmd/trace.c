@@ -7,6 +7,7 @@
 #include <time.h>
 
 #include "cli.h"
+#include "lens_cli_options.h"
 #include "outfile.h"
 #include "samples.h"
 #include "sampling.h"
@@ -31,6 +32,7 @@ static const char *usage =
     "  --sensor WxH     sensor size in mm (default: the lens header)\n"
     "  --threads T      threads (default: all)\n"
     "  -o FILE          write FILE (complete or not at all) instead of stdout\n"
+    LENS_CLI_OPTIONS_HELP
     "See lens-trace(1) and lens-samples(5).\n";
 
 static const char *const columns[] = {"x", "y", "u", "v", "lambda",
@@ -199,7 +201,11 @@ int main(int argc, char **argv)
     trace_args a = {NULL, "-", 10000, 1, SAMPLING_PUPIL, 0.4, 0.7, NAN, NAN,
                     TRACE_TO_OUTER, 0, 0, 0};
     const char *v;
+    lens_cli_options lopt;
+    lens_cli_options_init(&lopt);
     for (int i = 1; i < argc; i++) {
+        if (lens_cli_options_take(prog, argc, argv, &i, &lopt))
+            continue;
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h"))
             cli_help(usage);
         else if (cli_opt(prog, argc, argv, &i, "-n", &v))
@@ -245,7 +251,8 @@ int main(int argc, char **argv)
     if (!a.lens_path)
         diag_die(prog, "no lens given (see --help)");
     lens_t lens;
-    cli_load_lens(prog, a.lens_path, NULL, &lens);
+    cli_load_lens(prog, a.lens_path, lens_cli_options_get(&lopt), &lens);
+    lens_cli_options_free(&lopt);
     if (isnan(a.sensor_w)) {
         a.sensor_w = lens.sensor_w;
         a.sensor_h = lens.sensor_h;

@@ -105,6 +105,7 @@ static int bundle_flux(const imaging *im, const double *n, double lambda, double
         size_t passed = 0;
         cell = 2 * ext / ris;
         sum = 0;
+#pragma omp parallel for collapse(2) reduction(+ : sum, passed) reduction(| : border) schedule(static)
         for (int i = 0; i < ris; i++)
             for (int j = 0; j < ris; j++) {
                 double a = -ext + (i + 0.5) * cell, b = -ext + (j + 0.5) * cell, s[4], eta, w;
@@ -252,6 +253,7 @@ int distort_grid(const imaging *im, double lambda, proj_kind k, double scale, do
         return 0;
     }
     int good = 0, finite = !isinf(im->object_distance);
+#pragma omp parallel for collapse(2) reduction(+ : good) schedule(dynamic, 4)
     for (int j = 0; j < ny; j++)
         for (int i = 0; i < nx; i++) {
             double *p = pts + 4 * (j * nx + i);
@@ -282,26 +284,64 @@ int distort_grid(const imaging *im, double lambda, proj_kind k, double scale, do
     return good;
 }
 
-int distort_opencv(const imaging *im, double lambda, int fisheye, const double *pts, int npts,
-                   double scale, double half_w, double half_h, int width, int height,
+/* Object points of one calibration view: the plane n . P = 1 (n unit) in the camera
+ * frame, in a frame of its own (origin n, axes in the plane), for the directions that
+ * meet it at a good angle. OpenCV's calibration estimates a pose per view, and one
+ * plane alone leaves pose and distortion entangled (a fisheye fit from one view does
+ * not even recover exact synthetic coefficients); several tilted planes do. */
+static size_t plane_view(const double n[3], const double *dir, const double *pix_in, size_t cnt,
+                         double *obj, double *pix)
+{
+    double e1[3] = {1 - n[0] * n[0], -n[0] * n[1], -n[0] * n[2]};
+    double m = sqrt(dot(e1, e1));
+    for (int k = 0; k < 3; k++)
+        e1[k] /= m;
+    double e2[3] = {n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]};
+    size_t v = 0;
+    for (size_t i = 0; i < cnt; i++) {
+        double c = dot(n, dir + 3 * i);
+        if (c < 0.25)
+            continue;
+        double q[3];
+        for (int k = 0; k < 3; k++)
+            q[k] = dir[3 * i + k] / c - n[k];
+        obj[3 * v] = dot(q, e1), obj[3 * v + 1] = dot(q, e2), obj[3 * v + 2] = 0;
+        pix[2 * v] = pix_in[2 * i], pix[2 * v + 1] = pix_in[2 * i + 1];
+        v++;
+    }
+    return v;
+}
+
+int distort_opencv(const imaging *im, double lambda, int fisheye, proj_kind k, const double *pts,
+                   int npts, double scale, double half_w, double half_h, int width, int height,
                    double max_deg, cv_camera_fit *fit, lens_err *err)
 {
     if (!isinf(im->object_distance)) {
         lens_errf(err, NULL, 0, "the OpenCV check needs an object at infinity");
         return -1;
     }
+    (void)half_h;
     double pitch = 2 * half_w / width; /* mm per pixel */
-    double *obj = malloc(sizeof(double) * 3 * (size_t)npts);
-    double *pix = malloc(sizeof(double) * 2 * (size_t)npts);
-    if (!obj || !pix) {
-        free(obj), free(pix);
+    /* The focal length the mapping actually has near the axis on this sensor plane (a
+     * sensor off the paraxial focus scales every height): h / theta of a chief ray at a
+     * twentieth of a degree. The fisheye fit holds it fixed. */
+    double *n = malloc(sizeof(double) * im->lens->nsurf), s[4], f_eff = scale;
+    const double small = 0.05 * M_PI / 180;
+    if (n && imaging_indices(im, lambda, n, NULL) == 0 &&
+        imaging_chief(im, n, lambda, 0.05, s, NULL) == 0 && s[1] > 0)
+        f_eff = s[1] / small;
+    free(n);
+    enum { NVIEWS = 5 };
+    double *dir = malloc(sizeof(double) * 3 * (size_t)npts);
+    double *pin = malloc(sizeof(double) * 2 * (size_t)npts);
+    double *obj = malloc(sizeof(double) * 3 * NVIEWS * (size_t)npts);
+    double *pix = malloc(sizeof(double) * 2 * NVIEWS * (size_t)npts);
+    if (!dir || !pin || !obj || !pix) {
+        free(dir), free(pin), free(obj), free(pix);
         lens_errf(err, NULL, 0, "out of memory");
         return -1;
     }
-    (void)lambda;
-    (void)half_h;
     size_t m = 0;
-    proj_kind k = fisheye ? PROJ_EQUIDISTANT : PROJ_RECTILINEAR;
     for (int i = 0; i < npts; i++) {
         const double *p = pts + 4 * i;
         if (!isfinite(p[2]) || !isfinite(p[3]))
@@ -309,17 +349,30 @@ int distort_opencv(const imaging *im, double lambda, int fisheye, const double *
         double r = hypot(p[0], p[1]), t = r > 0 ? proj_theta(k, scale, r) : 0;
         if (!(t < max_deg * M_PI / 180))
             continue;
-        double q = tan(t);
-        obj[3 * m] = r > 0 ? q * p[0] / r : 0;
-        obj[3 * m + 1] = r > 0 ? q * p[1] / r : 0;
-        obj[3 * m + 2] = 0;
-        pix[2 * m] = width / 2.0 + p[2] / pitch;
-        pix[2 * m + 1] = height / 2.0 + p[3] / pitch;
+        dir[3 * m] = r > 0 ? sin(t) * p[0] / r : 0;
+        dir[3 * m + 1] = r > 0 ? sin(t) * p[1] / r : 0;
+        dir[3 * m + 2] = cos(t);
+        pin[2 * m] = width / 2.0 + p[2] / pitch;
+        pin[2 * m + 1] = height / 2.0 + p[3] / pitch;
         m++;
     }
-    size_t counts[1] = {m};
-    int rc = fisheye ? cv_fit_fisheye(width, height, scale / pitch, 1, 1, counts, obj, pix, fit, err)
-                     : cv_fit_brown(width, height, scale / pitch, 1, counts, obj, pix, fit, err);
-    free(obj), free(pix);
+    const double a = 35 * M_PI / 180, sa = sin(a), ca = cos(a);
+    const double normals[NVIEWS][3] = {{0, 0, 1}, {sa, 0, ca}, {-sa, 0, ca}, {0, sa, ca}, {0, -sa, ca}};
+    size_t counts[NVIEWS], total = 0;
+    int nv = 0;
+    for (int v = 0; v < NVIEWS; v++) {
+        size_t c = plane_view(normals[v], dir, pin, m, obj + 3 * total, pix + 2 * total);
+        if (c >= 12)
+            counts[nv++] = c, total += c;
+    }
+    int rc;
+    if (nv == 0) {
+        lens_errf(err, NULL, 0, "too few grid points for the OpenCV fit");
+        rc = -1;
+    } else {
+        rc = fisheye ? cv_fit_fisheye(width, height, f_eff / pitch, 0, nv, counts, obj, pix, fit, err)
+                     : cv_fit_brown(width, height, f_eff / pitch, nv, counts, obj, pix, fit, err);
+    }
+    free(dir), free(pin), free(obj), free(pix);
     return rc;
 }

@@ -46,12 +46,12 @@ proj_kind distort_best_mapping(const distort_row *rows, int nf, double *rms_pct)
 int distort_grid(const imaging *im, double lambda, proj_kind k, double scale, double half_w,
                  double half_h, int nx, int ny, double *pts);
 
-/* OpenCV's models fitted to the grid map (object at infinity; points within max_deg of
- * the axis): the object points are the directions of the rays on the plane z = 1 in
- * front of the camera, the image points the real sensor points in pixels of a sensor
- * of width x height pixels over 2 half_w x 2 half_h mm. */
-int distort_opencv(const imaging *im, double lambda, int fisheye, const double *pts, int npts,
-                   double scale, double half_w, double half_h, int width, int height,
+/* OpenCV's models fitted to the grid map made with projection k (object at infinity;
+ * points within max_deg of the axis): the object points are the directions of the rays
+ * on the plane z = 1 in front of the camera, the image points the real sensor points in
+ * pixels of a sensor of width x height pixels over 2 half_w x 2 half_h mm. */
+int distort_opencv(const imaging *im, double lambda, int fisheye, proj_kind k, const double *pts,
+                   int npts, double scale, double half_w, double half_h, int width, int height,
                    double max_deg, cv_camera_fit *fit, lens_err *err);
 
 /* Grid map picture: the ideal grid in grey and each model's distorted grid (ideal +

@@ -102,7 +102,7 @@ int distort_run(const distort_request *rq, distort_report *rep, lens_err *err)
             for (int fe = 0; fe < 2; fe++) {
                 lens_err e2;
                 rep->fit_ok[m][fe] =
-                    distort_opencv(&im[m], rq->lambda, fe, rep->pts[m], n * n, rep->scale, hw, hh,
+                    distort_opencv(&im[m], rq->lambda, fe, rep->mapping, rep->pts[m], n * n, rep->scale, hw, hh,
                                    rq->cv_width, rq->cv_height, fe ? 85 : 80, &rep->fit[m][fe], &e2) == 0;
                 if (!rep->fit_ok[m][fe])
                     snprintf(rep->fit_msg[m][fe], sizeof rep->fit_msg[m][fe], "%s", e2.msg);
@@ -116,8 +116,9 @@ fail:
 void distort_report_print(FILE *f, const distort_request *rq, const distort_report *rep)
 {
     int nf = rep->nfields;
-    fprintf(f, "# columns: model %s h_real_mm h_ideal_mm distortion_pct rel_illum",
-            rep->finite ? "field_mm" : "field_deg");
+    int ri = rq->illum_rays > 0; /* the column only when it was computed */
+    fprintf(f, "# columns: model %s h_real_mm h_ideal_mm distortion_pct%s",
+            rep->finite ? "field_mm" : "field_deg", ri ? " rel_illum" : "");
     if (!rep->finite)
         for (int k = 1; k < PROJ_COUNT; k++)
             fprintf(f, " %s_pct", proj_name((proj_kind)k));
@@ -125,8 +126,10 @@ void distort_report_print(FILE *f, const distort_request *rq, const distort_repo
     for (int m = 0; m < rep->nmodels; m++)
         for (int i = 0; i < nf; i++) {
             const distort_row *r = rep->rows + m * nf + i;
-            fprintf(f, "%s %.10g %.9g %.9g %.6f %.5f", rq->model_names[m], r->field, r->h_real,
-                    r->h_ideal, r->dist_pct, r->rel_illum);
+            fprintf(f, "%s %.10g %.9g %.9g %.6f", rq->model_names[m], r->field, r->h_real,
+                    r->h_ideal, r->dist_pct);
+            if (ri)
+                fprintf(f, " %.5f", r->rel_illum);
             if (!rep->finite)
                 for (int k = 1; k < PROJ_COUNT; k++)
                     fprintf(f, " %.6f", r->map_pct[k]);

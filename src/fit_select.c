@@ -24,6 +24,7 @@
 
 #define DEP 1e-11
 #define MAX_EXCHANGE_PASSES 8
+#define CAP_MARGIN 0.01
 
 enum { AVAIL = 0, CHOSEN = 1, DEPENDENT = 2, OFF = 3 };
 
@@ -35,7 +36,7 @@ typedef struct {
     size_t n, nh, nc;
     double yy;
     int kcap, k;
-    double *R, *Ri, *z, *C, *dd, *ee, *H, *beta, *score;
+    double *R, *Ri, *z, *C, *dd, *ee, *H, *beta;
     unsigned char *status, *slot_used;
     int *chosen, *hcol; /* hcol[l]: column of H holding the term at position l */
     double *g;
@@ -293,37 +294,79 @@ static int exchange_pass(sel *s)
     return swaps;
 }
 
+/* The term whose removal raises the training RSS least, beta_t^2 / [(R^T R)^-1]_tt,
+ * among the first k, and that increase. Ties: the later term. */
+static int least_useful(sel *s, int k, double *cost_out)
+{
+    int kc = s->kcap;
+    for (int c = 0; c < k; c++)
+        for (int i = c; i >= 0; i--) {
+            double t = i == c ? 1.0 : 0.0;
+            for (int l = i + 1; l <= c; l++)
+                t -= RR(s, i, l) * s->Ri[(size_t)c * kc + l];
+            s->Ri[(size_t)c * kc + i] = t / RR(s, i, i);
+        }
+    int worst = -1;
+    double wcost = INFINITY;
+    for (int t = 0; t < k; t++) {
+        double bt = 0, nr = 0;
+        for (int c = t; c < k; c++) {
+            double ri = s->Ri[(size_t)c * kc + t];
+            bt += ri * s->z[c];
+            nr += ri * ri;
+        }
+        double cost = bt * bt / nr;
+        if (cost <= wcost) {
+            wcost = cost;
+            worst = t;
+        }
+    }
+    *cost_out = wcost;
+    return worst;
+}
+
+/* Floating steps: add the best candidate, then take out the least useful term if that
+ * is not the new one. The RSS falls at every step that changes the set (the term taken
+ * out costs less than the new one brought), so this ends. These moves reach sets that
+ * single exchanges cannot: the addition is judged with every current term present. */
+static int float_pass(sel *s, int max_steps)
+{
+    int moves = 0;
+    for (int it = 0; it < max_steps && s->k < s->kcap; it++) {
+        double sc;
+        int j = pick(s, -1, &sc);
+        if (j < 0 || !(sc > 0))
+            break;
+        int k = s->k;
+        add(s, j);
+        double cost;
+        int w = least_useful(s, k + 1, &cost);
+        if (w == k || !(cost < sc * (1 - 1e-9))) {
+            w = k; /* the new term is the least useful: undo */
+        }
+        for (int l = w; l < k; l++)
+            swap_adjacent(s, l, 1, k + 1);
+        drop_last(s, 1.0);
+        s->status[s->chosen[k]] = AVAIL;
+        s->k = k;
+        if (w == k && s->chosen[k] == j)
+            break;
+        moves++;
+    }
+    return moves;
+}
+
 /* Backward elimination from k terms: repeatedly removes the term whose removal raises
  * the training RSS least (beta_t^2 / [(R^T R)^-1]_tt), moving it behind the others, so
  * that the first j positions are the j-term model for every j. hist[j] gets its error
  * for j <= jmax. */
 static void eliminate(sel *s, int jmax, double *hist)
 {
-    int kc = s->kcap, kend = s->k;
+    int kend = s->k;
     while (s->k > 1) {
         int k = s->k;
-        for (int c = 0; c < k; c++)
-            for (int i = c; i >= 0; i--) {
-                double t = i == c ? 1.0 : 0.0;
-                for (int l = i + 1; l <= c; l++)
-                    t -= RR(s, i, l) * s->Ri[(size_t)c * kc + l];
-                s->Ri[(size_t)c * kc + i] = t / RR(s, i, i);
-            }
-        int worst = -1;
-        double wcost = INFINITY;
-        for (int t = 0; t < k; t++) {
-            double bt = 0, nr = 0;
-            for (int c = t; c < k; c++) {
-                double ri = s->Ri[(size_t)c * kc + t];
-                bt += ri * s->z[c];
-                nr += ri * ri;
-            }
-            double cost = bt * bt / nr;
-            if (cost <= wcost) { /* ties: the later term */
-                wcost = cost;
-                worst = t;
-            }
-        }
+        double cost;
+        int worst = least_useful(s, k, &cost);
         /* Rotating all kend columns keeps R a factor of every stored term, so that
          * each prefix stays the factor of its terms. */
         for (int l = worst; l < k - 1; l++)
@@ -398,6 +441,7 @@ static void select_capped(sel *s, int cap, int jmax, double tol, int patience, i
     reset_to(s, kstar);
     for (int p = 0; p < MAX_EXCHANGE_PASSES && p < passes && s->k > 0; p++) {
         int sw = exchange_pass(s);
+        sw += float_pass(s, 4 * s->k);
         res->swaps += sw;
         if (!sw)
             break;
@@ -460,7 +504,6 @@ int fit_select(const fit_basis *b, const double *mom, const double *by,
     s.C = calloc(nc * km, sizeof(double));
     s.dd = malloc(nc * sizeof(double));
     s.ee = malloc(nc * sizeof(double));
-    s.score = malloc(nc * sizeof(double));
     s.H = malloc((s.nh ? s.nh : 1) * km * sizeof(double));
     s.status = calloc(nc, 1);
     s.chosen = calloc(km, sizeof(int));
@@ -474,7 +517,7 @@ int fit_select(const fit_basis *b, const double *mom, const double *by,
     res->cand = malloc(km * sizeof(int));
     res->coef = malloc(km * sizeof(double));
     int rc = -1;
-    if (!s.R || !s.Ri || !s.z || !s.beta || !s.C || !s.dd || !s.ee || !s.score || !s.H ||
+    if (!s.R || !s.Ri || !s.z || !s.beta || !s.C || !s.dd || !s.ee || !s.H ||
         !s.status || !s.chosen || !s.hcol || !s.slot_used || !s.g || !hist || !cur.cand || !cur.coef || !res->cand || !res->coef) {
         fit_selection_free(res);
         goto out;
@@ -484,11 +527,15 @@ int fit_select(const fit_basis *b, const double *mom, const double *by,
     double tol = o->tolerance > floor_tol ? o->tolerance : floor_tol;
     /* Degree caps 3, 5, 7, ... below the maximum, and the maximum: the best by
      * held-out error wins, so offering higher degrees can only help (the caps of a
-     * lower maximum are a subset). */
+     * lower maximum are a subset). A higher cap must win by CAP_MARGIN on both the
+     * held-out and the training error: the held-out error of a few hundred rays is a
+     * noisy estimate, the training error alone would not see overfitting, and a
+     * smaller difference is noise (parsimony). */
     int D = b->D, first = 1;
     for (int cap = D < 3 ? D : 3; cap <= D; cap = cap + 2 <= D || cap == D ? cap + 2 : D) {
         select_capped(&s, cap, jmax, tol, o->patience, o->exchange_passes, hist, &cur);
-        if (first || cur.hold_rms < res->hold_rms) {
+        if (first || (cur.hold_rms < res->hold_rms * (1 - CAP_MARGIN) &&
+                      cur.train_rms < res->train_rms * (1 - CAP_MARGIN))) {
             int *c = res->cand; double *f = res->coef;
             *res = cur;
             res->cand = c;
@@ -503,7 +550,7 @@ int fit_select(const fit_basis *b, const double *mom, const double *by,
     rc = 0;
 out:
     free(s.R); free(s.Ri); free(s.z); free(s.beta); free(s.C); free(s.dd); free(s.ee);
-    free(s.score); free(s.H); free(s.status); free(s.chosen); free(s.hcol); free(s.slot_used); free(s.g); free(hist);
+    free(s.H); free(s.status); free(s.chosen); free(s.hcol); free(s.slot_used); free(s.g); free(hist);
     free(cur.cand); free(cur.coef);
     return rc;
 }

@@ -60,8 +60,8 @@ int cv_fit_brown(int width, int height, double f_px, int nviews, const size_t *c
                  const double *obj, const double *pix, cv_camera_fit *fit, lens_err *err);
 /* Kannala-Brandt model through cv::fisheye::calibrate (every object point in front of the
  * camera: z > 0 in the camera frame after the view's pose). fix_focal keeps fx = fy =
- * f_px: the model's k1..k4 then describe the departure from the equidistant projection
- * of that focal length (over a narrow field, f and the k's are nearly degenerate). */
+ * f_px (OpenCV 4.6's fisheye::CALIB_FIX_FOCAL_LENGTH: it fails to converge even on exact
+ * synthetic data, so lens-distort leaves the focal length free). */
 int cv_fit_fisheye(int width, int height, double f_px, int fix_focal, int nviews,
                    const size_t *counts, const double *obj, const double *pix, cv_camera_fit *fit,
                    lens_err *err);

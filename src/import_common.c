@@ -334,13 +334,18 @@ int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double
         append(g->fallbacks, sizeof g->fallbacks, what);
         return 0;
     }
+    char hint[200] = "";
+    if (g->maker_catalogs[0])
+        snprintf(hint, sizeof hint, "; the file names the catalogs %s: add their AGF files "
+                                    "with --glass-catalog",
+                 g->maker_catalogs);
     if (have_ndvd)
         lens_errf(err, file, line,
                   "glass %s not found in %s (the file gives n_d %g, V_d %g: "
-                  "--glass-fallback ndvd would use them)",
-                  name, searched, nd, vd);
+                  "--glass-fallback ndvd would use them)%s",
+                  name, searched, nd, vd, hint);
     else
-        lens_errf(err, file, line, "glass %s not found in %s", name, searched);
+        lens_errf(err, file, line, "glass %s not found in %s%s", name, searched, hint);
     return -1;
 }
 
@@ -351,7 +356,7 @@ void import_glass_note(const import_glass_ctx *g, lens_t *lens)
 }
 
 int import_set_aperture(lens_t *lens, double fnumber, double epd_mm, const char *what,
-                        lens_err *err)
+                        int hard, lens_err *err)
 {
     paraxial_data p;
     lens_err e;
@@ -370,11 +375,18 @@ int import_set_aperture(lens_t *lens, double fnumber, double epd_mm, const char 
                   sd, lens->stop + 1);
         return -1;
     }
+    lens->fnumber = target;
+    if (hard && sd > old * (1 + 1e-6)) {
+        /* A hard aperture on the stop clips the beam the system aperture asks for. */
+        lens_add_note(lens, "%s asks for a stop semi-diameter of %.6g mm; the stop's clear "
+                            "aperture %g mm is kept (f/%.4g, not f/%.4g)",
+                      what, sd, old, p.fnumber, target);
+        return 0;
+    }
     s->semi_diameter = sd;
     if (fabs(sd - old) > 1e-6 * old)
         lens_add_note(lens, "stop semi-diameter %.6g mm from %s (the file's is %g)", sd, what,
                       old);
-    lens->fnumber = target;
     return 0;
 }
 

@@ -58,10 +58,12 @@ double import_radius(double c, double unit);
 /* The system aperture of a design file, applied to a finished lens: the stop's
  * semi-diameter is scaled so that the paraxial f-number (d line, object at infinity) is
  * fnumber, or efl / epd_mm when fnumber is 0 (design programs derive the stop size from
- * these, so the file's stop semi-diameter may be stale). Sets lens->fnumber; notes a
- * change of the stop; -1 (err) when the stop surface cannot be that large. */
+ * these, so the file's stop semi-diameter may be stale). hard: the stop's semi-diameter
+ * is a clear aperture the file sets (Zemax CLAP, CODE V CIR), which is never enlarged.
+ * Sets lens->fnumber (the nominal one); notes a change of the stop, or a kept hard
+ * aperture; -1 (err) when the stop surface cannot be that large. */
 int import_set_aperture(lens_t *lens, double fnumber, double epd_mm, const char *what,
-                        lens_err *err);
+                        int hard, lens_err *err);
 
 /* Glass look-up through lens_import.h's material_ctx: the extra catalogs
  * (opt->catalogs), glass.catalog beside the lens, then the shipped one. */
@@ -69,6 +71,7 @@ typedef struct {
     const lens_load_options *opt;
     material_ctx m;      /* the catalogs, in lens_load's order, read on first use */
     char fallbacks[200]; /* glasses that fell back to nd/Vd, for the note */
+    char maker_catalogs[100]; /* catalogs the file names (Zemax GCAT), for the message */
 } import_glass_ctx;
 
 void import_glass_init(import_glass_ctx *g, const lens_load_options *opt, const char *lens_path);

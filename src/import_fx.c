@@ -61,7 +61,6 @@ typedef struct {
     material_ctx mat;
     int zoom_noted, extra_noted;
     char missing[256]; /* glass names not in any catalog, for one note */
-    const char *searched;
 } fx_state;
 
 static int fx_surface(char *text, lens_t *lens, fx_state *st, const char *path, long line,
@@ -160,7 +159,6 @@ static int fx_surface(char *text, lens_t *lens, fx_state *st, const char *path, 
             if (rc == 1 && strcasecmp(m, "abbe") != 0 && !strstr(st->missing, m)) {
                 size_t n = strlen(st->missing);
                 snprintf(st->missing + n, sizeof st->missing - n, " %s", m);
-                st->searched = searched;
             }
         }
         snprintf(s->material, sizeof s->material, "%s", m);
@@ -246,8 +244,8 @@ int lens_read_fx(FILE *f, const char *path, const lens_load_options *opt, lens_t
         goto out;
     }
     if (st.missing[0])
-        lens_add_note(lens, "glasses not in the catalogs (%s), modelled from their n_d/V_d:%s",
-                      st.searched, st.missing);
+        lens_add_note(lens, "glasses not in the glass catalogs, modelled from their n_d/V_d:%s",
+                      st.missing);
     if (scale != 1)
         scale_lens(lens, scale);
     rc = lens_finish(lens, err);

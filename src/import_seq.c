@@ -47,6 +47,16 @@ typedef struct {
     double yan[24];
     int nyan;
     char field_kind[32];
+    /* private glass catalog (PRV ... END): indices at the PWL wavelengths */
+    int in_prv;
+    double pwl[8];
+    int npwl;
+    struct {
+        char name[48];
+        double nd, vd; /* vd 0: no F and C indices, a bare index */
+        char why[80];  /* non-empty: cannot be used, and why */
+    } prv[32];
+    int nprv;
 } seq_state;
 
 static void refuse(qsurf *q, long line, const char *why)
@@ -119,6 +129,66 @@ static int define_surface(seq_state *st, qsurf *q, char **tok, int n, long line,
     return 0;
 }
 
+/* Index of the PWL wavelength within 1 nm of want (nm), or -1. */
+static int pwl_at(const seq_state *st, double want)
+{
+    for (int i = 0; i < st->npwl; i++)
+        if (fabs(st->pwl[i] - want) <= 1.0)
+            return i;
+    return -1;
+}
+
+/* Inside PRV ... END: "PWL w1 w2 ..." (nm), then "'NAME' n1 n2 ..." per glass. A glass
+ * becomes the n_d/V_d model when its indices include the d, F and C lines, a bare n_d
+ * when only d; otherwise it is kept with the reason, for the error if it is used. */
+static int private_glass(seq_state *st, char **tok, int n, long line, lens_err *err)
+{
+    if (import_eq(tok[0], "END")) {
+        st->in_prv = 0;
+        return 0;
+    }
+    if (import_eq(tok[0], "PWL")) {
+        st->npwl = 0;
+        for (int i = 1; i < n && st->npwl < 8; i++)
+            if (parse_double(tok[i], &st->pwl[st->npwl]) == 0)
+                st->npwl++;
+        return 0;
+    }
+    if (st->nprv == 32) {
+        import_skip(&st->skips, "private glasses past 32");
+        return 0;
+    }
+    double idx[8];
+    int ni = 0;
+    for (int i = 1; i < n && ni < 8; i++) {
+        if (parse_double(tok[i], &idx[ni]) != 0) {
+            lens_errf(err, st->path, line, "private glass %s: index '%s' is not a number",
+                      tok[0], tok[i]);
+            return -1;
+        }
+        ni++;
+    }
+    if (ni != st->npwl) {
+        lens_errf(err, st->path, line,
+                  "private glass %s: %d indices for %d PWL wavelengths", tok[0], ni, st->npwl);
+        return -1;
+    }
+    int d = pwl_at(st, 587.5618), f = pwl_at(st, 486.1327), c = pwl_at(st, 656.2725);
+    int k = st->nprv++;
+    snprintf(st->prv[k].name, sizeof st->prv[k].name, "%s", tok[0]);
+    st->prv[k].why[0] = '\0';
+    st->prv[k].vd = 0;
+    if (d < 0) {
+        snprintf(st->prv[k].why, sizeof st->prv[k].why,
+                 "gives no index at the d line (587.56 nm)");
+        return 0;
+    }
+    st->prv[k].nd = idx[d];
+    if (f >= 0 && c >= 0 && idx[f] > idx[c])
+        st->prv[k].vd = (idx[d] - 1) / (idx[f] - idx[c]);
+    return 0;
+}
+
 /* One command (a ';'-separated piece of a line). */
 static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
 {
@@ -127,6 +197,8 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
     double v;
     if (k[0] == '!')
         return 0; /* comment */
+    if (st->in_prv)
+        return private_glass(st, tok, n, line, err);
     if (import_eq(k, "SO") || import_eq(k, "S") || import_eq(k, "SI") ||
         (import_eq(k, "STO") && n > 1)) {
         int kind = import_eq(k, "SO") ? 'O' : import_eq(k, "SI") ? 'I' : 'S';
@@ -234,7 +306,7 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
                import_eq(k, "CC") || import_eq(k, "DC") || import_eq(k, "EC") ||
                import_eq(k, "SLB") || import_eq(k, "LEN") || import_eq(k, "GO") ||
                import_eq(k, "INI") || import_eq(k, "WTW") || import_eq(k, "WTF") ||
-               import_eq(k, "END")) {
+               import_eq(k, "END") || import_eq(k, "DOR")) {
         /* variable flags, labels, initials, weights, end of entry: no optical content */
     } else if (import_eq(k, "RDM")) {
         st->curvature_mode = n > 1 && (import_eq(tok[1], "N") || import_eq(tok[1], "NO"));
@@ -288,8 +360,9 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
             import_skip(&st->skips, "vignetting factors");
     } else if (import_eq(k, "PIM")) {
         import_skip(&st->skips, "paraxial image solve (thickness as written)");
-    } else if (import_eq(k, "PRV") || import_eq(k, "PWL")) {
-        import_skip(&st->skips, "private glass catalog");
+    } else if (import_eq(k, "PRV")) {
+        st->in_prv = 1;
+        st->npwl = 0;
     } else if (import_eq(k, "ZOO") || import_eq(k, "POS")) {
         import_skip(&st->skips, "zoom positions");
     } else if (import_eq(k, "CIN") || import_eq(k, "MLT") || import_eq(k, "COA")) {
@@ -308,6 +381,19 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
 
 /* CODE V fictitious glasses: a six-digit code nnnvvv (n_d = 1.nnn, V_d = vv.v), with an
  * optional ".maker" suffix, or n_d:V_d. Returns 1 when name is one. */
+static int all_digits(const char *s, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isdigit((unsigned char)s[i]))
+            return 0;
+    return n > 0;
+}
+
+/* CODE V fictitious glasses: a six-digit code nnnvvv (n_d = 1.nnn, V_d = vv.v), with an
+ * optional ".maker" suffix; the two-part code nnnnnn.vvvvvv (n_d = 1.nnnnnn,
+ * V_d = vv.vvvv, as CODE V writes it; any number of digits on each side); or n_d:V_d.
+ * Returns 1 when name is one. Decimal values are formed as integer / power of ten, so
+ * 699301 gives n_d 1.699 exactly as written. */
 static int fictitious(const char *name, double *nd, double *vd)
 {
     const char *colon = strchr(name, ':');
@@ -321,13 +407,20 @@ static int fictitious(const char *name, double *nd, double *vd)
         snprintf(b, sizeof b, "%s", colon + 1);
         return parse_double(a, nd) == 0 && parse_double(b, vd) == 0;
     }
-    for (int i = 0; i < 6; i++)
-        if (!isdigit((unsigned char)name[i]))
+    const char *dot = strchr(name, '.');
+    size_t ni = dot ? (size_t)(dot - name) : strlen(name);
+    if (dot && all_digits(dot + 1, strlen(dot + 1))) {
+        size_t nf = strlen(dot + 1);
+        if (!all_digits(name, ni) || ni > 9 || nf < 2 || nf > 9)
             return 0;
-    if (name[6] != '\0' && name[6] != '.')
+        *nd = (double)(strtol(name, NULL, 10) + (long)pow(10, (double)ni)) / pow(10, (double)ni);
+        *vd = (double)strtol(dot + 1, NULL, 10) / pow(10, (double)nf - 2);
+        return 1;
+    }
+    if (ni != 6 || !all_digits(name, 6))
         return 0;
     long code = strtol(name, NULL, 10); /* six digits: cannot overflow */
-    *nd = 1.0 + (double)(code / 1000) / 1000.0;
+    *nd = (double)(1000 + code / 1000) / 1000.0;
     *vd = (double)(code % 1000) / 10.0;
     return 1;
 }
@@ -444,6 +537,14 @@ static int estimate_apertures(seq_state *st, const int *missing, lens_err *err)
     return 0;
 }
 
+static int find_private(const seq_state *st, const char *name)
+{
+    for (int i = 0; i < st->nprv; i++)
+        if (import_eq(st->prv[i].name, name))
+            return i;
+    return -1;
+}
+
 static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
 {
     lens_t *lens = st->lens;
@@ -506,11 +607,23 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
         s->is_stop = q->stop;
         have_stop |= q->stop;
         double nd, vd;
+        int pk;
         if (!q->glass[0] || import_eq(q->glass, "AIR")) {
             s->medium = glass_air();
             strcpy(s->material, "air");
         } else if (fictitious(q->glass, &nd, &vd)) {
             import_glass_model(s, nd, vd);
+        } else if ((pk = find_private(st, q->glass)) >= 0) {
+            if (st->prv[pk].why[0]) {
+                import_glass_free(&gl);
+                free(missing);
+                lens_errf(err, st->path, q->glass_line, "private glass %s %s", q->glass,
+                          st->prv[pk].why);
+                return -1;
+            }
+            import_glass_model(s, st->prv[pk].nd, st->prv[pk].vd);
+            lens_add_note(lens, "private glass %s as %s%s", q->glass, s->material,
+                          st->prv[pk].vd > 0 ? " (n_d/V_d model)" : " (no dispersion)");
         } else if (import_glass_lookup(&gl, q->glass, NAN, NAN, st->path, q->glass_line, s,
                                        err) != 0) {
             import_glass_free(&gl);
@@ -524,6 +637,10 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
         lens->surf[0].is_stop = 1;
         lens_add_note(lens, "no STO in the file; the first surface is the stop");
     }
+    int missing_stop_cir = missing[lens->stop >= 0 ? lens->stop : 0];
+    for (size_t i = 0; i < lens->nsurf; i++)
+        if (lens->surf[i].is_stop)
+            missing_stop_cir = missing[i];
     int rc = missing_cir ? estimate_apertures(st, missing, err) : 0;
     free(missing);
     if (rc != 0)
@@ -532,10 +649,11 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
     import_skips_note(&st->skips, lens);
     if (lens_finish(lens, err) != 0)
         return -1;
+    int hard = !missing_stop_cir;
     if (isfinite(st->fno) && st->fno > 0)
-        return import_set_aperture(lens, st->fno, 0, "FNO", err);
+        return import_set_aperture(lens, st->fno, 0, "FNO", hard, err);
     if (isfinite(st->epd) && st->epd > 0)
-        return import_set_aperture(lens, 0, st->epd * u, "EPD", err);
+        return import_set_aperture(lens, 0, st->epd * u, "EPD", hard, err);
     return 0;
 }
 
@@ -561,9 +679,35 @@ int lens_parse_seq(const char *data, size_t len, const char *path,
     import_lines it = {text, 0};
     char *line, *tok[SEQ_MAX_TOK];
     int rc = 0;
+    char joined[4096];
     while (rc == 0 && (line = import_next_line(&it))) {
+        /* A line ending in '&' continues on the next. */
+        long first = it.line;
+        snprintf(joined, sizeof joined, "%s", line);
+        for (;;) {
+            size_t len = strlen(joined);
+            while (len && isspace((unsigned char)joined[len - 1]))
+                len--;
+            if (!len || joined[len - 1] != '&')
+                break;
+            joined[len - 1] = ' ';
+            joined[len] = '\0';
+            char *more = import_next_line(&it);
+            if (!more)
+                break;
+            if (len + strlen(more) + 2 >= sizeof joined) {
+                lens_errf(err, path, first, "continued line longer than %zu characters",
+                          sizeof joined);
+                rc = -1;
+                break;
+            }
+            strcat(joined, " ");
+            strcat(joined, more);
+        }
+        if (rc != 0)
+            break;
         /* Split at ';' outside quotes; each piece is one command. */
-        char *p = line;
+        char *p = joined;
         while (rc == 0 && p) {
             char *q = p, quote = 0;
             for (; *q; q++) {
@@ -584,7 +728,7 @@ int lens_parse_seq(const char *data, size_t len, const char *path,
             }
             int n = import_tokens(p, tok, SEQ_MAX_TOK);
             if (n > 0)
-                rc = command(&st, tok, n, it.line, err);
+                rc = command(&st, tok, n, first, err);
             p = next;
         }
     }

@@ -50,6 +50,7 @@ typedef struct {
     double wave[24];
     int nwave_read;
     int mnum;
+    char gcat[100];
 } zmx_state;
 
 static int num(const char *s, double *v)
@@ -70,7 +71,7 @@ static int silent_system_key(const char *k)
         "HYPR", "PICB", "FWGN", "FWGT", "POLS", "GLRS", "GSTD", "COFN", "SURP", "BLNK",
         "NOTE", "WWGT", "WWGN", "VDSZ", "SCOL", "SLAB", "RWRE", "BLNS", "TOLE", "MAZH",
         "PPAR", "DMFS", "EFFL", "SDMS", "NSCD", "NSCS", "FIMP", "MAZH",
-        "XFLM", "YFLM", "FWGM", "FTYM", NULL};
+        "XFLM", "YFLM", "FWGM", "FTYM", "DBDT", NULL};
     for (int i = 0; keys[i]; i++)
         if (import_eq(k, keys[i]))
             return 1;
@@ -262,7 +263,15 @@ static int system_key(zmx_state *st, char *raw, char **tok, int n, long line, le
         if (n > 1 && parse_long(tok[1], &i) == 0)
             st->pwav = (int)i;
     } else if (import_eq(k, "GCAT")) {
-        /* Catalog names: glasses are looked up by name in the catalogs given instead. */
+        /* Zemax's catalog names (SCHOTT OHARA ...): glasses are looked up by name in the
+         * catalogs given instead; the names help the missing-glass message. */
+        size_t o = 0;
+        for (int i = 1; i < n && o + 1 < sizeof st->gcat; i++) {
+            int w = snprintf(st->gcat + o, sizeof st->gcat - o, "%s%s", i > 1 ? " " : "", tok[i]);
+            if (w < 0)
+                break;
+            o += (size_t)w;
+        }
     } else if (import_eq(k, "MNUM")) {
         long m;
         if (n > 1 && parse_long(tok[1], &m) == 0)
@@ -341,6 +350,9 @@ static void fields_and_waves_note(zmx_state *st)
     int nf = st->nfields > 0 && st->nfields <= 12 ? st->nfields : (st->ny > st->nx ? st->ny : st->nx);
     if (nf > st->ny)
         nf = st->ny;
+    if (st->nfields <= 0) /* no count in the file: the unused slots are the trailing zeros */
+        while (nf > 1 && st->yfield[nf - 1] == 0 && (nf > st->nx || st->xfield[nf - 1] == 0))
+            nf--;
     if (nf > 0) {
         static const char *const kind[] = {"angle (deg)", "object height", "paraxial image height",
                                            "real image height"};
@@ -404,8 +416,9 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
 
     import_glass_ctx gl;
     import_glass_init(&gl, opt, st->path);
+    snprintf(gl.maker_catalogs, sizeof gl.maker_catalogs, "%s", st->gcat);
     double u = st->unit;
-    int air_before = 1, merged = 0, have_stop = 0;
+    int air_before = 1, merged = 0, have_stop = 0, stop_clap = 0;
     for (size_t i = 1; i + 1 < st->ns; i++) {
         const zsurf *z = &st->s[i];
         if (!isfinite(z->disz)) {
@@ -437,6 +450,8 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
             }
         s->is_stop = z->stop;
         have_stop |= z->stop;
+        if (z->stop)
+            stop_clap = z->clap > 0;
         if (!z->has_glas || import_eq(z->glas, "AIR")) {
             s->medium = glass_air();
             strcpy(s->material, "air");
@@ -471,10 +486,11 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
     import_skips_note(&st->skips, lens);
     if (lens_finish(lens, err) != 0)
         return -1;
+    int hard = stop_clap;
     if (isfinite(st->fnum) && st->fnum > 0)
-        return import_set_aperture(lens, st->fnum, 0, "FNUM", err);
+        return import_set_aperture(lens, st->fnum, 0, "FNUM", hard, err);
     if (isfinite(st->epd) && st->epd > 0)
-        return import_set_aperture(lens, 0, st->epd * u, "ENPD", err);
+        return import_set_aperture(lens, 0, st->epd * u, "ENPD", hard, err);
     return 0;
 }
 

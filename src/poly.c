@@ -14,6 +14,27 @@ static char *dupstr(const char *s)
     return d;
 }
 
+/* A copy on one line, without surrounding blanks: what the file format can hold and
+ * give back unchanged. */
+static char *one_line(const char *s)
+{
+    char *d = dupstr(s);
+    if (!d)
+        return NULL;
+    for (char *c = d; *c; c++)
+        if (*c == '\n' || *c == '\r' || *c == '\t')
+            *c = ' ';
+    char *b = d;
+    while (*b == ' ')
+        b++;
+    size_t n = strlen(b);
+    while (n > 0 && b[n - 1] == ' ')
+        n--;
+    memmove(d, b, n);
+    d[n] = '\0';
+    return d;
+}
+
 static int valid_name(const char *s)
 {
     if (!s || !*s)
@@ -48,7 +69,7 @@ poly_system *poly_new(const char *lens_name, int ninputs, const char *const *inp
         return NULL;
     s->nin = ninputs;
     s->nout = noutputs;
-    s->lens_name = dupstr(lens_name);
+    s->lens_name = one_line(lens_name);
     s->lens_path = dupstr("");
     s->inputs = calloc((size_t)ninputs, sizeof *s->inputs);
     s->outputs = calloc((size_t)noutputs, sizeof *s->outputs);
@@ -150,7 +171,7 @@ int poly_output_index(const poly_system *s, const char *name)
 
 void poly_set_lens_path(poly_system *s, const char *path)
 {
-    char *d = dupstr(path);
+    char *d = one_line(path);
     if (!d)
         return;
     free(s->lens_path);
@@ -429,12 +450,9 @@ void poly_set_meta(poly_system *s, const char *key, const char *value)
 {
     if (!valid_name(key))
         return;
-    char *v = dupstr(value);
+    char *v = one_line(value);
     if (!v)
         return;
-    for (char *c = v; *c; c++)
-        if (*c == '\n' || *c == '\r')
-            *c = ' ';
     for (int m = 0; m < s->nmeta; m++)
         if (strcmp(s->meta_key[m], key) == 0) {
             free(s->meta_val[m]);

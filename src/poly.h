@@ -23,14 +23,21 @@ const char *poly_output_name(const poly_system *sys, int i);
 int poly_input_index(const poly_system *sys, const char *name);  /* -1 if absent */
 int poly_output_index(const poly_system *sys, const char *name); /* -1 if absent */
 
-/* Evaluates all outputs at in[ninputs] (the system's input order, unscaled units).
+/* Evaluation never changes the system: any number of threads may evaluate one system
+ * at once. All three functions give bit-identical outputs (and the emitted C too).
+ * Evaluates all outputs at in[ninputs] (the system's input order, unscaled units).
  * Returns 1 if the system says the ray passes the lens, 0 if not (out still filled). */
 int poly_eval(const poly_system *sys, const double *in, double *out);
 /* Outputs and their partial derivatives: jac[o * ninputs + i] = d out_o / d in_i. */
 int poly_eval_jacobian(const poly_system *sys, const double *in, double *out, double *jac);
-/* count rays; in row-major count x ninputs, out count x noutputs; pass may be NULL. */
+/* count rays; in row-major count x ninputs, out count x noutputs; pass may be NULL.
+ * Several times faster per ray than poly_eval (rays go through in vector blocks):
+ * use it wherever rays come in bulk. */
 void poly_eval_batch(const poly_system *sys, size_t count, const double *in, double *out,
                      unsigned char *pass);
+/* Evaluates part `part` whatever the radius of in (to compare parts at a boundary);
+ * returns the pass flag as poly_eval does. */
+int poly_eval_part(const poly_system *sys, int part, const double *in, double *out);
 /* 1 when in lies inside the input ranges seen in training (extrapolation check). */
 int poly_in_domain(const poly_system *sys, const double *in);
 

@@ -32,37 +32,56 @@ static void fill_nan(double *out, int n)
         out[o] = NAN;
 }
 
-/* Slot values of one ray into v[nslots]. */
+/* Slot values of one ray into v[nslots] (the stored ones: the batch plan's). */
 static void slots_one(const poly_system *s, const poly_part *p, const double *in, double *v)
 {
     v[0] = 1;
     for (int i = 0; i < s->nin; i++)
         v[1 + i] = (in[i] - s->offset[i]) / s->scale[i];
-    const int *sa = p->slot_a, *sb = p->slot_b, *ord = p->order;
-    for (int j = 0, nj = p->nslots - 1 - s->nin; j < nj; j++) {
+    const int *sa = p->slot_a, *sb = p->slot_b, *ord = p->stored;
+    for (int j = 0; j < p->nstored; j++) {
         int k = ord[j];
         v[k] = v[sa[k]] * v[sb[k]];
     }
 }
 
+/* The same sums as the batch path, term t into partial sum t % 4. */
 static void dots_one(const poly_system *s, const poly_part *p, const double *v, double *out)
 {
     for (int o = 0; o < s->nout; o++) {
         const poly_out_terms *ot = &p->out[o];
-        double acc[POLY_NSUMS] = {0};
-        for (int t = 0; t < ot->nterms; t++)
-            acc[t % POLY_NSUMS] += ot->coef[t] * v[ot->slot[t]];
-        out[o] = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+        const double *c = ot->coef;
+        const int *fa = ot->fa, *fb = ot->fb;
+        double a0 = 0, a1 = 0, a2 = 0, a3 = 0;
+        int t = 0, nt = ot->nterms;
+        for (; t + 4 <= nt; t += 4) {
+            a0 += c[t] * (v[fa[t]] * v[fb[t]]);
+            a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
+            a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
+            a3 += c[t + 3] * (v[fa[t + 3]] * v[fb[t + 3]]);
+        }
+        if (t < nt)
+            a0 += c[t] * (v[fa[t]] * v[fb[t]]);
+        if (t + 1 < nt)
+            a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
+        if (t + 2 < nt)
+            a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
+        out[o] = (a0 + a1) + (a2 + a3);
     }
 }
 
 int poly_eval(const poly_system *s, const double *in, double *out)
 {
-    if (s->nparts == 0) {
+    return poly_eval_part(s, s->nparts ? poly_select_part(s, in) : -1, in, out);
+}
+
+int poly_eval_part(const poly_system *s, int part, const double *in, double *out)
+{
+    if (part < 0 || part >= s->nparts) {
         fill_nan(out, s->nout);
         return 0;
     }
-    const poly_part *p = &s->parts[poly_select_part(s, in)];
+    const poly_part *p = &s->parts[part];
     double buf[512];
     double *v = p->nslots <= 512 ? buf : malloc((size_t)p->nslots * sizeof(double));
     if (!v) {
@@ -80,23 +99,20 @@ int poly_eval(const poly_system *s, const double *in, double *out)
  * into 2-wide operations, on AVX2 and AVX-512 machines the clones below use wider
  * ones. Only IEEE multiplies, adds and divides: every clone gives the same bits. */
 typedef double vblk __attribute__((vector_size(BLK * sizeof(double))));
+typedef long long vmask __attribute__((vector_size(BLK * sizeof(long long))));
 
-/* n <= BLK rays, row idx[r] of in; v holds nslots blocks. Unused lanes repeat the
- * first ray so no lane computes on garbage. */
+/* The arithmetic of one block: v[1 + i] holds the raw inputs of BLK rays on entry;
+ * res[nout] gets the outputs and *ok the passage test of passes() per lane (all bits
+ * set: passes). Pure vector arithmetic without calls, so the wide clones return with
+ * the upper register state cleared and never slow down the SSE code around them. */
 __attribute__((target_clones("avx512f", "avx2", "default"))) static void
-eval_block(const poly_system *s, const poly_part *p, int n, const size_t *idx,
-           const double *in, double *out, unsigned char *pass, vblk *v)
+eval_block(const poly_system *s, const poly_part *p, vblk *v, vblk *res, vmask *ok)
 {
     const int nin = s->nin, nout = s->nout;
     for (int r = 0; r < BLK; r++)
         v[0][r] = 1;
-    for (int i = 0; i < nin; i++) {
-        double off = s->offset[i], sc = s->scale[i];
-        vblk x;
-        for (int r = 0; r < BLK; r++)
-            x[r] = in[idx[r < n ? r : 0] * (size_t)nin + (size_t)i];
-        v[1 + i] = (x - off) / sc;
-    }
+    for (int i = 0; i < nin; i++)
+        v[1 + i] = (v[1 + i] - s->offset[i]) / s->scale[i];
     const int *sa = p->slot_a, *sb = p->slot_b, *ord = p->stored;
     for (int j = 0; j < p->nstored; j++) {
         int k = ord[j];
@@ -120,13 +136,37 @@ eval_block(const poly_system *s, const poly_part *p, int n, const size_t *idx,
             a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
         if (t + 2 < nt)
             a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
-        vblk acc = (a0 + a1) + (a2 + a3);
-        for (int r = 0; r < n; r++)
-            out[idx[r] * (size_t)nout + (size_t)o] = acc[r];
+        res[o] = (a0 + a1) + (a2 + a3);
     }
-    if (pass)
-        for (int r = 0; r < n; r++)
-            pass[idx[r]] = (unsigned char)passes(s, out + idx[r] * (size_t)nout);
+    vmask m = res[0] == res[0]; /* all lanes set */
+    for (int o = 0; o < nout; o++)
+        m &= (res[o] - res[o]) == 0; /* finite: inf - inf and nan give nan */
+    for (int c = 0; c < s->ncircles; c++) {
+        const vblk a = res[s->circles[c].a], b = res[s->circles[c].b];
+        const double r = s->circles[c].radius;
+        m &= a * a + b * b <= r * r;
+    }
+    *ok = m;
+}
+
+/* n <= BLK rays, rows idx[r] of in. Unused lanes repeat the first ray so no lane
+ * computes on garbage. */
+static void run_block(const poly_system *s, const poly_part *p, int n, const size_t *idx,
+                      const double *in, double *out, unsigned char *pass, vblk *v, vblk *res)
+{
+    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout;
+    for (size_t i = 0; i < nin; i++)
+        for (int r = 0; r < BLK; r++)
+            v[1 + i][r] = in[idx[r < n ? r : 0] * nin + i];
+    vmask ok;
+    eval_block(s, p, v, res, &ok);
+    for (int r = 0; r < n; r++) {
+        double *o = out + idx[r] * nout;
+        for (size_t k = 0; k < nout; k++)
+            o[k] = res[k][r];
+        if (pass)
+            pass[idx[r]] = ok[r] != 0;
+    }
 }
 
 void poly_eval_batch(const poly_system *s, size_t count, const double *in, double *out,
@@ -139,8 +179,9 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
         if (s->parts[p].nslots > maxslots)
             maxslots = s->parts[p].nslots;
     vblk *v = s->nparts ? aligned_alloc(sizeof(vblk), (size_t)maxslots * sizeof(vblk)) : NULL;
+    vblk *res = aligned_alloc(sizeof(vblk), (size_t)s->nout * sizeof(vblk));
     size_t *idx = s->nparts > 1 ? malloc(CHUNK * sizeof(size_t)) : NULL;
-    if (!v || (s->nparts > 1 && !idx)) {
+    if (!v || !res || (s->nparts > 1 && !idx)) {
         /* no parts, or out of memory: the rays do not pass */
         for (size_t r = 0; r < count; r++) {
             fill_nan(out + r * (size_t)s->nout, s->nout);
@@ -148,6 +189,7 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
                 pass[r] = 0;
         }
         free(v);
+        free(res);
         free(idx);
         return;
     }
@@ -157,7 +199,7 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
             int n = count - r0 < BLK ? (int)(count - r0) : BLK;
             for (int r = 0; r < BLK; r++)
                 id[r] = r0 + (size_t)(r < n ? r : 0);
-            eval_block(s, &s->parts[0], n, id, in, out, pass, v);
+            run_block(s, &s->parts[0], n, id, in, out, pass, v, res);
         }
     } else {
         /* Sort each chunk's rays by part (a counting sort), then run blocks per part. */
@@ -180,7 +222,7 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
                 for (int q = 0; q < s->nparts; q++)
                     for (int b = start[q]; b < start[q + 1]; b += BLK) {
                         int m = start[q + 1] - b < BLK ? start[q + 1] - b : BLK;
-                        eval_block(s, &s->parts[q], m, idx + b, in, out, pass, v);
+                        run_block(s, &s->parts[q], m, idx + b, in, out, pass, v, res);
                     }
             }
         }
@@ -189,6 +231,7 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
         free(cur);
     }
     free(v);
+    free(res);
     free(idx);
 }
 

@@ -7,8 +7,12 @@
 #include <string.h>
 
 #include "trace.h"
+#include "trace_packet.h"
 
-enum { MAX_LAMBDAS = 3, COARSE = 64 };
+/* Probe wavelengths spread evenly over the range: the passing set moves with the
+ * wavelength, and where it is a thin crescent (fisheyes near the edge of the image
+ * circle) three probes left gaps between their sets wider than the dilation. */
+enum { MAX_LAMBDAS = 5, COARSE = 64 };
 
 typedef struct {
     double u0, v0, du, dv; /* grid origin (lower corner) and cell size */
@@ -31,17 +35,49 @@ typedef struct {
     double *n[MAX_LAMBDAS];
 } prober;
 
-/* 1 when the sensor ray (x, 0, u, v) passes at any of the probe wavelengths. */
-static int passes(const prober *p, double x, double u, double v)
+/* Marks pass[k] = 1 for the sensor rays (x, 0, u[k], v[k]), k < m, that pass at any of
+ * the probe wavelengths. Rays go through the packet tracer TRACE_LANES at a time. */
+static void probe(const prober *p, double x, int m, const double *u, const double *v,
+                  unsigned char *pass)
 {
-    double in[4] = {x, 0, u, v};
-    for (int l = 0; l < p->nl; l++) {
-        lens_ray r;
-        ray_from_sensor(p->lens, in, &r);
-        if (trace_to_object(p->lens, p->n[l], &r, 0).status == TRACE_PASSED)
-            return 1;
+    for (int k0 = 0; k0 < m; k0 += TRACE_LANES) {
+        int cnt = m - k0 < TRACE_LANES ? m - k0 : TRACE_LANES;
+        for (int l = 0; l < p->nl; l++) {
+            lens_ray r[TRACE_LANES];
+            trace_result res[TRACE_LANES];
+            const double *nl[TRACE_LANES];
+            int idx[TRACE_LANES], c = 0;
+            for (int k = k0; k < k0 + cnt; k++) {
+                if (pass[k])
+                    continue;
+                double in[4] = {x, 0, u[k], v[k]};
+                ray_from_sensor(p->lens, in, &r[c]);
+                nl[c] = p->n[l];
+                idx[c++] = k;
+            }
+            if (!c)
+                break;
+            trace_packet_to_object(p->lens, nl, c, r, 0, res, NULL);
+            for (int k = 0; k < c; k++)
+                if (res[k].status == TRACE_PASSED)
+                    pass[idx[k]] = 1;
+        }
     }
-    return 0;
+}
+
+/* Probes the cell centres of a g x g grid at origin (u0, v0), cell (du, dv). */
+static void probe_grid(const prober *p, double x, int g, double u0, double v0, double du,
+                       double dv, unsigned char *pass)
+{
+    double u[g], v[g];
+    memset(pass, 0, (size_t)g * g);
+    for (int j = 0; j < g; j++) {
+        for (int i = 0; i < g; i++) {
+            u[i] = u0 + (i + 0.5) * du;
+            v[i] = v0 + (j + 0.5) * dv;
+        }
+        probe(p, x, g, u, v, pass + (size_t)j * g);
+    }
 }
 
 /* A box in (u, v) that holds every passing direction from (r, 0): a passing ray crosses
@@ -74,9 +110,11 @@ static int build_set(const prober *p, double r, int g, pupil_set *set)
     /* Coarse probe over the whole box for the extent of the passing set. */
     double cu = (box[1] - box[0]) / COARSE, cv = (box[3] - box[2]) / COARSE;
     int imin = COARSE, imax = -1, jmin = COARSE, jmax = -1;
+    unsigned char coarse[COARSE * COARSE];
+    probe_grid(p, r, COARSE, box[0], box[2], cu, cv, coarse);
     for (int j = 0; j < COARSE; j++)
         for (int i = 0; i < COARSE; i++)
-            if (passes(p, r, box[0] + (i + 0.5) * cu, box[2] + (j + 0.5) * cv)) {
+            if (coarse[j * COARSE + i]) {
                 imin = i < imin ? i : imin;
                 imax = i > imax ? i : imax;
                 jmin = j < jmin ? j : jmin;
@@ -98,10 +136,7 @@ static int build_set(const prober *p, double r, int g, pupil_set *set)
         free(hit);
         return -1;
     }
-    for (int j = 0; j < g; j++)
-        for (int i = 0; i < g; i++)
-            hit[j * g + i] = (unsigned char)passes(p, r, set->u0 + (i + 0.5) * set->du,
-                                                   set->v0 + (j + 0.5) * set->dv);
+    probe_grid(p, r, g, set->u0, set->v0, set->du, set->dv, hit);
     /* Dilate by one cell: a cell whose centre misses may still be partly inside. */
     for (int j = 0; j < g; j++)
         for (int i = 0; i < g; i++) {
@@ -144,8 +179,9 @@ pupil_sampler *pupil_sampler_build(const lens_t *lens, const pupil_sampler_optio
         return NULL;
     }
     prober p = {lens, 0, {NULL}};
-    double lam[MAX_LAMBDAS] = {opt->lambda_min, 0.5 * (opt->lambda_min + opt->lambda_max),
-                               opt->lambda_max};
+    double lam[MAX_LAMBDAS];
+    for (int l = 0; l < MAX_LAMBDAS; l++)
+        lam[l] = opt->lambda_min + (opt->lambda_max - opt->lambda_min) * l / (MAX_LAMBDAS - 1);
     p.nl = opt->lambda_max > opt->lambda_min ? MAX_LAMBDAS : 1;
     pupil_sampler *ps = calloc(1, sizeof *ps);
     if (!ps) {

@@ -30,15 +30,36 @@ static unsigned slot_of(double lambda)
     return (unsigned)(b >> 60) % CACHE_SLOTS;
 }
 
-/* Index table for lambda, or NULL when it is outside some glass's range. */
-static const double *cached_indices(const lens_t *lens, index_cache *c, double lambda)
+/* The wavelengths every medium of the lens accepts. */
+static void lens_lambda_range(const lens_t *lens, double *lo, double *hi)
+{
+    *lo = 0;
+    *hi = INFINITY;
+    for (size_t i = 0; i < lens->nsurf; i++) {
+        const glass_t *g = &lens->surf[i].medium;
+        *lo = fmax(*lo, g->lambda_min);
+        *hi = fmin(*hi, g->lambda_max);
+    }
+}
+
+/* Index table for lambda, or NULL when it is outside some glass's range. The range was
+ * checked for the whole lens at once, so the per-glass formulas run unchecked (with
+ * lens_indices' own checks as the fallback for anything odd). */
+static const double *cached_indices(const lens_t *lens, index_cache *c, double lambda,
+                                    double lo, double hi)
 {
     unsigned k = slot_of(lambda);
     double *n = c->n + (size_t)k * lens->nsurf;
     if (c->ok[k] == 0 || c->lambda[k] != lambda) {
+        int ok = lambda >= lo && lambda <= hi;
+        for (size_t i = 0; ok && i < lens->nsurf; i++) {
+            const glass_t *g = &lens->surf[i].medium;
+            n[i] = g->kind == GLASS_AIR ? 1.0 : glass_index_unchecked(g, lambda);
+            ok = n[i] >= 1.0 && isfinite(n[i]);
+        }
         lens_err e;
         c->lambda[k] = lambda;
-        c->ok[k] = lens_indices(lens, lambda, n, &e) == 0 ? 1 : -1;
+        c->ok[k] = ok || lens_indices(lens, lambda, n, &e) == 0 ? 1 : -1;
     }
     return c->ok[k] > 0 ? n : NULL;
 }
@@ -56,6 +77,8 @@ int trace_batch(const lens_t *lens, trace_target target, size_t count, const dou
     int alloc_failed = 0;
     int nth = threads > 0 ? threads : omp_get_max_threads();
     const double zs = lens_total_track(lens);
+    double lam_lo, lam_hi;
+    lens_lambda_range(lens, &lam_lo, &lam_hi);
 #pragma omp parallel num_threads(nth) reduction(| : alloc_failed)
     {
         index_cache cache;
@@ -81,7 +104,7 @@ int trace_batch(const lens_t *lens, trace_target target, size_t count, const dou
                 const double *row = in + 5 * i;
                 const double *n = NULL;
                 if (cache.n && lane_n && isfinite(row[4]))
-                    n = cached_indices(lens, &cache, row[4]);
+                    n = cached_indices(lens, &cache, row[4], lam_lo, lam_hi);
                 if (!n) {
                     double *o = out + 5 * i;
                     bad[i] = 1;
@@ -103,11 +126,14 @@ int trace_batch(const lens_t *lens, trace_target target, size_t count, const dou
             }
             if (!live)
                 continue;
-            trace_packet_to_object(lens, nl, live, rays, target == TRACE_TO_STOP ? lens->stop : 0,
-                                   rr);
+            double outer[4 * TRACE_LANES];
+            int stop = target == TRACE_TO_STOP;
+            trace_packet_to_object(lens, nl, live, rays, stop ? lens->stop : 0, rr,
+                                   stop ? NULL : outer);
             for (int l = 0; l < live; l++) {
                 double *o = out + 5 * rows[l];
-                trace_result r = trace_sample_finish(lens, target, &rays[l], rr[l], o);
+                trace_result r = trace_sample_finish(lens, target, &rays[l],
+                                                     stop ? NULL : outer + 4 * l, rr[l], o);
                 o[4] = r.status == TRACE_PASSED ? r.transmittance : 0.0;
                 if (res)
                     res[rows[l]] = r;

@@ -4,7 +4,8 @@
 set -euo pipefail
 pkgs=(build-essential pkg-config clang libclang-rt-14-dev
       libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-calib3d-dev
-      libopenexr-dev liblapacke-dev libcmocka-dev libproj-dev gnuplot-nox parallel valgrind)
+      libopenexr-dev liblapacke-dev libcmocka-dev libproj-dev gnuplot-nox parallel valgrind
+      python3)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")

@@ -77,3 +77,28 @@ else
   fail eval_emit_c_matches "emitted C does not compile"
 fi
 expect_error eval_emit_bad_name "not a C identifier" $E $sys --emit c --name 9x
+
+# The same for a system fitted by lens-fit to rays traced by lens-trace (the issue's
+# check: emitted C against lens-eval on the same rays, to 1e-12 relative).
+if [ -x $BIN/lens-trace ] && [ -x $BIN/lens-fit ]; then
+  n=800 deg=6; [ -n "${SANITIZE:-}" ] && n=300 deg=4
+  run $BIN/lens-trace lenses/fisheye-ii.lens -n $n --seed 1 >$T/train.txt 2>/dev/null &&
+  run $BIN/lens-fit -q --terms 12 --degree $deg $T/train.txt -o $T/fit.poly &&
+  run $BIN/lens-trace lenses/fisheye-ii.lens -n 300 --seed 2 >$T/test.txt 2>/dev/null &&
+  run $E $T/fit.poly --emit c --name lens_fn -o $T/fit.c
+  if [ -s $T/fit.c ] && $CC -std=c99 -O2 -Wall -Werror $T/fit.c $T/main.c -o $T/fitfn -lm; then
+    awk '/^#/ { next } { print $1, $2, $3, $4, $5 }' $T/test.txt | $T/fitfn >$T/c.txt
+    run $E $T/fit.poly $T/test.txt --raw 2>/dev/null | grep -v '^#' >$T/e.txt
+    if paste -d' ' $T/c.txt $T/e.txt | awk '{ for (k = 0; k < 5; k++) { c = $(2 + k); e = $(12 + k);
+          d = c - e; if (d < 0) d = -d; s = e < 0 ? -e : e; if (s < 1e-300) s = 1;
+          if (d > 1e-12 * s) { print "row " NR ": " c " vs " e; exit 1 } } }
+          END { if (NR != 300) { print NR " rows"; exit 1 } }'
+    then ok eval_emit_c_fitted; else fail eval_emit_c_fitted; fi
+    # the report on a held-out set: finite, and positions within a millimetre
+    run $E $T/fit.poly $T/test.txt --report >$T/frep.txt 2>/dev/null
+    if awk '$1 == "out_x" && NF == 7 { found = 1; if (!($3 + 0 == $3 && $3 > 0 && $3 < 1)) exit 1 } END { exit !found }' $T/frep.txt
+    then ok eval_report_fitted; else fail eval_report_fitted "$(head -3 $T/frep.txt)"; fi
+  else
+    fail eval_emit_c_fitted "could not fit, emit or compile"
+  fi
+fi

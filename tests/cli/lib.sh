@@ -2,6 +2,8 @@
 # "FAIL NAME: why"; tests/run-tests.sh counts those lines.
 set -u
 BIN=${BIN:-bin}
+BUILD=${BUILD:-build}
+SANITIZE=${SANITIZE:-}
 TOP=${TOP:-$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)}
 cd "$TOP"
 T=$(mktemp -d)

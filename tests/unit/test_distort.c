@@ -61,6 +61,34 @@ static void thin_lens_illumination_is_cos4(void **state)
     lens_free(&l);
 }
 
+/* The same thin lens focused on an object 1000 mm away: the image height is the
+ * thin-lens magnification f / (D - f) times the object height (no distortion), and
+ * the illumination falls as cos^4 of the chief ray's angle. */
+static void thin_lens_finite_object(void **state)
+{
+    (void)state;
+    lens_t l;
+    thin_lens(&l);
+    const double D = 1000;
+    imaging im = {.lens = &l, .object_distance = D};
+    lens_err err;
+    double shift;
+    assert_int_equal(imaging_paraxial_shift(&l, D, GLASS_D_LINE, &shift, &err), 0);
+    im.sensor_shift = shift;
+    double field[3] = {0, 100, 250};
+    distort_row rows[3];
+    assert_int_equal(distort_curve(&im, GLASS_D_LINE, field, 3, 48, rows, &err), 0);
+    double f = fixture_efl(&l), m = f / (D - f);
+    for (int i = 0; i < 3; i++) {
+        /* the lens is 0.03 mm thick: its principal planes sit within 0.02 mm of the stop */
+        assert_true(fabs(rows[i].h_ideal - m * field[i]) < 2e-5 * m * field[i] + 1e-12);
+        assert_true(fabs(rows[i].dist_pct) < 0.01);
+        double c = cos(atan(field[i] / D));
+        assert_true(fabs(rows[i].rel_illum - c * c * c * c) < 0.01);
+    }
+    lens_free(&l);
+}
+
 /* Chief ray found here without ray aiming: the object ray of direction d that meets
  * the stop plane at y = 0, by bisection on its height in front of the lens, traced
  * through a copy of the lens cut at the stop. */
@@ -188,6 +216,32 @@ static void symmetric_lens_grid_is_radial(void **state)
     lens_free(&l);
 }
 
+/* OpenCV's fisheye model describes the fisheye to a small fraction of a pixel, with k1
+ * near the equisolid projection's -1/24 (2 f sin(t/2) = f t (1 - t^2/24 + ...)), which
+ * the lens follows within a few percent; Brown-Conrady cannot follow it. */
+static void opencv_models_of_the_fisheye(void **state)
+{
+    (void)state;
+    lens_t l;
+    assert_int_equal(fixture_fisheye_ii(&l), 0);
+    imaging im = {.lens = &l, .object_distance = INFINITY};
+    const int n = 13;
+    double *pts = malloc(sizeof(double) * 4 * n * n), f = fixture_efl(&l);
+    assert_true(distort_grid(&im, GLASS_D_LINE, PROJ_EQUISOLID, f, 11.8, 7.85, n, n, pts) > 100);
+    cv_camera_fit fe, br;
+    lens_err err;
+    assert_int_equal(distort_opencv(&im, GLASS_D_LINE, 1, PROJ_EQUISOLID, pts, n * n, f, 11.8, 7.85,
+                                    2000, 1330, 85, &fe, &err), 0);
+    assert_true(fe.rms < 0.05);
+    assert_true(fabs(fe.k[0] + 1.0 / 24) < 0.01);
+    assert_true(fabs(fe.cx - 1000) < 1e-9 && fabs(fe.cy - 665) < 1e-9);
+    assert_int_equal(distort_opencv(&im, GLASS_D_LINE, 0, PROJ_EQUISOLID, pts, n * n, f, 11.8, 7.85,
+                                    2000, 1330, 80, &br, &err), 0);
+    assert_true(br.rms > 20 * fe.rms);
+    free(pts);
+    lens_free(&l);
+}
+
 static void bad_fields(void **state)
 {
     (void)state;
@@ -207,9 +261,11 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(thin_lens_has_no_distortion),
         cmocka_unit_test(thin_lens_illumination_is_cos4),
+        cmocka_unit_test(thin_lens_finite_object),
         cmocka_unit_test(dgauss_distortion_as_chief_rays_say),
         cmocka_unit_test(fisheye_distortion_as_chief_rays_say),
         cmocka_unit_test(symmetric_lens_grid_is_radial),
+        cmocka_unit_test(opencv_models_of_the_fisheye),
         cmocka_unit_test(bad_fields),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

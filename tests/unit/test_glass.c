@@ -18,6 +18,12 @@
 
 #define CATALOG "lenses/glass.catalog"
 
+static void near_tol(double got, double want, double tol)
+{
+    if (!(fabs(got - want) <= tol))
+        fail_msg("got %.15g, want %.15g (tol %g)", got, want, tol);
+}
+
 static double n_at(const glass_t *g, double l)
 {
     double n = NAN;
@@ -65,6 +71,50 @@ static void test_ndvd_model_exact(void **state)
         assert_true(fabs(nd - cases[i][0]) < 1e-12);
         assert_true(fabs((nd - 1) / (nf - nc) - cases[i][1]) < 1e-9);
         assert_true(nf > nd && nd > nc); /* normal dispersion */
+    }
+}
+
+/* The model's partial dispersions lie on Schott's normal lines (K7-F2), and for normal
+ * catalog glasses the model, built from their nominal n_d and V_d alone, follows the
+ * catalog's Sellmeier curve (Zemax quotes about 1e-4 for its own model glass). */
+static void test_ndvd_model_normal_glasses(void **state)
+{
+    (void)state;
+    const double g_line = 0.4358343, t_line = 1.0139722;
+    glass_t m = glass_from_ndvd(1.6, 45);
+    double nF = n_at(&m, GLASS_F_LINE), nC = n_at(&m, GLASS_C_LINE), dfc = nF - nC;
+    double ng = glass_index_unchecked(&m, g_line), nt = glass_index_unchecked(&m, t_line);
+    near_tol((ng - nF) / dfc, 0.6438 - 0.001682 * 45, 1e-9);
+    near_tol((nC - nt) / dfc, 0.5450 + 0.004743 * 45, 1e-9);
+
+    glass_catalog *cat = NULL;
+    lens_err err;
+    assert_int_equal(glass_catalog_load(&cat, CATALOG, &err), 0);
+    static const char *const normal[] = {"N-BK7", "N-SK16", "N-BAF10", "F2", "F5"};
+    for (size_t i = 0; i < sizeof normal / sizeof *normal; i++) {
+        const glass_t *g = glass_catalog_find(cat, normal[i]);
+        glass_t mg = glass_from_ndvd(g->nd, g->vd);
+        for (int k = 0; k <= 30; k++) {
+            double l = 0.40 + 0.01 * k;
+            if (fabs(n_at(&mg, l) - n_at(g, l)) > 1e-4)
+                fail_msg("%s at %.2f um: model %.6f, catalog %.6f", g->name, l, n_at(&mg, l),
+                         n_at(g, l));
+        }
+    }
+    glass_catalog_free(cat);
+
+    /* Far off the glass map the Cauchy fallback keeps n_d and V_d exact; dispersion stays
+     * normal (n falls with wavelength) everywhere in the range. */
+    const double odd[][2] = {{1.45, 300}, {2.4, 8}, {1.6, 45}, {1.9, 20}};
+    for (size_t i = 0; i < sizeof odd / sizeof *odd; i++) {
+        glass_t o = glass_from_ndvd(odd[i][0], odd[i][1]);
+        double nd = n_at(&o, GLASS_D_LINE);
+        near_tol(nd, odd[i][0], 1e-12);
+        near_tol((nd - 1) / (n_at(&o, GLASS_F_LINE) - n_at(&o, GLASS_C_LINE)), odd[i][1], 1e-8);
+        for (int k = 0; k < 64; k++) {
+            double l = 0.36 + 0.01 * k;
+            assert_true(n_at(&o, l + 0.01) < n_at(&o, l));
+        }
     }
 }
 
@@ -237,6 +287,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_catalog_matches_nominal), cmocka_unit_test(test_ndvd_model_exact),
+        cmocka_unit_test(test_ndvd_model_normal_glasses),
         cmocka_unit_test(test_out_of_range),           cmocka_unit_test(test_formulas_by_hand),
         cmocka_unit_test(test_catalog_errors),         cmocka_unit_test(test_new_add),
         cmocka_unit_test(test_default_path),

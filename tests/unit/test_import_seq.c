@@ -66,7 +66,7 @@ static void test_glass_codes(void **state)
     assert_int_equal(lens.surf[0].medium.kind, GLASS_NDVD);
     assert_near(lens.surf[0].medium.nd, 1.670, 1e-12);
     assert_near(lens.surf[0].medium.vd, 47.2, 1e-12);
-    assert_near(lens.surf[3].medium.nd, 1.699, 1e-12);
+    assert_true(lens.surf[3].medium.nd == 1.699); /* the decimal, exactly as written */
     assert_near(lens.surf[3].medium.vd, 30.1, 1e-12);
     assert_int_equal(lens.stop, 5);
     assert_near(lens.fnumber, 2, 0);
@@ -135,6 +135,35 @@ static void test_apertures_from_rays(void **state)
     lens_free(&lens);
 }
 
+/* CODE V's own habits: a continued line (&), the two-part fictitious code
+ * nnnnnn.vvvvvv, a private glass catalog (PRV ... END) with indices at C, d, F. */
+static void test_codev_habits(void **state)
+{
+    (void)state;
+    const char *text = "RDM;LEN \"VERSION: X\"\nTITLE 'habits'\nEPD 10\nDIM M\n"
+                       "WL 656.2725 587.5618 486.1327; REF 2\nYOB 0.0 5.0 &\n   10.0\n"
+                       "SO 0.0 0.1e14\nS 50.0 5.0 516800.641700 ; CIR 6\n  STO\n"
+                       "S -50.0 2.0 'MYGLASS'; CIR 6\nS -200 90; CIR 6\nSI 0 0\n"
+                       "PRV\nPWL 656.2725 587.5618 486.1327\n'MYGLASS' 1.615 1.62 1.632\nEND\nGO\n";
+    lens_t lens;
+    lens_err err;
+    if (lens_parse_seq(text, strlen(text), "mem.seq", NULL, &lens, &err) != 0)
+        fail_msg("%s", err.msg);
+    assert_true(lens.surf[0].medium.nd == 1.5168);
+    assert_near(lens.surf[0].medium.vd, 64.17, 1e-12);
+    assert_true(lens.surf[1].medium.nd == 1.62);
+    assert_near(lens.surf[1].medium.vd, 0.62 / (1.632 - 1.615), 1e-12);
+    assert_non_null(strstr(lens.notes, "fields object height: 0 5 10"));
+    assert_non_null(strstr(lens.notes, "private glass MYGLASS"));
+    assert_int_equal(lens.stop, 0);
+    lens_free(&lens);
+    /* a private glass without the d line cannot be used */
+    const char *bad = "SO 0 1e10\nS 50 5 'P1'; CIR 5; STO\nS -50 40; CIR 5\nSI 0 0\n"
+                      "PRV\nPWL 1000 1500\n'P1' 1.5 1.49\nEND\n";
+    assert_int_not_equal(lens_parse_seq(bad, strlen(bad), "mem.seq", NULL, &lens, &err), 0);
+    assert_non_null(strstr(err.msg, "mem.seq:2: private glass P1 gives no index at the d line"));
+}
+
 static void test_truncated(void **state)
 {
     (void)state;
@@ -164,6 +193,7 @@ int main(void)
         cmocka_unit_test(test_same_as_zmx), cmocka_unit_test(test_singlet),
         cmocka_unit_test(test_glass_codes), cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_apertures_from_rays), cmocka_unit_test(test_truncated),
+        cmocka_unit_test(test_codev_habits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

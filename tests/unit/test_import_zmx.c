@@ -234,6 +234,33 @@ static void test_refusals(void **state)
     lens_free(&lens);
 }
 
+/* The system aperture against a hard clear aperture (CLAP) on the stop, which is the
+ * first surface, so the entrance pupil is the stop itself: EPD = 2 x semi-diameter.
+ * ENPD 8 shrinks the stop to 4; ENPD 12 cannot open it past CLAP 5. */
+static void test_aperture_vs_clap(void **state)
+{
+    (void)state;
+    static const double enpd[] = {8, 12}, want_sd[] = {4, 5};
+    for (int i = 0; i < 2; i++) {
+        char text[1024];
+        snprintf(text, sizeof text,
+                 "VERS 1\nENPD %g\nSURF 0\n  DISZ INFINITY\nSURF 1\n  STOP\n  CURV 0.02\n"
+                 "  DISZ 5\n  GLAS ___BLANK 1 0 1.5 60\n  DIAM 5\n  CLAP 0 5 0\nSURF 2\n"
+                 "  CURV -0.02\n  DISZ 49\n  DIAM 5\nSURF 3\n  DISZ 0\n",
+                 enpd[i]);
+        lens_t lens;
+        lens_err err;
+        if (parse(text, NULL, &lens, &err) != 0)
+            fail_msg("%s", err.msg);
+        double f = 1 / (0.5 * (0.04 - 2.5 / 3750));
+        assert_near(lens.surf[0].semi_diameter, want_sd[i], 1e-9);
+        assert_near(first_order(&lens).fnumber, f / (2 * want_sd[i]), 1e-9);
+        assert_near(lens.fnumber, f / enpd[i], 1e-9); /* the file's nominal f-number */
+        assert_true((strstr(lens.notes, "clear aperture 5 mm is kept") != NULL) == (i == 1));
+        lens_free(&lens);
+    }
+}
+
 /* Without the extension the content decides: the BOM, or a VERS line; RDM for CODE V. */
 static void test_sniffed(void **state)
 {
@@ -273,6 +300,11 @@ static void test_missing_glass(void **state)
     assert_non_null(strstr(err.msg, "mem.zmx:9: glass XG-NOPE not found in"));
     assert_non_null(strstr(err.msg, "test.agf"));
     assert_non_null(strstr(err.msg, "--glass-fallback ndvd"));
+    /* With GCAT, the message says which maker catalogs the design used. */
+    char with_gcat[1100];
+    snprintf(with_gcat, sizeof with_gcat, "GCAT SCHOTT OHARA\n%s", text);
+    assert_int_not_equal(parse(with_gcat, &with_catalog, &lens, &err), 0);
+    assert_non_null(strstr(err.msg, "the file names the catalogs SCHOTT OHARA"));
     lens_load_options fb = {test_catalogs, 1};
     if (parse(text, &fb, &lens, &err) != 0)
         fail_msg("%s", err.msg);
@@ -327,6 +359,7 @@ int main(void)
         cmocka_unit_test(test_cooke),           cmocka_unit_test(test_double_gauss),
         cmocka_unit_test(test_refusals),        cmocka_unit_test(test_missing_glass),
         cmocka_unit_test(test_truncated),       cmocka_unit_test(test_sniffed),
+        cmocka_unit_test(test_aperture_vs_clap),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

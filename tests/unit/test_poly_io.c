@@ -39,6 +39,7 @@ static void test_round_trip(void **st)
     poly_system *a = fixture_system(40, 11, 3, 42);
     poly_set_lens_path(a, "lenses/fisheye-ii.lens");
     poly_set_meta(a, "fit.terms", "40 per output");
+    poly_set_meta(a, "odd", "  two\nlines\t ");
     assert_int_equal(poly_add_pass_circle(a, 0, 1, 17.25), 0);
     size_t la, lb;
     char *ta = to_text(a, &la);
@@ -49,6 +50,7 @@ static void test_round_trip(void **st)
     assert_string_equal(poly_lens_name(b), "fixture");
     assert_string_equal(poly_lens_path(b), "lenses/fisheye-ii.lens");
     assert_string_equal(poly_get_meta(b, "fit.terms"), "40 per output");
+    assert_string_equal(poly_get_meta(b, "odd"), "two lines");
     assert_int_equal(poly_nparts(b), 3);
     assert_int_equal(poly_npass_circles(b), 1);
     /* writing the re-read system gives the same text */
