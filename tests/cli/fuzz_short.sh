@@ -2,9 +2,9 @@
 # A short libFuzzer run of every parser target (tools/fuzz.sh), plus a replay of every
 # saved regression input in tests/fuzz/regressions/. Expectation: no target crashes,
 # leaks, trips UBSan or breaks an invariant (fuzz_common.h) within the run, and every
-# input that once did is handled now. FUZZ_SHORT_SECONDS sets the run per target (default 2 s).
+# input that once did is handled now. FUZZ_SHORT_SECONDS sets the run per target (default 1 s).
 source "$(dirname "$0")/lib.sh"
-secs=${FUZZ_SHORT_SECONDS:-2}
+secs=${FUZZ_SHORT_SECONDS:-1}
 
 tools/fuzz.sh --build >"$T/build.log" 2>&1
 rc=$?
