@@ -68,22 +68,22 @@ $(BUILD)/bench/%: bench/%.c $(LIB)
 
 # The whole suite: unit tests, command-line tests, hard cases, short fuzz runs.
 test: deps
-	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory -j$(shell nproc 2>/dev/null || echo 2) all
 	@BIN=$(BIN) BUILD=$(BUILD) SANITIZE=$(SANITIZE) tests/run-tests.sh
 
 check: test
 
 # The whole pipeline on the default lens; results in demo/.
 demo: deps
-	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory -j$(shell nproc 2>/dev/null || echo 2) all
 	@BIN=$(BIN) tools/demo.sh
 
 bench: deps
-	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory -j$(shell nproc 2>/dev/null || echo 2) all
 	@BIN=$(BIN) tools/bench.sh
 
 reports: deps
-	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory -j$(shell nproc 2>/dev/null || echo 2) all
 	@$(MAKE) --no-print-directory -f tools/reports.mk BIN=$(BIN) BUILD=$(BUILD)
 
 fuzz: deps

@@ -123,7 +123,7 @@ int main(int argc, char **argv)
     } else {
         /* 11 fields from the axis to the largest lens-spot would choose */
         double three[3];
-        if (imaging_default_fields(&rq.im[0], rq.lambda, three, &err) < 0)
+        if (imaging_default_fields(&rq.im[0], &rq.lambda, 1, three, &err) < 0)
             diag_die(prog, "%s", err.msg);
         rq.nfields = 11;
         for (int i = 0; i < rq.nfields; i++)

@@ -27,7 +27,8 @@ static const char *usage =
     "  --parts P          allow up to P radial parts where one polynomial misses T (default 1)\n"
     "  --inputs LIST      input columns (default x,y,u,v,lambda); without lambda the samples\n"
     "                     must hold a single wavelength\n"
-    "  --outputs LIST     output columns (default out_x,out_y,out_u,out_v,out_eta)\n"
+    "  --outputs LIST     output columns (default out_x,out_y,out_u,out_v,out_eta, and\n"
+    "                     ap_x,ap_y when the samples have them: lens-trace --stop-columns)\n"
     "  --holdout F        fraction of samples held out for stopping (default 0.2)\n"
     "  --seed S           seed of the held-out split (default 1)\n"
     "  --threads N        threads (default: all); the result does not depend on it\n"
@@ -76,7 +77,7 @@ int main(int argc, char **argv)
     fit_options_default(&opt);
     const char *inputs_s = "x,y,u,v,lambda", *outputs_s = "out_x,out_y,out_u,out_v,out_eta";
     const char *path = "-", *outpath = "-", *emit = NULL, *lens = NULL, *fname = "lens_poly";
-    int quiet = 0, npos = 0;
+    int quiet = 0, npos = 0, outputs_given = 0;
     const char *tol_s = NULL;
     for (int i = 1; i < argc; i++) {
         const char *v;
@@ -93,7 +94,7 @@ int main(int argc, char **argv)
         else if (cli_opt(prog, argc, argv, &i, "--inputs", &v))
             inputs_s = v;
         else if (cli_opt(prog, argc, argv, &i, "--outputs", &v))
-            outputs_s = v;
+            outputs_s = v, outputs_given = 1;
         else if (cli_opt(prog, argc, argv, &i, "--holdout", &v)) {
             opt.holdout = cli_double(prog, "--holdout", v);
             if (!(opt.holdout >= 0 && opt.holdout <= 0.9))
@@ -121,6 +122,16 @@ int main(int argc, char **argv)
         else
             diag_die(prog, "more than one sample file (see --help)");
     }
+    lens_err err;
+    samples_reader *r = samples_open(path, &err);
+    if (!r) {
+        diag_print(prog, &err);
+        return 1;
+    }
+    /* Stop hits in the samples: fit them too, so the system gets the stop's pass
+     * circle and rays blocked at the stop do not pass it. */
+    if (!outputs_given && samples_find(r, "ap_x") >= 0 && samples_find(r, "ap_y") >= 0)
+        outputs_s = "out_x,out_y,out_u,out_v,out_eta,ap_x,ap_y";
     char *incopy, *outcopy;
     const char **in_names, **out_names;
     int nin = split_list("--inputs", inputs_s, &incopy, &in_names);
@@ -158,12 +169,6 @@ int main(int argc, char **argv)
             diag_die(prog, "--tolerance: must not be negative, not %s", tol_s);
     }
 
-    lens_err err;
-    samples_reader *r = samples_open(path, &err);
-    if (!r) {
-        diag_print(prog, &err);
-        return 1;
-    }
     int *inmap = malloc((size_t)nin * sizeof *inmap), *outmap = malloc((size_t)nout * sizeof *outmap);
     if (!inmap || !outmap)
         diag_die(prog, "out of memory");

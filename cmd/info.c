@@ -81,6 +81,15 @@ int main(int argc, char **argv)
             return 1;
         }
         lens.surf[lens.nsurf - 1].thickness = t;
+        /* Notes about where the sensor was are no longer true: replace them. */
+        char kept[sizeof lens.notes] = "";
+        for (char *save, *line = strtok_r(lens.notes, "\n", &save); line;
+             line = strtok_r(NULL, "\n", &save))
+            if (!strstr(line, "focus"))
+                snprintf(kept + strlen(kept), sizeof kept - strlen(kept), "%s\n", line);
+        snprintf(kept + strlen(kept), sizeof kept - strlen(kept),
+                 "sensor refocused by lens-info --focus %g (paraxial, at %g um)", focus, lambda);
+        snprintf(lens.notes, sizeof lens.notes, "%s", kept);
         if (lens_finish(&lens, &err) != 0) {
             diag_print(prog, &err);
             return 1;
@@ -111,8 +120,8 @@ int main(int argc, char **argv)
     printf("stop_surface %d\n", p.stop_surface);
     print_key("total_track", p.total_track);
     if (isnan(lens.sensor_w)) {
-        fprintf(stderr, "%s: %s: no sensor size in the lens header; give --sensor WxH for "
-                        "field_of_view_deg\n", prog, path);
+        fprintf(stderr, "%s: warning: %s: no sensor size in the lens header; give --sensor WxH "
+                        "for field_of_view_deg\n", prog, path);
         print_key("field_of_view_deg", NAN);
     } else {
         double fov, r_used, r = 0.5 * hypot(lens.sensor_w, lens.sensor_h);
@@ -122,7 +131,7 @@ int main(int argc, char **argv)
             return 1;
         }
         if (r_used < r)
-            fprintf(stderr, "%s: the sensor diagonal (%.4g mm) reaches past the image circle "
+            fprintf(stderr, "%s: warning: the sensor diagonal (%.4g mm) reaches past the image circle "
                             "(radius %.4g mm); field_of_view_deg is the image circle's\n",
                     prog, 2 * r, r_used);
         printf("sensor %gx%g\n", lens.sensor_w, lens.sensor_h);

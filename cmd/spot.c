@@ -85,7 +85,7 @@ int main(int argc, char **argv)
     rq.nmodels = imaging_models_setup(&models, dist, rq.im, rq.model_names);
     rq.lambda = lambda, rq.nl = nl, rq.primary = nl / 2;
     int nf = fields_s ? numbers_parse(fields_s, "field", field, IMAGING_MAX_FIELDS, &err)
-                      : imaging_default_fields(&rq.im[0], lambda[nl / 2], field, &err);
+                      : imaging_default_fields(&rq.im[0], lambda, nl, field, &err);
     if (nf < 0) {
         diag_die(prog, "%s%s", fields_s ? "--fields: " : "", err.msg);
     }

@@ -12,12 +12,14 @@
 #include "samples.h"
 #include "sampling.h"
 #include "trace.h"
+#include "trace_stop.h"
 
 static const char *prog = "lens-trace";
 
 static const char *usage =
     "usage: lens-trace LENS [-n N] [--seed S] [--sampling pupil|rear] [--lambda A:B|L]\n"
-    "                  [--to outer|stop] [--all] [--sensor WxH] [--threads T] [-o FILE] [-]\n"
+    "                  [--to outer|stop] [--all] [--stop-columns] [--sensor WxH]\n"
+    "                  [--threads T] [-o FILE] [-]\n"
     "Generates N rays from the sensor and traces them through LENS, writing a sample file\n"
     "with columns x y u v lambda out_x out_y out_u out_v out_eta. With '-', traces the rays\n"
     "read from stdin (columns x y u v lambda, found by name) instead: one output row per\n"
@@ -29,6 +31,9 @@ static const char *usage =
     "  --lambda A:B     wavelengths uniform in A..B um, or one wavelength (default 0.4:0.7)\n"
     "  --to outer|stop  output frame: the outer pupil (default) or the aperture stop\n"
     "  --all            also write rays that do not pass (out_eta 0, other outputs nan)\n"
+    "  --stop-columns   add columns ap_x ap_y: the ray's hit on the aperture stop (nan when\n"
+    "                   it does not get through to the stop); lens-fit then fits a stop\n"
+    "                   pass circle\n"
     "  --sensor WxH     sensor size in mm (default: the lens header)\n"
     "  --threads T      threads (default: all)\n"
     "  -o FILE          write FILE (complete or not at all) instead of stdout\n"
@@ -36,7 +41,9 @@ static const char *usage =
     "See lens-trace(1) and lens-samples(5).\n";
 
 static const char *const columns[] = {"x", "y", "u", "v", "lambda",
-                                      "out_x", "out_y", "out_u", "out_v", "out_eta"};
+                                      "out_x", "out_y", "out_u", "out_v", "out_eta",
+                                      "ap_x", "ap_y"};
+enum { NCOLS = 10, NCOLS_STOP = 12 };
 
 typedef struct {
     const char *lens_path, *out_path;
@@ -45,8 +52,13 @@ typedef struct {
     sampling_strategy strategy;
     double lambda_min, lambda_max, sensor_w, sensor_h;
     trace_target target;
-    int all, threads, from_stdin;
+    int all, threads, from_stdin, stop_columns;
 } trace_args;
+
+static int ncols(const trace_args *a)
+{
+    return a->stop_columns ? NCOLS_STOP : NCOLS;
+}
 
 static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
 {
@@ -57,7 +69,7 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
                 sampling_strategy_name(a->strategy), a->seed, a->lambda_min, a->lambda_max,
                 a->sensor_w, a->sensor_h);
     fputc('\n', f);
-    samples_write_header(f, columns, 10);
+    samples_write_header(f, columns, ncols(a));
 }
 
 static void progress(long done, long total, long generated)
@@ -82,10 +94,12 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         return -1;
     const size_t chunk = 1 << 16;
     double *in = malloc(chunk * 5 * sizeof *in), *out = malloc(chunk * 5 * sizeof *out);
-    if (!in || !out) {
+    double *ap = a->stop_columns ? malloc(chunk * 2 * sizeof *ap) : NULL;
+    if (!in || !out || (a->stop_columns && !ap)) {
         lens_errf(err, NULL, 0, "out of memory");
         free(in);
         free(out);
+        free(ap);
         ray_generator_free(g);
         return -1;
     }
@@ -107,7 +121,8 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         if (a->all && (size_t)(a->count - written) < n)
             n = (size_t)(a->count - written);
         if (ray_generator_fill(g, next, n, in, err) != 0 ||
-            trace_batch(lens, a->target, n, in, out, NULL, a->threads, err) != 0) {
+            trace_batch(lens, a->target, n, in, out, NULL, a->threads, err) != 0 ||
+            (ap && trace_stop_batch(lens, n, in, ap, a->threads, err) != 0)) {
             rc = -1;
             break;
         }
@@ -115,10 +130,12 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         for (size_t i = 0; i < n && written < a->count; i++) {
             if (!a->all && !(out[5 * i + 4] > 0))
                 continue;
-            double row[10];
+            double row[NCOLS_STOP];
             memcpy(row, in + 5 * i, 5 * sizeof *row);
             memcpy(row + 5, out + 5 * i, 5 * sizeof *row);
-            samples_write_row(f, row, 10);
+            if (ap)
+                memcpy(row + NCOLS, ap + 2 * i, 2 * sizeof *row);
+            samples_write_row(f, row, ncols(a));
             written++;
         }
         if (show)
@@ -128,6 +145,7 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         fputc('\n', stderr);
     free(in);
     free(out);
+    free(ap);
     ray_generator_free(g);
     return rc;
 }
@@ -153,13 +171,13 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
     lens_err cached_err = {{0}};
     int st;
     while (vals && n && (st = samples_next(r, vals, err)) != 0) {
-        double row[10];
-        for (int k = 0; k < 10; k++)
+        double row[NCOLS_STOP];
+        for (int k = 0; k < NCOLS_STOP; k++)
             row[k] = NAN;
         if (st < 0) {
             diag_print(prog, err);
             ++*bad_rows;
-            samples_write_row(f, row, 10);
+            samples_write_row(f, row, ncols(a));
             continue;
         }
         for (int k = 0; k < 5; k++)
@@ -183,9 +201,11 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
             } else {
                 trace_result res = trace_sample(lens, n, a->target, row, row + 5);
                 row[9] = res.status == TRACE_PASSED ? res.transmittance : 0.0;
+                if (a->stop_columns)
+                    trace_stop_hit(lens, n, row, row + NCOLS);
             }
         }
-        samples_write_row(f, row, 10);
+        samples_write_row(f, row, ncols(a));
     }
     int rc = (vals && n) ? 0 : -1;
     if (!vals || !n)
@@ -199,7 +219,7 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
 int main(int argc, char **argv)
 {
     trace_args a = {NULL, "-", 10000, 1, SAMPLING_PUPIL, 0.4, 0.7, NAN, NAN,
-                    TRACE_TO_OUTER, 0, 0, 0};
+                    TRACE_TO_OUTER, 0, 0, 0, 0};
     const char *v;
     lens_cli_options lopt;
     lens_cli_options_init(&lopt);
@@ -231,6 +251,8 @@ int main(int argc, char **argv)
                 diag_die(prog, "--to: expected 'outer' or 'stop', not '%s'", v);
         } else if (!strcmp(argv[i], "--all"))
             a.all = 1;
+        else if (!strcmp(argv[i], "--stop-columns"))
+            a.stop_columns = 1;
         else if (cli_opt(prog, argc, argv, &i, "--sensor", &v)) {
             cli_pair(prog, "--sensor", v, 'x', &a.sensor_w, &a.sensor_h);
             if (!(a.sensor_w > 0 && a.sensor_h > 0))

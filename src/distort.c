@@ -105,6 +105,7 @@ static int bundle_flux(const imaging *im, const double *n, double lambda, double
         size_t passed = 0;
         cell = 2 * ext / ris;
         sum = 0;
+#pragma omp parallel for collapse(2) reduction(+ : sum, passed) reduction(| : border) schedule(static)
         for (int i = 0; i < ris; i++)
             for (int j = 0; j < ris; j++) {
                 double a = -ext + (i + 0.5) * cell, b = -ext + (j + 0.5) * cell, s[4], eta, w;
@@ -252,6 +253,7 @@ int distort_grid(const imaging *im, double lambda, proj_kind k, double scale, do
         return 0;
     }
     int good = 0, finite = !isinf(im->object_distance);
+#pragma omp parallel for collapse(2) reduction(+ : good) schedule(dynamic, 4)
     for (int j = 0; j < ny; j++)
         for (int i = 0; i < nx; i++) {
             double *p = pts + 4 * (j * nx + i);

@@ -116,8 +116,9 @@ fail:
 void distort_report_print(FILE *f, const distort_request *rq, const distort_report *rep)
 {
     int nf = rep->nfields;
-    fprintf(f, "# columns: model %s h_real_mm h_ideal_mm distortion_pct rel_illum",
-            rep->finite ? "field_mm" : "field_deg");
+    int ri = rq->illum_rays > 0; /* the column only when it was computed */
+    fprintf(f, "# columns: model %s h_real_mm h_ideal_mm distortion_pct%s",
+            rep->finite ? "field_mm" : "field_deg", ri ? " rel_illum" : "");
     if (!rep->finite)
         for (int k = 1; k < PROJ_COUNT; k++)
             fprintf(f, " %s_pct", proj_name((proj_kind)k));
@@ -125,8 +126,10 @@ void distort_report_print(FILE *f, const distort_request *rq, const distort_repo
     for (int m = 0; m < rep->nmodels; m++)
         for (int i = 0; i < nf; i++) {
             const distort_row *r = rep->rows + m * nf + i;
-            fprintf(f, "%s %.10g %.9g %.9g %.6f %.5f", rq->model_names[m], r->field, r->h_real,
-                    r->h_ideal, r->dist_pct, r->rel_illum);
+            fprintf(f, "%s %.10g %.9g %.9g %.6f", rq->model_names[m], r->field, r->h_real,
+                    r->h_ideal, r->dist_pct);
+            if (ri)
+                fprintf(f, " %.5f", r->rel_illum);
             if (!rep->finite)
                 for (int k = 1; k < PROJ_COUNT; k++)
                     fprintf(f, " %.6f", r->map_pct[k]);

@@ -24,7 +24,13 @@ struct eval_report {
     double *err;   /* n x nrows */
     double *radius;
     size_t total, both, false_pass, false_block, neither;
+    int nbound;    /* part boundaries (parts sorted by rmin, neighbours touching) */
+    int *below, *above; /* the parts on either side of boundary b */
+    double *jump;  /* nbound x noutputs: the largest |difference| seen at the boundary */
+    double *rbound;
 };
+
+
 
 void eval_report_options_default(eval_report_options *opt)
 {
@@ -83,6 +89,42 @@ eval_report *eval_report_new(const poly_system *s, const eval_report_options *op
             r->rows[r->nrows++] = k;
         }
     }
+    /* Boundaries: where one part's rmax is another's rmin. */
+    int np = poly_nparts(s);
+    if (np > 1) {
+        r->below = calloc((size_t)np, sizeof(int));
+        r->above = calloc((size_t)np, sizeof(int));
+        r->rbound = calloc((size_t)np, sizeof(double));
+        r->jump = calloc((size_t)np * (size_t)nout, sizeof(double));
+        if (!r->below || !r->above || !r->rbound || !r->jump) {
+            eval_report_free(r);
+            return NULL;
+        }
+        for (int p = 0; p < np; p++)
+            for (int q = 0; q < np; q++) {
+                double a0, a1, b0, b1;
+                poly_part_range(s, p, &a0, &a1);
+                poly_part_range(s, q, &b0, &b1);
+                if (a1 == b0) {
+                    r->below[r->nbound] = p;
+                    r->above[r->nbound] = q;
+                    r->rbound[r->nbound++] = a1;
+                }
+            }
+        /* in order of radius */
+        for (int i = 1; i < r->nbound; i++)
+            for (int j = i; j > 0 && r->rbound[j - 1] > r->rbound[j]; j--) {
+                double t = r->rbound[j];
+                r->rbound[j] = r->rbound[j - 1];
+                r->rbound[j - 1] = t;
+                int u = r->below[j];
+                r->below[j] = r->below[j - 1];
+                r->below[j - 1] = u;
+                u = r->above[j];
+                r->above[j] = r->above[j - 1];
+                r->above[j - 1] = u;
+            }
+    }
     return r;
 }
 
@@ -93,6 +135,10 @@ void eval_report_free(eval_report *r)
     free(r->rows);
     free(r->err);
     free(r->radius);
+    free(r->below);
+    free(r->above);
+    free(r->jump);
+    free(r->rbound);
     free(r);
 }
 
@@ -180,8 +226,29 @@ int eval_report_add(eval_report *r, const double *in, const double *pred, int sy
         e[k] = angle(dp, dr) * ARCMIN_PER_RAD;
     }
     int ix = poly_input_index(r->sys, "x"), iy = poly_input_index(r->sys, "y");
-    r->radius[r->n] = ix >= 0 && iy >= 0 ? sqrt(in[ix] * in[ix] + in[iy] * in[iy]) : NAN;
+    double rr = ix >= 0 && iy >= 0 ? sqrt(in[ix] * in[ix] + in[iy] * in[iy]) : NAN;
+    r->radius[r->n] = rr;
     r->n++;
+    /* The ray moved radially onto each boundary, evaluated by the parts on both sides. */
+    if (r->nbound > 0 && rr > 0) {
+        int nin = poly_ninputs(r->sys), nout = poly_noutputs(r->sys);
+        double buf[3 * 64];
+        if (nin > 64 || nout > 64)
+            return 0;
+        double *moved = buf, *pa = buf + 64, *pb = buf + 128;
+        memcpy(moved, in, (size_t)nin * sizeof(double));
+        for (int b = 0; b < r->nbound; b++) {
+            moved[ix] = in[ix] * r->rbound[b] / rr;
+            moved[iy] = in[iy] * r->rbound[b] / rr;
+            poly_eval_part(r->sys, r->below[b], moved, pa);
+            poly_eval_part(r->sys, r->above[b], moved, pb);
+            for (int o = 0; o < nout; o++) {
+                double d = fabs(pa[o] - pb[o]);
+                if (d > r->jump[(size_t)b * (size_t)nout + (size_t)o])
+                    r->jump[(size_t)b * (size_t)nout + (size_t)o] = d;
+            }
+        }
+    }
     return 0;
 }
 
@@ -266,6 +333,20 @@ int eval_report_write(FILE *f, const eval_report *r)
                 put_stats(f, &st);
                 fprintf(f, " %s\n", r->rows[k].unit);
             }
+    }
+    if (r->nbound > 0) {
+        int nout = poly_noutputs(r->sys);
+        fputs("\n# part boundaries: the largest jump between the neighbouring parts' values,\n"
+              "# over the passing rays moved radially onto the boundary\n"
+              "# columns: output radius jump unit\n",
+              f);
+        for (int o = 0; o < nout; o++) {
+            char c = last_letter(poly_output_name(r->sys, o));
+            for (int b = 0; b < r->nbound; b++)
+                fprintf(f, "%s %.6g %.6g %s\n", poly_output_name(r->sys, o), r->rbound[b],
+                        r->jump[(size_t)b * (size_t)nout + (size_t)o],
+                        c == 'x' || c == 'y' ? "mm" : "1");
+        }
     }
     fputs("\n# passage: false_pass = the system lets through what the lens blocks,\n"
           "# false_block = the reverse\n# columns: key value\n",

@@ -479,6 +479,19 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
         sort_by(c.order, tmp, n, c.rad);
         free(tmp);
     }
+    /* The moment table has C(2D + n, n) entries: refuse what would not fit in memory
+     * (5 inputs at degree 24 need 2.9e6, 16 inputs at degree 11 2.2e10). */
+    {
+        double moments = 1;
+        for (int i = 1; i <= ninputs; i++)
+            moments = moments * (2.0 * opt->max_degree + i) / i;
+        if (moments > 2e7) {
+            lens_errf(err, NULL, 0,
+                      "%d inputs at degree %d need %.3g moments (the limit is 2e7): lower "
+                      "--degree or use fewer inputs", ninputs, opt->max_degree, moments);
+            goto fail;
+        }
+    }
     if (fit_basis_init(&c.b, ninputs, opt->max_degree) != 0) {
         lens_errf(err, NULL, 0, "out of memory for the candidates of degree %d", opt->max_degree);
         goto fail;
@@ -557,8 +570,11 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
                 dmax = c.b.deg[of->cand[t]] > dmax ? c.b.deg[of->cand[t]] : dmax;
         }
         snprintf(key, sizeof key, "fit_%s", outputs[o]);
-        set_metaf(sys, key, "terms %d degree %d holdout_rms %.6g tolerance %.6g", kmax, dmax,
-                  best.rms[o], tol_of(opt, o));
+        char rms[64] = "none"; /* no held-out rows: nothing measured */
+        if (isfinite(best.rms[o]))
+            snprintf(rms, sizeof rms, "%.6g", best.rms[o]);
+        set_metaf(sys, key, "terms %d degree %d holdout_rms %s tolerance %.6g", kmax, dmax, rms,
+                  tol_of(opt, o));
         if (best.nparts > 1) {
             snprintf(key, sizeof key, "part_jump_%s", outputs[o]);
             set_metaf(sys, key, "%.6g", best.jump[o]);

@@ -10,7 +10,7 @@
  * always precedes its child. */
 #include <stddef.h>
 
-enum { FIT_MAX_VARS = 16, FIT_MAX_DEG = 40, FIT_BLOCK = 128 }; /* moments to degree 2 * FIT_MAX_DEG */
+enum { FIT_MAX_VARS = 16, FIT_MAX_DEG = 24, FIT_BLOCK = 128 }; /* moments to degree 2 * FIT_MAX_DEG */
 
 /* Numbering of the monomials of degree <= M in nvar variables. */
 typedef struct {
@@ -74,9 +74,9 @@ void fit_basis_free(fit_basis *b);
 
 typedef struct {
     int max_terms;
-    double tolerance;   /* held-out RMS at which to stop (already floored by the caller) */
-    int patience;       /* steps without a new held-out minimum before stopping */
-    int exchange_passes;
+    double tolerance;   /* error at which to stop; never below 1e-10 of the RMS of y */
+    int patience;       /* forward steps past the budget without a new held-out minimum */
+    int exchange_passes; /* rounds of exchange and floating moves, at most */
 } fit_select_opt;
 
 typedef struct {
@@ -84,17 +84,20 @@ typedef struct {
     int *cand;          /* chosen candidates, in the order of the final fit */
     double *coef;       /* coefficients (scaled monomials) fitted on the training rows */
     double train_rms;
-    double hold_rms;    /* NAN when there is no holdout */
+    double hold_rms;    /* held-out RMS of those coefficients; without held-out rows
+                           the training RMS */
     int steps;          /* forward steps taken */
     int swaps;          /* exchanges made */
 } fit_selection;
 
 void fit_selection_free(fit_selection *s);
 
-/* Greedy forward selection with exact residual-drop scores, held-out stopping and an
- * exchange pass, for one output. mom: moments of the training rows (b->mom order);
- * by: sums of y * monomial over the training rows (b->cand order). hold may be NULL
- * (or have n = 0). 0 on success. */
+/* Term selection for one output (fit_select.c): greedy forward selection with exact
+ * residual-drop scores to twice the budget, backward elimination, held-out stopping,
+ * exchange and floating moves, over a ladder of degree caps. Works in the moment
+ * metric only: mom are the moments of the training rows (b->mom order), by the sums of
+ * y * monomial over them (b->cand order); train and ytrain give the row count and
+ * |y|^2. hold may be NULL (or have n = 0). 0 on success. */
 int fit_select(const fit_basis *b, const double *mom, const double *by,
                const fit_powers *train, const double *ytrain, const fit_powers *hold,
                const double *yhold, const fit_select_opt *o, fit_selection *res);

@@ -70,7 +70,8 @@ int fit_basis_init(fit_basis *b, int nvar, int D)
     b->deg = NULL;
     b->gdiag = NULL;
     b->mom.off = NULL;
-    if (nvar < 1 || nvar > FIT_MAX_VARS || D < 0 || fit_lex_init(&b->cand, nvar, D) != 0)
+    if (nvar < 1 || nvar > FIT_MAX_VARS || D < 0 || D > FIT_MAX_DEG ||
+        fit_lex_init(&b->cand, nvar, D) != 0)
         return -1;
     if (fit_lex_init(&b->mom, nvar, 2 * D) != 0)
         goto fail;

@@ -168,7 +168,8 @@ void fit_moments(const fit_lex *lx, const fit_powers *p, const double *w, double
      * not depend on the number of threads. */
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
     for (int e0 = 0; e0 <= M; e0++) {
-        double pre[FIT_MAX_VARS + FIT_MAX_DEG + 2][BLOCK];
+        /* prefix rows, then up to 2 * FIT_MAX_DEG + 1 rows of W in the last two levels */
+        double pre[FIT_MAX_VARS + 2 * FIT_MAX_DEG + 2][BLOCK];
         nest_ctx c = {p, 0, 0, out, pre};
         size_t start = lx->off[e0]; /* v = 0, used = 0 */
         const double *r0 = fit_pow_row(p, 0, e0);

@@ -24,6 +24,7 @@
 
 #define DEP 1e-11
 #define MAX_EXCHANGE_PASSES 8
+#define CAP_MARGIN 0.01
 
 enum { AVAIL = 0, CHOSEN = 1, DEPENDENT = 2, OFF = 3 };
 
@@ -35,7 +36,7 @@ typedef struct {
     size_t n, nh, nc;
     double yy;
     int kcap, k;
-    double *R, *Ri, *z, *C, *dd, *ee, *H, *beta, *score;
+    double *R, *Ri, *z, *C, *dd, *ee, *H, *beta;
     unsigned char *status, *slot_used;
     int *chosen, *hcol; /* hcol[l]: column of H holding the term at position l */
     double *g;
@@ -503,7 +504,6 @@ int fit_select(const fit_basis *b, const double *mom, const double *by,
     s.C = calloc(nc * km, sizeof(double));
     s.dd = malloc(nc * sizeof(double));
     s.ee = malloc(nc * sizeof(double));
-    s.score = malloc(nc * sizeof(double));
     s.H = malloc((s.nh ? s.nh : 1) * km * sizeof(double));
     s.status = calloc(nc, 1);
     s.chosen = calloc(km, sizeof(int));
@@ -517,7 +517,7 @@ int fit_select(const fit_basis *b, const double *mom, const double *by,
     res->cand = malloc(km * sizeof(int));
     res->coef = malloc(km * sizeof(double));
     int rc = -1;
-    if (!s.R || !s.Ri || !s.z || !s.beta || !s.C || !s.dd || !s.ee || !s.score || !s.H ||
+    if (!s.R || !s.Ri || !s.z || !s.beta || !s.C || !s.dd || !s.ee || !s.H ||
         !s.status || !s.chosen || !s.hcol || !s.slot_used || !s.g || !hist || !cur.cand || !cur.coef || !res->cand || !res->coef) {
         fit_selection_free(res);
         goto out;
@@ -527,11 +527,15 @@ int fit_select(const fit_basis *b, const double *mom, const double *by,
     double tol = o->tolerance > floor_tol ? o->tolerance : floor_tol;
     /* Degree caps 3, 5, 7, ... below the maximum, and the maximum: the best by
      * held-out error wins, so offering higher degrees can only help (the caps of a
-     * lower maximum are a subset). */
+     * lower maximum are a subset). A higher cap must win by CAP_MARGIN on both the
+     * held-out and the training error: the held-out error of a few hundred rays is a
+     * noisy estimate, the training error alone would not see overfitting, and a
+     * smaller difference is noise (parsimony). */
     int D = b->D, first = 1;
     for (int cap = D < 3 ? D : 3; cap <= D; cap = cap + 2 <= D || cap == D ? cap + 2 : D) {
         select_capped(&s, cap, jmax, tol, o->patience, o->exchange_passes, hist, &cur);
-        if (first || cur.hold_rms < res->hold_rms) {
+        if (first || (cur.hold_rms < res->hold_rms * (1 - CAP_MARGIN) &&
+                      cur.train_rms < res->train_rms * (1 - CAP_MARGIN))) {
             int *c = res->cand; double *f = res->coef;
             *res = cur;
             res->cand = c;
@@ -546,7 +550,7 @@ int fit_select(const fit_basis *b, const double *mom, const double *by,
     rc = 0;
 out:
     free(s.R); free(s.Ri); free(s.z); free(s.beta); free(s.C); free(s.dd); free(s.ee);
-    free(s.score); free(s.H); free(s.status); free(s.chosen); free(s.hcol); free(s.slot_used); free(s.g); free(hist);
+    free(s.H); free(s.status); free(s.chosen); free(s.hcol); free(s.slot_used); free(s.g); free(hist);
     free(cur.cand); free(cur.coef);
     return rc;
 }

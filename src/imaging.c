@@ -301,15 +301,20 @@ int imaging_models_setup(const imaging_models *m, double object_distance, imagin
     return 2;
 }
 
-int imaging_default_fields(const imaging *im, double lambda, double *field, lens_err *err)
+int imaging_default_fields(const imaging *im, const double *lambdas, int nl, double *field,
+                           lens_err *err)
 {
     if (!isinf(im->object_distance)) {
         lens_errf(err, NULL, 0, "give --fields (object heights in mm) for a finite object distance");
         return -1;
     }
-    double maxf;
-    if (imaging_max_field(im, lambda, 179.0, &maxf, err) != 0)
-        return -1;
+    double maxf = 179.0, lambda = lambdas[nl / 2];
+    for (int i = 0; i < nl; i++) {
+        double m;
+        if (imaging_max_field(im, lambdas[i], maxf, &m, err) != 0)
+            return -1;
+        maxf = fmin(maxf, m);
+    }
     const lens_t *l = im->lens;
     if (isfinite(l->sensor_w) && isfinite(l->sensor_h)) {
         /* the field whose chief ray lands on the sensor corner, if inside the image */

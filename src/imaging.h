@@ -86,8 +86,9 @@ int imaging_models_setup(const imaging_models *m, double object_distance, imagin
 
 /* Default fields when none are given: 0, 0.7 and 1 times the largest field (object at
  * infinity: the half field of view of the sensor diagonal from the lens header, clipped
- * to the image circle; without a sensor, the largest field whose chief ray passes).
+ * to the largest field whose chief ray passes at every one of the nl wavelengths).
  * Returns the count, or -1 with err set. */
-int imaging_default_fields(const imaging *im, double lambda, double *field, lens_err *err);
+int imaging_default_fields(const imaging *im, const double *lambda, int nl, double *field,
+                           lens_err *err);
 
 #endif

@@ -52,15 +52,37 @@ static double quadric_root(double c, double k1, const double q[3], const double 
     return best;
 }
 
+/* The sag of lens.h and its slope d(sag)/d(h^2) together, sharing the square root
+ * (Newton needs both at every step). NAN where the conic is not defined. */
+static double sag_slope(const lens_surface *s, double h2, double *slope)
+{
+    double c = isfinite(s->radius) ? 1.0 / s->radius : 0.0;
+    double disc = 1.0 - (1.0 + s->conic) * c * c * h2;
+    if (!(disc > 0)) {
+        *slope = NAN;
+        return disc == 0 ? lens_sag(s, h2) : NAN;
+    }
+    double r = sqrt(disc);
+    double p = 0, dp = 0; /* sum a_{2j+4} h2^(j+2) and its derivative, by Horner */
+    for (int i = LENS_ASPHERE_TERMS - 1; i >= 0; i--) {
+        p = p * h2 + s->asphere[i];
+        dp = dp * h2 + (i + 2) * s->asphere[i];
+    }
+    *slope = c / (2.0 * r) + dp * h2;
+    return c * h2 / (1.0 + r) + p * h2 * h2;
+}
+
 /* g(t) = z(t) - sag(h^2(t)): negative in front of the surface. */
 static double asph_g(const lens_surface *s, const double q[3], const double d[3], double t,
                      double *dg)
 {
     double x = q[0] + t * d[0], y = q[1] + t * d[1];
     double h2 = x * x + y * y;
-    if (dg)
-        *dg = d[2] - 2.0 * lens_sag_slope(s, h2) * (x * d[0] + y * d[1]);
-    return q[2] + t * d[2] - lens_sag(s, h2);
+    if (!dg)
+        return q[2] + t * d[2] - lens_sag(s, h2);
+    double sl, z = sag_slope(s, h2, &sl);
+    *dg = d[2] - 2.0 * sl * (x * d[0] + y * d[1]);
+    return q[2] + t * d[2] - z;
 }
 
 /* A root of g in [lo, hi] where g changes sign: Newton steps that stay inside the
@@ -136,9 +158,12 @@ static isect_status asphere_root(const lens_surface *s, double c, double k1, con
         *tout = asph_solve(s, q, d, lo, hi, glo, t0);
         return ISECT_HIT;
     }
-    /* No sign change end to end: the ray may touch the surface twice or not at all.
-     * Look for the first sign change on a grid. */
-    enum { NSCAN = 64 };
+    /* No sign change end to end: the ray crosses the surface twice inside the aperture
+     * (a grazing ray over a bump) or not at all (the common case: it crosses outside,
+     * i.e. it is clipped). Look for the first sign change on a grid coarse enough to
+     * keep clipped rays cheap; double crossings closer than 1/16 of the chord are
+     * treated as a miss. */
+    enum { NSCAN = 16 };
     double tp = lo, gp = glo;
     for (int i = 1; i <= NSCAN; i++) {
         double tn = lo + (hi - lo) * i / NSCAN;

@@ -91,8 +91,9 @@ void lens_cli_warn_notes(const char *prog, const lens_t *lens)
     if (!lens->notes[0])
         return;
     size_t n = strlen(lens->path);
-    if (n >= 5 && strcasecmp(lens->path + n - 5, ".lens") == 0)
-        return; /* a converted lens carries its notes as header lines: said once, at conversion */
+    if ((n >= 5 && strcasecmp(lens->path + n - 5, ".lens") == 0) || strcmp(lens->path, "-") == 0)
+        return; /* a converted lens (a .lens file, or one piped in) carries its notes as header
+                   lines: said once, at conversion */
     const char *p = lens->notes;
     while (*p) {
         size_t len = strcspn(p, "\n");

@@ -35,6 +35,9 @@ int poly_eval_jacobian(const poly_system *sys, const double *in, double *out, do
  * use it wherever rays come in bulk. */
 void poly_eval_batch(const poly_system *sys, size_t count, const double *in, double *out,
                      unsigned char *pass);
+/* Evaluates part `part` whatever the radius of in (to compare parts at a boundary);
+ * returns the pass flag as poly_eval does. */
+int poly_eval_part(const poly_system *sys, int part, const double *in, double *out);
 /* 1 when in lies inside the input ranges seen in training (extrapolation check). */
 int poly_in_domain(const poly_system *sys, const double *in);
 

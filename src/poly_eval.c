@@ -72,11 +72,16 @@ static void dots_one(const poly_system *s, const poly_part *p, const double *v, 
 
 int poly_eval(const poly_system *s, const double *in, double *out)
 {
-    if (s->nparts == 0) {
+    return poly_eval_part(s, s->nparts ? poly_select_part(s, in) : -1, in, out);
+}
+
+int poly_eval_part(const poly_system *s, int part, const double *in, double *out)
+{
+    if (part < 0 || part >= s->nparts) {
         fill_nan(out, s->nout);
         return 0;
     }
-    const poly_part *p = &s->parts[poly_select_part(s, in)];
+    const poly_part *p = &s->parts[part];
     double buf[512];
     double *v = p->nslots <= 512 ? buf : malloc((size_t)p->nslots * sizeof(double));
     if (!v) {

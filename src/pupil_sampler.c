@@ -9,7 +9,10 @@
 #include "trace.h"
 #include "trace_packet.h"
 
-enum { MAX_LAMBDAS = 3, COARSE = 64 };
+/* Probe wavelengths spread evenly over the range: the passing set moves with the
+ * wavelength, and where it is a thin crescent (fisheyes near the edge of the image
+ * circle) three probes left gaps between their sets wider than the dilation. */
+enum { MAX_LAMBDAS = 5, COARSE = 64 };
 
 typedef struct {
     double u0, v0, du, dv; /* grid origin (lower corner) and cell size */
@@ -54,7 +57,7 @@ static void probe(const prober *p, double x, int m, const double *u, const doubl
             }
             if (!c)
                 break;
-            trace_packet_to_object(p->lens, nl, c, r, 0, res);
+            trace_packet_to_object(p->lens, nl, c, r, 0, res, NULL);
             for (int k = 0; k < c; k++)
                 if (res[k].status == TRACE_PASSED)
                     pass[idx[k]] = 1;
@@ -176,8 +179,9 @@ pupil_sampler *pupil_sampler_build(const lens_t *lens, const pupil_sampler_optio
         return NULL;
     }
     prober p = {lens, 0, {NULL}};
-    double lam[MAX_LAMBDAS] = {opt->lambda_min, 0.5 * (opt->lambda_min + opt->lambda_max),
-                               opt->lambda_max};
+    double lam[MAX_LAMBDAS];
+    for (int l = 0; l < MAX_LAMBDAS; l++)
+        lam[l] = opt->lambda_min + (opt->lambda_max - opt->lambda_min) * l / (MAX_LAMBDAS - 1);
     p.nl = opt->lambda_max > opt->lambda_min ? MAX_LAMBDAS : 1;
     pupil_sampler *ps = calloc(1, sizeof *ps);
     if (!ps) {

@@ -7,7 +7,7 @@
  * cut by the vignetting of the other apertures. By rotational symmetry that set at
  * (x, y) is the set at (r, 0), r = |(x, y)|, rotated by the point's azimuth. The sampler
  * precomputes it for `radii` radii from 0 to sensor_radius, as an occupancy grid in
- * (u, v) probed by exact traces at the smallest, middle and largest wavelength and
+ * (u, v) probed by exact traces at five wavelengths spread over the range and
  * dilated by one cell. Between two tabulated radii it samples the equal mixture of the
  * two neighbours' sets, uniform inside each, so its support is their union: every
  * passing direction is covered even though the set moves with r.

@@ -4,13 +4,13 @@
  *  - dispersion: a grey scene renders one wavelength, so lambda is no input (a system
  *    of four inputs has far fewer candidate terms than one of five);
  *  - transmittance: on/off as the scene says; auto: on when the mean Fresnel
- *    transmittance changes by more than 1% from the centre to the edge of the sensor in
- *    use; when off, the image is still weighted by the mean transmittance on the axis,
+ *    transmittance changes from the centre to the edge of the sensor in use by more than
+ *    the noise of the render (of an 8x8-pixel mean, 1/sqrt(64 spp)) and at least 1%; when off, the image is still weighted by the mean transmittance on the axis,
  *    so that its exposure matches the exact lens;
- *  - vignetting: the pass circle of the front element beside the stop's; auto: on when
- *    more than 2% of the rays through the stop at the edge of the sensor in use are
- *    clipped by the front group (the cat's eye); below that it is under the noise of
- *    a preview render;
+ *  - vignetting: the pass circles of the front element and the other clipping rims
+ *    beside the stop's; auto: on when the share of the rays through the stop at the
+ *    edge of the sensor in use that the front group clips (the cat's eye) is above the
+ *    same noise and at least 2%;
  *  - domain: the sensor area rendered (half its diagonal), not the lens's whole field;
  *  - tolerance: a tenth of a pixel. Directions at the outer pupil carry the image
  *    position: an angle error da moves the picture by about efl * da on the sensor, so
@@ -89,9 +89,15 @@ int render_effects_decide(const scene_t *s, const lens_t *lens, double sw, doubl
     e->vignetting_loss = loss_edge;
     e->eta_centre = eta_centre;
     e->eta_variation = eta_centre > 0 ? fabs(eta_edge - eta_centre) / eta_centre : 0;
-    e->vignetting = s->vignetting == EFFECT_AUTO ? loss_edge > 0.02 : s->vignetting == EFFECT_ON;
+    /* "more than the noise": a pixel's relative noise is about 1/sqrt(spp), and a smooth
+     * change is seen over a region, so the bar is the noise of an 8x8-pixel mean, and
+     * never below 2% (vignetting) and 1% (transmittance) */
+    e->noise = 1 / sqrt(64.0 * (s->spp > 0 ? s->spp : 1));
+    e->vignetting = s->vignetting == EFFECT_AUTO ? loss_edge > fmax(0.02, e->noise)
+                                                 : s->vignetting == EFFECT_ON;
     e->transmittance =
-        s->transmittance == EFFECT_AUTO ? e->eta_variation > 0.01 : s->transmittance == EFFECT_ON;
+        s->transmittance == EFFECT_AUTO ? e->eta_variation > fmax(0.01, e->noise)
+                                        : s->transmittance == EFFECT_ON;
     return 0;
 }
 
@@ -108,9 +114,10 @@ void render_effects_print(FILE *f, const render_effects *e)
     }
     fprintf(f, "effects on: %s\n", *on ? on : "(none)");
     fprintf(f, "effects off: %s\n", *off ? off : "(none)");
-    fprintf(f, "why: front-group clipping at the edge %.1f%% (vignetting when > 2%%), "
-               "transmittance centre to edge %.2f%% (when > 1%%)\n",
-            100 * e->vignetting_loss, 100 * e->eta_variation);
+    fprintf(f, "why: front-group clipping at the edge %.1f%% (vignetting when > %.1f%%), "
+               "transmittance centre to edge %.2f%% (when > %.1f%%)\n",
+            100 * e->vignetting_loss, 100 * fmax(0.02, e->noise), 100 * e->eta_variation,
+            100 * fmax(0.01, e->noise));
     fprintf(f, "fit domain: sensor radius %.3g mm; tolerance %.3g (a tenth of a %.3g mm pixel "
                "over efl %.4g mm)\n",
             e->domain_radius, e->tolerance, e->pixel_pitch, e->efl);

@@ -22,6 +22,7 @@ typedef struct {
     /* why: the measured quantities behind the "auto" choices */
     double vignetting_loss;   /* share of stop-passing rays clipped elsewhere at the field edge */
     double eta_variation;     /* relative change of the mean transmittance centre -> edge */
+    double noise;             /* relative noise of an 8x8-pixel mean at the scene's spp */
     double eta_centre;        /* mean transmittance on the axis: used when transmittance is off */
 } render_effects;
 

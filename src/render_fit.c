@@ -32,30 +32,65 @@ static double uniform(uint64_t *s)
     return (double)((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
 }
 
-/* Tolerances of out_x out_y out_u out_v ap_x ap_y rear_x rear_y out_eta:
+/* Tolerances of out_x out_y out_u out_v ap_x ap_y rear_x rear_y, then nclip pairs of
+ * heights on other clipping surfaces, then out_eta:
  *  - directions: a tenth of a pixel over the efl (e->tolerance; see render_effects.c);
  *  - positions on the front element: a shift d there moves the picture of an object at
  *    distance D by about d efl / D, so a tenth of a pixel allows 0.1 pitch D / efl
- *    (D = the focus distance, at most 100 efl), capped at 1% of the element's radius
- *    so that the front element's pass circle stays sharp;
- *  - the stop and rear heights only decide passage: 0.5% of their radii;
+ *    (D = the focus distance, at most 100 efl); but the outer frame turns with the
+ *    position on the front sphere, by d / R, so d is also held to R times the direction
+ *    tolerance, and to 1% of the element's radius for a sharp pass circle;
+ *  - heights that only decide passage (stop, rear, clipping surfaces): 0.5% of their
+ *    radii;
  *  - the transmittance: 0.002, below what a preview's noise shows. */
-static void output_tolerances(const lens_t *lens, const render_effects *e, double tol[9])
+static int output_tolerances(const lens_t *lens, const render_effects *e, const int *clip,
+                             int nclip, double *tol)
 {
+    const lens_surface *front = &lens->surf[0];
     double D = isfinite(e->focus) ? fmin(e->focus, 100 * e->efl) : 100 * e->efl;
-    double pos = fmin(0.1 * e->pixel_pitch * D / e->efl, 0.01 * lens->surf[0].semi_diameter);
-    tol[0] = tol[1] = pos;
-    tol[2] = tol[3] = e->tolerance;
-    tol[4] = tol[5] = 0.005 * lens->surf[lens->stop].semi_diameter;
-    tol[6] = tol[7] = 0.005 * lens->surf[lens->nsurf - 1].semi_diameter;
-    tol[8] = 0.002;
+    double pos = fmin(0.1 * e->pixel_pitch * D / e->efl, 0.01 * front->semi_diameter);
+    if (isfinite(front->radius)) pos = fmin(pos, e->tolerance * fabs(front->radius));
+    int k = 0;
+    tol[k++] = pos, tol[k++] = pos;
+    tol[k++] = e->tolerance, tol[k++] = e->tolerance;
+    tol[k] = tol[k + 1] = 0.005 * lens->surf[lens->stop].semi_diameter, k += 2;
+    tol[k] = tol[k + 1] = 0.005 * lens->surf[lens->nsurf - 1].semi_diameter, k += 2;
+    for (int c = 0; c < nclip; c++)
+        tol[k] = tol[k + 1] = 0.005 * lens->surf[clip[c]].semi_diameter, k += 2;
+    tol[k++] = 0.002;
+    return k;
+}
+
+/* Surfaces other than the front, the stop and the rear that clip at least 1% of the
+ * training rays (at most MAX_CLIP, the worst first): their rims get pass circles. */
+#define MAX_CLIP 3
+static int clipping_surfaces(const lens_t *lens, const trace_result *res, size_t n, int *clip)
+{
+    size_t ns = lens->nsurf;
+    size_t *count = calloc(ns, sizeof *count);
+    if (!count) return 0;
+    for (size_t i = 0; i < n; i++)
+        if (res[i].status == TRACE_CLIPPED && res[i].surface > 0 &&
+            res[i].surface != lens->stop && (size_t)res[i].surface + 1 < ns)
+            count[res[i].surface]++;
+    int nclip = 0;
+    while (nclip < MAX_CLIP) {
+        size_t best = 0;
+        for (size_t k = 1; k < ns; k++)
+            if (count[k] > count[best]) best = k;
+        if (count[best] < n / 100 || count[best] == 0) break;
+        clip[nclip++] = (int)best;
+        count[best] = 0;
+    }
+    free(count);
+    return nclip;
 }
 
 /* The system of the scaled fit with every coefficient of output o times tol[o]. */
 static poly_system *rebuild(const poly_system *s, const double *tol)
 {
     int nin = poly_ninputs(s), nout = poly_noutputs(s);
-    const char *in[8], *out[9];
+    const char *in[8], *out[16];
     for (int i = 0; i < nin; i++) in[i] = poly_input_name(s, i);
     for (int o = 0; o < nout; o++) out[o] = poly_output_name(s, o);
     poly_system *r = poly_new(poly_lens_name(s), nin, in, nout, out);
@@ -98,9 +133,10 @@ poly_system *render_fit(const lens_t *lens, const render_effects *e, int threads
     size_t N = TRAIN_RAYS;
     double *in5 = malloc(N * 5 * sizeof *in5), *outer = malloc(N * 5 * sizeof *outer),
            *stop = malloc(N * 5 * sizeof *stop), *X = malloc(N * 5 * sizeof *X),
-           *Y = malloc(N * 9 * sizeof *Y);
+           *Y = malloc(N * 16 * sizeof *Y);
+    trace_result *res = malloc(N * sizeof *res);
     if (!lc) goto done;
-    if (!in5 || !outer || !stop || !X || !Y) {
+    if (!in5 || !outer || !stop || !X || !Y || !res) {
         lens_errf(err, lens->path, 0, "out of memory");
         goto done;
     }
@@ -120,15 +156,29 @@ poly_system *render_fit(const lens_t *lens, const render_effects *e, int threads
         row[0] = x, row[1] = y, row[2] = u, row[3] = v, row[4] = lam;
     }
     N = k;
-    if (trace_batch(lens, TRACE_TO_OUTER, N, in5, outer, NULL, threads, err) ||
+    if (trace_batch(lens, TRACE_TO_OUTER, N, in5, outer, res, threads, err) ||
         trace_batch(lens, TRACE_TO_STOP, N, in5, stop, NULL, threads, err))
         goto done;
     const lens_surface *rear = &lens->surf[lens->nsurf - 1];
     const char *inputs[5] = {"x", "y", "u", "v", "lambda"};
-    const char *outputs[9] = {"out_x", "out_y", "out_u", "out_v", "ap_x", "ap_y",
-                              "rear_x", "rear_y", "out_eta"};
-    int nin = e->dispersion ? 5 : 4, nout = e->transmittance ? 9 : 8;
+    int clip[MAX_CLIP], nclip = clipping_surfaces(lens, res, N, clip);
+    char clip_names[MAX_CLIP][2][24];
+    const char *outputs[16] = {"out_x", "out_y", "out_u", "out_v", "ap_x", "ap_y",
+                               "rear_x", "rear_y"};
+    int nout = 8;
+    for (int c = 0; c < nclip; c++)
+        for (int a = 0; a < 2; a++) {
+            snprintf(clip_names[c][a], sizeof clip_names[c][a], "s%d_%c", clip[c] + 1, "xy"[a]);
+            outputs[nout++] = clip_names[c][a];
+        }
+    if (e->transmittance) outputs[nout++] = "out_eta";
+    int nin = e->dispersion ? 5 : 4;
     size_t used = 0;
+    double *nbuf = malloc(lens->nsurf * sizeof *nbuf);
+    if (!nbuf) {
+        lens_errf(err, lens->path, 0, "out of memory");
+        goto done;
+    }
     for (size_t i = 0; i < N; i++) {
         const double *o = outer + 5 * i, *s = stop + 5 * i, *p = in5 + 5 * i;
         if (!(o[4] > 0) || !(s[4] > 0)) continue; /* blocked: nothing to fit */
@@ -137,13 +187,24 @@ poly_system *render_fit(const lens_t *lens, const render_effects *e, int threads
         q[0] = o[0], q[1] = o[1], q[2] = o[2], q[3] = o[3], q[4] = s[0], q[5] = s[1];
         q[6] = p[0] + rear->thickness * p[2];
         q[7] = p[1] + rear->thickness * p[3];
-        if (nout == 9) q[8] = o[4];
+        if (nclip) {
+            for (size_t k = 0; k < lens->nsurf; k++)
+                nbuf[k] = glass_index_unchecked(&lens->surf[k].medium, p[4]);
+            for (int c = 0; c < nclip; c++) { /* the ray's hit on that surface */
+                lens_ray r;
+                ray_from_sensor(lens, p, &r);
+                trace_to_object(lens, nbuf, &r, clip[c]);
+                q[8 + 2 * c] = r.o[0], q[9 + 2 * c] = r.o[1];
+            }
+        }
+        if (e->transmittance) q[nout - 1] = o[4];
         used++;
     }
+    free(nbuf);
     /* per-output tolerances (the fitter has one): outputs are divided by theirs and
      * fitted to tolerance 1, and the coefficients scaled back in rebuild() */
-    double tol[9];
-    output_tolerances(lens, e, tol);
+    double tol[16];
+    output_tolerances(lens, e, clip, nclip, tol);
     for (size_t i = 0; i < used; i++)
         for (int o = 0; o < nout; o++) Y[i * nout + o] /= tol[o];
     fit_options opt;
@@ -161,14 +222,19 @@ poly_system *render_fit(const lens_t *lens, const render_effects *e, int threads
     poly_set_lens_path(sys, lens->path);
     poly_add_pass_circle(sys, 4, 5, lens->surf[lens->stop].semi_diameter);
     poly_add_pass_circle(sys, 6, 7, rear->semi_diameter);
-    if (e->vignetting) poly_add_pass_circle(sys, 0, 1, lens->surf[0].semi_diameter);
+    if (e->vignetting) {
+        poly_add_pass_circle(sys, 0, 1, lens->surf[0].semi_diameter);
+        for (int c = 0; c < nclip; c++)
+            poly_add_pass_circle(sys, 8 + 2 * c, 9 + 2 * c, lens->surf[clip[c]].semi_diameter);
+    }
     char buf[160];
     snprintf(buf, sizeof buf, "lens-render: dispersion %d transmittance %d vignetting %d "
              "domain %.6g mm tolerance %.6g, %zu rays",
              e->dispersion, e->transmittance, e->vignetting, e->domain_radius, e->tolerance, used);
     poly_set_meta(sys, "fitted-by", buf);
-    snprintf(buf, sizeof buf, "%.3g %.3g %.3g %.3g %.3g %.3g %.3g %.3g %.3g", tol[0], tol[1],
-             tol[2], tol[3], tol[4], tol[5], tol[6], tol[7], tol[8]);
+    int len = 0;
+    for (int o = 0; o < nout && len < (int)sizeof buf - 12; o++)
+        len += snprintf(buf + len, sizeof buf - len, "%s%.3g", o ? " " : "", tol[o]);
     poly_set_meta(sys, "tolerances", buf); /* the fit_* holdout_rms are in these units */
     snprintf(buf, sizeof buf, "%.17g", rear->thickness);
     poly_set_meta(sys, "sensor-distance", buf);
@@ -181,5 +247,6 @@ done:
     free(stop);
     free(X);
     free(Y);
+    free(res);
     return sys;
 }

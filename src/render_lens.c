@@ -92,19 +92,18 @@ render_lens_ctx *render_lens_exact(const lens_t *lens, double sw, double sh,
     }
     c->lens = lens;
     c->nsurf = (int)lens->nsurf;
+    /* the d line is required; a band wavelength outside some glass's range is left out
+     * of the cache (render_run checks the range a colour scene needs) */
     for (int k = 0; k < LAMBDA_CACHE; k++) {
-        c->cache_lambda[k] = k == 0 ? GLASS_D_LINE : render_channel_lambda(k - 1);
-        if (lens_indices(lens, c->cache_lambda[k], c->cache_n + (size_t)k * c->nsurf, err)) {
+        double lam = k == 0 ? GLASS_D_LINE : render_channel_lambda(k - 1);
+        lens_err e2;
+        c->cache_lambda[k] = NAN;
+        if (lens_indices(lens, lam, c->cache_n + (size_t)k * c->nsurf, k == 0 ? err : &e2) == 0)
+            c->cache_lambda[k] = lam;
+        else if (k == 0) {
             render_lens_free(c);
             return NULL;
         }
-    }
-    /* the spectral mode's whole range must be valid for every glass */
-    double tmp[c->nsurf];
-    if (lens_indices(lens, RENDER_LAMBDA_MIN, tmp, err) ||
-        lens_indices(lens, RENDER_LAMBDA_MAX, tmp, err)) {
-        render_lens_free(c);
-        return NULL;
     }
     fill_camera(cam, c, map_exact, lens, sw, sh);
     return c;

@@ -137,7 +137,8 @@ double render_sampler_sample(const render_sampler *s, double x, double y, double
     }
     double r = hypot(x, y);
     int b = (int)(r / s->rmax * s->nbins);
-    if (b >= s->nbins) return 0; /* outside the probed sensor area */
+    if (b >= s->nbins && !(r <= s->rmax)) return 0; /* outside the probed sensor area */
+    if (b >= s->nbins) b = s->nbins - 1; /* r == rmax: the outer edge of the last ring */
     int n = s->start[b + 1] - s->start[b];
     if (n == 0) return 0;
     /* r1 picks the cell and, rescaled, the position across it */

@@ -158,7 +158,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         lens_errf(err, sc.path, 0, "no sensor size: add 'sensor W H' (the lens file has none)");
         goto done;
     }
-    if (sc.mode != SCENE_GREY || o->exact) {
+    if (sc.mode != SCENE_GREY) {
         /* every glass must cover the wavelengths the scene will use */
         double tmp[lens.nsurf];
         if (lens_indices(&lens, RENDER_LAMBDA_MIN, tmp, err) ||

@@ -176,18 +176,31 @@ int spot_trace(const imaging *im, double field, double lambda, pupil_pattern pat
     size_t np = pupil_points(pat, rays, seed, xy, cap);
     double stop = lens->surf[lens->stop].semi_diameter;
     sp->rays = np;
+    /* Rays are independent (aiming is a Newton solve each): traced in parallel into
+     * their own slots, then packed in pupil order so the result does not depend on the
+     * thread count. */
+    double *res = malloc(sizeof(double) * 6 * (np ? np : 1));
+    if (!res) {
+        lens_errf(err, NULL, 0, "out of memory");
+        goto out;
+    }
+#pragma omp parallel for schedule(dynamic, 8)
     for (size_t i = 0; i < np; i++) {
         lens_ray r;
-        double s[4], eta;
+        double *o = res + 6 * i;
         /* The rim itself is a grazing case for aiming; stay a hair inside. */
         double sx = xy[2 * i] * stop * (1 - 1e-9), sy = xy[2 * i + 1] * stop * (1 - 1e-9);
-        if (imaging_object_ray(im, n, field, sx, sy, &r) != 0)
-            continue;
-        if (!imaging_trace(im, n, lambda, &r, sp->chief, s, &eta))
-            continue;
-        memcpy(sp->ray + 4 * sp->passed, s, sizeof s);
-        sp->eta[sp->passed++] = eta;
+        o[5] = 0;
+        if (imaging_object_ray(im, n, field, sx, sy, &r) == 0 &&
+            imaging_trace(im, n, lambda, &r, sp->chief, o, &o[4]))
+            o[5] = 1;
     }
+    for (size_t i = 0; i < np; i++)
+        if (res[6 * i + 5] != 0) {
+            memcpy(sp->ray + 4 * sp->passed, res + 6 * i, sizeof(double) * 4);
+            sp->eta[sp->passed++] = res[6 * i + 4];
+        }
+    free(res);
     spot_stats(sp);
     rc = 0;
 out:

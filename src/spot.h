@@ -52,8 +52,8 @@ double spot_best_shift(const spot *sp, size_t n);
  * its chief ray is that of sp[primary]; lambda is NAN. Caller frees with spot_free. */
 int spot_pool(const spot *sp, size_t n, size_t primary, spot *total);
 
-/* Pictures. sp holds nmodels x nfields spots (pooled or not, row-major), all[m][f]
- * the per-wavelength spots as nl consecutive entries. */
+/* Pictures of nmodels x nfields x nl spots (the per-wavelength spots of a field as nl
+ * consecutive entries, fields of a model consecutive). */
 typedef struct {
     int nmodels, nfields, nl;
     const char *const *model_names; /* "lens", "poly" */

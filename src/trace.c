@@ -90,7 +90,7 @@ trace_result trace_to_object(const lens_t *lens, const double *n, lens_ray *r, i
         return stopped(TRACE_INVALID, -1);
     /* One lane of the packet tracer, so that single rays and batches agree bit for bit. */
     trace_result res;
-    trace_packet_to_object(lens, &n, 1, r, last, &res);
+    trace_packet_to_object(lens, &n, 1, r, last, &res, NULL);
     return res;
 }
 
@@ -116,12 +116,18 @@ trace_result trace_sample(const lens_t *lens, const double *n, trace_target targ
 {
     lens_ray r;
     ray_from_sensor(lens, in, &r);
-    trace_result res = trace_to_object(lens, n, &r, target == TRACE_TO_STOP ? lens->stop : 0);
-    return trace_sample_finish(lens, target, &r, res, out);
+    trace_result res;
+    double outer[4];
+    if (target == TRACE_TO_STOP) {
+        res = trace_to_object(lens, n, &r, lens->stop);
+        return trace_sample_finish(lens, target, &r, NULL, res, out);
+    }
+    trace_packet_to_object(lens, &n, 1, &r, 0, &res, outer);
+    return trace_sample_finish(lens, target, &r, outer, res, out);
 }
 
 trace_result trace_sample_finish(const lens_t *lens, trace_target target, const lens_ray *rr,
-                                 trace_result res, double out[4])
+                                 const double *outer, trace_result res, double out[4])
 {
     lens_ray r = *rr;
     if (res.status != TRACE_PASSED) {
@@ -131,6 +137,8 @@ trace_result trace_sample_finish(const lens_t *lens, trace_target target, const 
     }
     if (target == TRACE_TO_STOP)
         ray_to_stop(lens, &r, out);
+    else if (outer)
+        out[0] = outer[0], out[1] = outer[1], out[2] = outer[2], out[3] = outer[3];
     else
         ray_to_outer(lens, &r, out);
     if (!isfinite(out[0]) || !isfinite(out[1]) || !isfinite(out[2]) || !isfinite(out[3])) {

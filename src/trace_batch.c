@@ -126,11 +126,14 @@ int trace_batch(const lens_t *lens, trace_target target, size_t count, const dou
             }
             if (!live)
                 continue;
-            trace_packet_to_object(lens, nl, live, rays, target == TRACE_TO_STOP ? lens->stop : 0,
-                                   rr);
+            double outer[4 * TRACE_LANES];
+            int stop = target == TRACE_TO_STOP;
+            trace_packet_to_object(lens, nl, live, rays, stop ? lens->stop : 0, rr,
+                                   stop ? NULL : outer);
             for (int l = 0; l < live; l++) {
                 double *o = out + 5 * rows[l];
-                trace_result r = trace_sample_finish(lens, target, &rays[l], rr[l], o);
+                trace_result r = trace_sample_finish(lens, target, &rays[l],
+                                                     stop ? NULL : outer + 4 * l, rr[l], o);
                 o[4] = r.status == TRACE_PASSED ? r.transmittance : 0.0;
                 if (res)
                     res[rows[l]] = r;

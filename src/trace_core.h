@@ -1,6 +1,8 @@
 #ifndef SPARSELENS_TRACE_CORE_H
 #define SPARSELENS_TRACE_CORE_H
-/* The tracer's inner loop, shared by trace.c and the ray aiming in aim.c. */
+/* The scalar tracer, for any direction and with optional clipping: object-to-sensor
+ * traces (trace_to_sensor) and ray aiming (aim.c) use it. Sensor-to-object traces go
+ * through the SIMD packet kernel (trace_packet.h), which does the same physics. */
 #include "trace.h"
 
 /* Traces r surface by surface from `first` to `last` (first > last: towards the

@@ -61,27 +61,27 @@ int trace_packet_width(void)
 }
 
 void trace_packet_to_object(const lens_t *lens, const double *const *n, int count,
-                            lens_ray *r, int last, trace_result *res)
+                            lens_ray *r, int last, trace_result *res, double *outer)
 {
     /* A lone ray takes the narrowest kernel: padding lanes cost as much as real ones. */
     int w = trace_packet_width();
     while (w > 2 && count <= w / 2)
         w /= 2;
-    trace_packet_to_object_w(lens, n, count, r, last, res, w);
+    trace_packet_to_object_w(lens, n, count, r, last, res, outer, w);
 }
 
 void trace_packet_to_object_w(const lens_t *lens, const double *const *n, int count,
-                              lens_ray *r, int last, trace_result *res, int w)
+                              lens_ray *r, int last, trace_result *res, double *outer, int w)
 {
     if (w != 2 && w != 4 && w != 8)
         w = 2;
     for (int i = 0; i < count; i += w) {
         int m = count - i < w ? count - i : w;
         if (w == 8)
-            trace_w8(lens, n + i, m, r + i, last, res + i);
+            trace_w8(lens, n + i, m, r + i, last, res + i, outer ? outer + 4 * i : NULL);
         else if (w == 4)
-            trace_w4(lens, n + i, m, r + i, last, res + i);
+            trace_w4(lens, n + i, m, r + i, last, res + i, outer ? outer + 4 * i : NULL);
         else
-            trace_w2(lens, n + i, m, r + i, last, res + i);
+            trace_w2(lens, n + i, m, r + i, last, res + i, outer ? outer + 4 * i : NULL);
     }
 }

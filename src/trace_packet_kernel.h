@@ -50,7 +50,7 @@ KATTR VINLINE vi K(visfinite)(vd x)
 }
 
 KATTR static void KNAME(const lens_t *lens, const double *const *n, int count, lens_ray *r,
-                        int last, trace_result *res)
+                        int last, trace_result *res, double *outer)
 {
     vd ox, oy, oz, dx, dy, dz, eta = K(vsplat)(1.0);
     vi alive;
@@ -70,6 +70,7 @@ KATTR static void KNAME(const lens_t *lens, const double *const *n, int count, l
         surface[l] = alive[l] ? -1 : (int)lens->nsurf - 1;
     }
     const vd one = K(vsplat)(1.0), zero = K(vsplat)(0.0);
+    vd fx = zero, fz = zero, gx = zero, gy = zero, gz = zero; /* outer frame */
     /* The lanes' indices, surface by surface, as vectors (transposed once). */
     vd nv[lens->nsurf];
     for (size_t i = 0; i < lens->nsurf; i++)
@@ -79,8 +80,10 @@ KATTR static void KNAME(const lens_t *lens, const double *const *n, int count, l
         const lens_surface *s = &lens->surf[i];
         double c = isfinite(s->radius) ? 1.0 / s->radius : 0.0, k1 = 1.0 + s->conic;
         double vz = lens->vertex_z[i], sd2 = s->semi_diameter * s->semi_diameter;
-        vd t, px, py, pz, nx, ny, nz;
+        vd t, px, py, pz, nx, ny, nz, e;
         vi hit, inside;
+        /* From n[i] (sensor side) into n[i-1] (object side). */
+        vd n1 = nv[i], n2 = i > 0 ? nv[i - 1] : one;
         int asph = 0;
         for (int k = 0; k < LENS_ASPHERE_TERMS; k++)
             asph |= s->asphere[k] != 0;
@@ -94,11 +97,17 @@ KATTR static void KNAME(const lens_t *lens, const double *const *n, int count, l
             vi dok = disc >= zero;
             vd sq = K(vsqrt)(K(vsel)(dok, disc, zero));
             vd qq = -(B + K(vcopysign)(sq, B));
-            /* The far root qq / A: for a sphere A = c |d|^2 = c, so no second division. */
-            vd r0 = C / qq, r1 = s->conic == 0 ? qq * s->radius : qq / A;
+            /* The near root C / qq and the index ratio n1 / n2 share one division (the
+             * divider is the bottleneck); the far root qq / A needs none for a sphere,
+             * where A = c |d|^2 = c. qq = 0 only for a ray tangent at its own origin. */
+            vi qnz = qq != zero;
+            vd qs = K(vsel)(qnz, qq, one);
+            vd inv = one / (qs * n2);
+            vd r0 = C * n2 * inv, r1 = s->conic == 0 ? qq * s->radius : qq / A;
+            e = n1 * qs * inv;
             vd z0 = qz + r0 * dz, z1 = qz + r1 * dz;
             vd lim = K(vsplat)(1.0 + 1e-12), tmin = K(vsplat)(ISECT_T_MIN);
-            vi v0 = dok & K(visfinite)(r0) & (r0 > tmin) & (k1 * c * z0 <= lim);
+            vi v0 = dok & qnz & K(visfinite)(r0) & (r0 > tmin) & (k1 * c * z0 <= lim);
             vi v1 = dok & K(visfinite)(r1) & (r1 > tmin) & (k1 * c * z1 <= lim);
             t = K(vsel)(v0 & v1, K(vsel)(r0 < r1, r0, r1), K(vsel)(v0, r0, r1));
             hit = v0 | v1;
@@ -123,17 +132,22 @@ KATTR static void KNAME(const lens_t *lens, const double *const *n, int count, l
                 t[l] = tt, px[l] = p[0], py[l] = p[1], pz[l] = p[2];
                 nx[l] = nn[0], ny[l] = nn[1], nz[l] = nn[2];
             }
+            e = n1 / n2;
         }
         vi ok = alive & hit & inside;
         vi moved = alive & hit;
         ox = K(vsel)(moved, px, ox), oy = K(vsel)(moved, py, oy), oz = K(vsel)(moved, pz, oz);
         vi tir = (vi)zero;
         int refr = i > last || last == 0;
+        if (i == 0 && outer) {
+            /* The outer-pupil frame of trace.h from the front normal at the hit. */
+            vd il = one / K(vsqrt)(nz * nz + nx * nx);
+            vd exx = -nz * il, exz = nx * il;
+            vd eyx = -exz * ny, eyy = exz * nx - exx * nz, eyz = exx * ny;
+            fx = exx, fz = exz, gx = eyx, gy = eyy, gz = eyz; /* applied after refraction */
+        }
         if (refr) {
-            /* From n[i] (sensor side) into n[i-1] (object side). */
-            vd n1 = nv[i], n2 = i > 0 ? nv[i - 1] : one;
             if (K(vany)(n1 != n2)) {
-                vd e = n1 / n2;
                 vd cosi = -(dx * nx + dy * ny + dz * nz);
                 vi flip = cosi < zero;
                 nx = K(vsel)(flip, -nx, nx), ny = K(vsel)(flip, -ny, ny), nz = K(vsel)(flip, -nz, nz);
@@ -165,6 +179,14 @@ KATTR static void KNAME(const lens_t *lens, const double *const *n, int count, l
                                              : TRACE_TIR;
                 }
             alive &= ~died;
+        }
+    }
+    if (outer && last == 0) {
+        vd u = dx * fx + dz * fz, v = dx * gx + dy * gy + dz * gz;
+        for (int l = 0; l < count; l++) { /* only passed rays have a defined frame */
+            int p = status[l] == TRACE_PASSED;
+            outer[4 * l] = p ? ox[l] : NAN, outer[4 * l + 1] = p ? oy[l] : NAN;
+            outer[4 * l + 2] = p ? u[l] : NAN, outer[4 * l + 3] = p ? v[l] : NAN;
         }
     }
     for (int l = 0; l < count; l++) {

@@ -13,7 +13,7 @@ trap 'rm -f "$out"' EXIT
 for b in "$BUILD"/bench/bench_*; do
   [ -x "$b" ] || continue
   echo "# $(basename "$b")" >&2
-  "$b" | grep '^bench ' | tee -a "$out"
+  { "$b" || echo "bench $(basename "$b")_failed 1 flag"; } | { grep "^bench " || true; } | tee -a "$out"
 done
 
 val() { awk -v k="$1" '$1 == "bench" && $2 == k { print $3; exit }' "$out"; }
@@ -23,12 +23,12 @@ ratio() { # NAME NUMERATOR DENOMINATOR: how many times DENOMINATOR's time NUMERA
   awk -v n="$1" -v a="$a" -v b="$b" 'BEGIN { printf "bench %s %.2f x\n", n, a / b }' | tee -a "$out"
 }
 # Speed-ups: baseline time / candidate time (> 1 means faster than the baseline).
-ratio ratio_exact_over_poly_batch_fisheye-ii trace_fisheye-ii_1thread_ns_per_ray poly_eval_fisheye-ii_batch_ns_per_ray
+ratio ratio_exact_over_poly_batch_fisheye-ii trace_fisheye_ii_ns_per_ray poly_eval_batch_ns_per_ray
 ratio ratio_naive_over_batch poly_eval_naive_ns_per_ray poly_eval_batch_ns_per_ray
 ratio ratio_scalar_over_batch poly_eval_scalar_ns_per_ray poly_eval_batch_ns_per_ray
 ratio ratio_exact_over_poly_batch trace_fisheye-ii_1thread_ns_per_ray poly_eval_batch_ns_per_ray
 ratio ratio_trace_1thread_over_all trace_fisheye-ii_1thread_ns_per_ray trace_fisheye-ii_allthreads_ns_per_ray
-ratio ratio_render_exact_over_poly render_exact_s_per_spp render_poly_s_per_spp
+ratio ratio_render_exact_over_poly_dgauss render_map_exact_dgauss_ns_per_ray render_map_poly_dgauss_ns_per_ray
 
 {
   echo "# Benchmarks"

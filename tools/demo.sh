@@ -37,9 +37,9 @@ if [ -x "$BIN/lens-distort" ]; then
   step "distortion: lens-distort"
   "$BIN"/lens-distort "$LENS" --png "$out/$name-distortion.png" | tee "$out/$name-distortion.txt"
 fi
-if [ -x "$BIN/lens-render" ] && [ -f tests/data/scenes/demo.scene ]; then
+if [ -x "$BIN/lens-render" ] && [ -f scenes/dgauss.scene ]; then
   step "render: lens-render"
-  "$BIN"/lens-render tests/data/scenes/demo.scene -o "$out/render.exr" --png "$out/render.png"
+  "$BIN"/lens-render scenes/dgauss.scene --cache "$out/cache" -o "$out/render.exr" --png "$out/render.png"
 fi
 step "done: results in $out/"
 ls -l "$out"

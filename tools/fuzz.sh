@@ -9,7 +9,8 @@
 # the library's C sources compiled by clang too (the OpenCV shim is not needed by any
 # parser). A target whose "needs:" line names a file that is not on this branch yet (the
 # scene parser before the renderer lands, say) is skipped with a line saying so.
-# Each run starts from the committed seeds in tests/fuzz/corpus/<target>/ plus the
+# Each run starts from the committed seeds in tests/fuzz/corpus/<target>/ (and
+# tests/fuzz/corpus/fuzz_<target>/, where a target's author put them) plus the
 # inputs earlier runs found (build-fuzz/corpus/<target>/, not committed); crashes, leaks
 # and timeouts are written to tests/fuzz/regressions/<target>/ to be committed as
 # regression inputs once fixed.
@@ -123,9 +124,11 @@ for t in $(targets); do
   mkdir -p "$OUT/corpus/$t" "tests/fuzz/regressions/$t" "tests/fuzz/corpus/$t"
   log=$OUT/fuzz-$t.log
   before=$(ls "tests/fuzz/regressions/$t" | wc -l)
-  "$OUT/fuzz_$t" -max_total_time="$seconds" -print_final_stats=1 -timeout=20 -rss_limit_mb=2048 \
+  seeds=("tests/fuzz/corpus/$t")
+  [ -d "tests/fuzz/corpus/fuzz_$t" ] && seeds+=("tests/fuzz/corpus/fuzz_$t")
+  "$OUT/fuzz_$t" -max_total_time="$seconds" -print_final_stats=1 -timeout=60 -rss_limit_mb=2048 \
     -max_len=16384 -artifact_prefix="tests/fuzz/regressions/$t/" \
-    "$OUT/corpus/$t" "tests/fuzz/corpus/$t" >"$log" 2>&1
+    "$OUT/corpus/$t" "${seeds[@]}" >"$log" 2>&1
   rc=$?
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   after=$(ls "tests/fuzz/regressions/$t" | wc -l)

@@ -45,3 +45,16 @@ expect_error distort_field_too_far "field 70 deg: no chief ray" run $D $DG --fie
 expect_error distort_empty_fields "empty field list" run $D $DG --fields ''
 expect_error distort_bad_opencv "--opencv" run $D $DG --opencv 12
 expect_error distort_bad_mapping "--mapping" run $D $DG --mapping fish
+
+# --compare with a system fitted to the lens: its chief rays land where the lens's do,
+# to within the accuracy of a small fit (0.1 mm; a sign or frame error would be mm off)
+n=4000; [ -n "${SANITIZE:-}" ] && n=1500
+if run $BIN/lens-trace $DG -n $n --seed 3 -o $T/t.txt 2>/dev/null &&
+   run $BIN/lens-fit -q --terms 20 --degree 7 -o $T/t.poly $T/t.txt 2>/dev/null; then
+  run $D $DG --compare $T/t.poly --fields 0,5,10 --illum-rays 0 >$T/c.txt 2>$T/err.txt
+  if awk '$1 == "lens" { h[$2] = $3 } $1 == "poly" { d = $3 - h[$2]; if (d < 0) d = -d; if (d > 0.1) bad = 1; n++ }
+          END { exit bad || n != 3 }' $T/c.txt
+  then ok distort_compare_fit; else fail distort_compare_fit "$(cat $T/err.txt $T/c.txt)"; fi
+else
+  fail distort_compare_fit "lens-trace or lens-fit failed"
+fi

@@ -58,6 +58,14 @@ if run $F --terms 15 --degree 5 --outputs out_x,out_y -q $T/mono.txt --inputs x,
    grep -q '^outputs out_x out_y$' $T/xy.poly && grep -q '^pass out_x out_y ' $T/xy.poly
 then ok fit_outputs; else fail fit_outputs "$(grep -E '^(outputs|pass)' $T/xy.poly)"; fi
 
+# parts: a tolerance one polynomial of 8 terms cannot meet makes lens-fit cut the
+# sensor into rings; the file says how many and the largest jump between them
+if run $F --terms 8 --degree 5 --inputs x,y,u,v --outputs out_x,out_y --tolerance out_x=1e-5 \
+     --parts 2 $T/mono.txt -o $T/parts.poly 2>$T/parts.err &&
+   grep -q '^meta fit_parts 2$' $T/parts.poly && grep -q '^meta part_jump_out_x ' $T/parts.poly &&
+   grep -q 'largest_part_jump' $T/parts.err
+then ok fit_parts; else fail fit_parts "$(grep -E '^meta' $T/parts.poly) $(cat $T/parts.err)"; fi
+
 # --emit c: a C function that compiles as is
 if run $F --terms 15 --degree 5 --inputs x,y,u,v -q $T/mono.txt --emit c --name fe_eval -o $T/fe.c &&
    cc -std=c99 -Wall -c $T/fe.c -o $T/fe.o 2>$T/cc.err && grep -q 'fe_eval' $T/fe.c

@@ -42,7 +42,8 @@ if have info; then
 else ok "valgrind_info (skipped: lens-info not built)"; fi
 
 if have trace; then
-  vcheck valgrind_trace_generate 0 "$BIN/lens-trace" "$LENS" -n 200 --seed 1 -o "$T/train.txt"
+  vcheck valgrind_trace_generate 0 "$BIN/lens-trace" "$LENS" -n 200 --seed 1 --sampling rear -o "$T/train.txt"
+  vcheck valgrind_trace_pupil 0 "$BIN/lens-trace" "$LENS" -n 5 --seed 1
   vcheck valgrind_trace_stream 1 "$BIN/lens-trace" "$LENS" - <"$T/rays.txt"
   vcheck valgrind_trace_bad 1 "$BIN/lens-trace" "$T/bad.lens" -n 10
 else ok "valgrind_trace (skipped: lens-trace not built)"; fi

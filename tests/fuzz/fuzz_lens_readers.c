@@ -1,8 +1,7 @@
 /* libFuzzer target: the prescription readers (native, .fx, pbrt .dat) and the glass
  * catalog reader on arbitrary bytes. A reader must return an error or a lens that
  * lens_finish accepted, and never crash, leak or read out of bounds. The first byte
- * picks the reader. Build: clang -g -fsanitize=fuzzer,address,undefined -Isrc
- * tests/fuzz/fuzz_lens_readers.c src/*.c -lm */
+ * picks the reader. Built and run by tools/fuzz.sh (make fuzz). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>

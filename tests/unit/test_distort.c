@@ -61,6 +61,34 @@ static void thin_lens_illumination_is_cos4(void **state)
     lens_free(&l);
 }
 
+/* The same thin lens focused on an object 1000 mm away: the image height is the
+ * thin-lens magnification f / (D - f) times the object height (no distortion), and
+ * the illumination falls as cos^4 of the chief ray's angle. */
+static void thin_lens_finite_object(void **state)
+{
+    (void)state;
+    lens_t l;
+    thin_lens(&l);
+    const double D = 1000;
+    imaging im = {.lens = &l, .object_distance = D};
+    lens_err err;
+    double shift;
+    assert_int_equal(imaging_paraxial_shift(&l, D, GLASS_D_LINE, &shift, &err), 0);
+    im.sensor_shift = shift;
+    double field[3] = {0, 100, 250};
+    distort_row rows[3];
+    assert_int_equal(distort_curve(&im, GLASS_D_LINE, field, 3, 48, rows, &err), 0);
+    double f = fixture_efl(&l), m = f / (D - f);
+    for (int i = 0; i < 3; i++) {
+        /* the lens is 0.03 mm thick: its principal planes sit within 0.02 mm of the stop */
+        assert_true(fabs(rows[i].h_ideal - m * field[i]) < 2e-5 * m * field[i] + 1e-12);
+        assert_true(fabs(rows[i].dist_pct) < 0.01);
+        double c = cos(atan(field[i] / D));
+        assert_true(fabs(rows[i].rel_illum - c * c * c * c) < 0.01);
+    }
+    lens_free(&l);
+}
+
 /* Chief ray found here without ray aiming: the object ray of direction d that meets
  * the stop plane at y = 0, by bisection on its height in front of the lens, traced
  * through a copy of the lens cut at the stop. */
@@ -233,6 +261,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(thin_lens_has_no_distortion),
         cmocka_unit_test(thin_lens_illumination_is_cos4),
+        cmocka_unit_test(thin_lens_finite_object),
         cmocka_unit_test(dgauss_distortion_as_chief_rays_say),
         cmocka_unit_test(fisheye_distortion_as_chief_rays_say),
         cmocka_unit_test(symmetric_lens_grid_is_radial),

@@ -192,6 +192,46 @@ static void test_p99_rank(void **st)
     poly_free(s);
 }
 
+/* Two parts meeting at r = 5: out_x = 1 inside, 1 + 0.5 x outside. A ray at (3, 0)
+ * moves onto the boundary at (5, 0), where the parts differ by 0.5 * 5 = 2.5; one at
+ * (0, 7) moves to (0, 5), where they agree. The largest jump is 2.5. */
+static void test_part_jump(void **st)
+{
+    (void)st;
+    const char *in[2] = {"x", "y"}, *out[1] = {"out_x"};
+    poly_system *s = poly_new("l", 2, in, 1, out);
+    int e0[2] = {0, 0}, e1[2] = {1, 0};
+    assert_int_equal(poly_add_part(s, 0, 5), 0);
+    assert_int_equal(poly_add_part(s, 5, INFINITY), 1);
+    poly_add_term(s, 0, 0, e0, 1);
+    poly_add_term(s, 1, 0, e0, 1);
+    poly_add_term(s, 1, 0, e1, 0.5);
+    eval_report *r = eval_report_new(s, NULL);
+    double rays[2][2] = {{3, 0}, {0, 7}};
+    for (int k = 0; k < 2; k++) {
+        double pred, ref;
+        int ps = poly_eval(s, rays[k], &pred);
+        ref = pred;
+        eval_report_add(r, rays[k], &pred, ps, &ref, 1);
+    }
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    eval_report_write(f, r);
+    fclose(f);
+    double v[3];
+    char *line = strstr(buf, "# columns: output radius jump unit\n");
+    assert_non_null(line);
+    assert_int_equal(sscanf(line + strlen("# columns: output radius jump unit\n"),
+                            "out_x %lf %lf mm", &v[0], &v[1]),
+                     2);
+    near(v[0], 5);
+    near(v[1], 2.5);
+    free(buf);
+    eval_report_free(r);
+    poly_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -199,6 +239,7 @@ int main(void)
         cmocka_unit_test(test_bins_and_counts),
         cmocka_unit_test(test_slope_directions),
         cmocka_unit_test(test_p99_rank),
+        cmocka_unit_test(test_part_jump),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

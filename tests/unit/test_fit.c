@@ -328,6 +328,79 @@ static void test_blocked_rows_and_pass_circle(void **state)
     free(out);
 }
 
+/* A kink along the circle r = 0.5 (|r - 0.5|^3, whose third derivative jumps there):
+ * one polynomial converges slowly, rings split at radius 0.5 fit each side smoothly.
+ * With a tolerance no single polynomial meets, lens-fit must take parts, report the
+ * jump between them, and do better on held-out rows than with one part. */
+static double kink(double x, double y)
+{
+    double d = hypot(x, y) - 0.5;
+    return fabs(d) * d * d + 0.1 * x;
+}
+
+static void test_parts(void **state)
+{
+    (void)state;
+    size_t n = 3000;
+    uint64_t sd = 31;
+    const char *in2[] = {"x", "y"}, *o1[] = {"out_x"};
+    double *in = malloc(n * 2 * sizeof *in), *out = malloc(n * sizeof *out);
+    for (size_t i = 0; i < n; i++) {
+        double r = sqrt(0.5 * (urand(&sd) + 1)), t = M_PI * urand(&sd);
+        in[i * 2] = r * cos(t);
+        in[i * 2 + 1] = r * sin(t);
+        out[i] = kink(in[i * 2], in[i * 2 + 1]);
+    }
+    fit_options opt;
+    fit_options_default(&opt);
+    opt.max_terms = 12;
+    opt.max_degree = 8;
+    lens_err err;
+    poly_system *one = fit_system("kink", 2, in2, 1, o1, n, in, out, &opt, &err);
+    assert_non_null(one);
+    double rms1 = holdout_rms(one);
+    opt.tolerance = rms1 / 10;
+    opt.max_parts = 3;
+    poly_system *parts = fit_system("kink", 2, in2, 1, o1, n, in, out, &opt, &err);
+    assert_non_null(parts);
+    assert_true(poly_nparts(parts) >= 2);
+    assert_true(holdout_rms(parts) < rms1);
+    const char *jump = poly_get_meta(parts, "part_jump_out_x");
+    assert_non_null(jump);
+    assert_true(isfinite(atof(jump)) && atof(jump) >= 0);
+    /* Neighbouring parts meet: each part's range starts where the previous ends. */
+    for (int p = 1; p < poly_nparts(parts); p++) {
+        double a0, a1, b0, b1;
+        poly_part_range(parts, p - 1, &a0, &a1);
+        poly_part_range(parts, p, &b0, &b1);
+        assert_true(a1 == b0);
+    }
+    poly_free(one);
+    poly_free(parts);
+    free(in);
+    free(out);
+}
+
+/* ap_x and ap_y outputs get a pass circle of their own (the stop). */
+static void test_stop_circle(void **state)
+{
+    (void)state;
+    double *in, *out;
+    size_t n = 600;
+    make_planted(n, 26, &in, &out);
+    const char *o2[] = {"ap_x", "ap_y"};
+    fit_options opt;
+    fit_options_default(&opt);
+    opt.max_degree = 5;
+    lens_err err;
+    poly_system *sys = fit_system("stop", 4, IN4, 2, o2, n, in, out, &opt, &err);
+    assert_non_null(sys);
+    assert_int_equal(poly_npass_circles(sys), 1);
+    poly_free(sys);
+    free(in);
+    free(out);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -337,6 +410,8 @@ int main(void)
         cmocka_unit_test(test_deterministic_threads),
         cmocka_unit_test(test_degenerate),
         cmocka_unit_test(test_blocked_rows_and_pass_circle),
+        cmocka_unit_test(test_parts),
+        cmocka_unit_test(test_stop_circle),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

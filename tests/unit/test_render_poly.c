@@ -126,13 +126,14 @@ static void test_cache(void **state)
     assert_non_null(a);
     poly_system *b = render_effects_system(&lens, &g, dir, 0, log, &err);
     assert_non_null(b);
+    assert_int_equal(poly_ninputs(a), 5);
     rewind(log);
     char line[512];
     int cached = 0;
     while (fgets(line, sizeof line, log)) cached += strstr(line, "system: cached") != NULL;
     assert_true(cached >= 1);
     fclose(log);
-    double in[4] = {3, -2, -0.05, 0.04}, oa[16], ob[16];
+    double in[5] = {3, -2, -0.05, 0.04, 0.55}, oa[16], ob[16]; /* x y u v lambda */
     assert_int_equal(poly_eval(a, in, oa), poly_eval(b, in, ob));
     assert_true(fabs(oa[0] - ob[0]) < 1e-12);
     char cmd[128];

@@ -7,6 +7,7 @@
 #include <cmocka.h>
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "fixture_lenses.h"
@@ -235,6 +236,57 @@ static void test_pupil_pdf(void **state)
     lens_free(&L);
 }
 
+/* Every shipped single-system lens (lenses/, loaded from its file): the pupil sampler's
+ * rays pass at least 85% of the time (at the coarse resolution used here), its support
+ * holds every passing rear-sampled ray, and no passing ray has a nan output. */
+static void test_pupil_shipped_lenses(void **state)
+{
+    (void)state;
+    const char *names[] = {"fisheye-aspherical", "fisheye", "wide", "wideangle-ii", "fisheye-iii",
+                           "dgauss.50mm", "telephoto.250mm", "kreitzer-tele", "petzval",
+                           "fisheye.10mm", "nikon-zoom", "brendel-tessar"};
+    int nl = sanitized() ? 3 : (int)(sizeof names / sizeof names[0]), tested = 0;
+    size_t N = sanitized() ? 4000 : 12000;
+    double *in = malloc(N * 5 * sizeof *in), *out = malloc(N * 5 * sizeof *out);
+    for (int k = 0; k < nl; k++) {
+        char path[256];
+        snprintf(path, sizeof path, "lenses/%s.lens", names[k]);
+        lens_t L;
+        lens_err e;
+        if (lens_load(path, NULL, &L, &e))
+            continue; /* not shipped (yet) */
+        tested++;
+        sampling_options o = sampling_defaults();
+        o.pupil_radii = 24, o.pupil_grid = 64;
+        ray_generator *g = ray_generator_new(&L, &o, &e);
+        assert_non_null(g);
+        double pass = pass_fraction(&L, g, N, in, out);
+        for (size_t i = 0; i < N; i++)
+            if (out[5 * i + 4] > 0)
+                for (int c = 0; c < 4; c++)
+                    assert_true(isfinite(out[5 * i + c]));
+        if (pass < 0.85)
+            fail_msg("%s: pupil pass fraction %.3f", names[k], pass);
+        sampling_options r = o;
+        r.strategy = SAMPLING_REAR;
+        ray_generator *gr = ray_generator_new(&L, &r, &e);
+        assert_non_null(gr);
+        pass_fraction(&L, gr, N, in, out);
+        ray_generator_free(gr);
+        const pupil_sampler *ps = ray_generator_sampler(g);
+        for (size_t i = 0; i < N; i++)
+            if (out[5 * i + 4] > 0 &&
+                !(pupil_sampler_pdf(ps, in[5 * i], in[5 * i + 1], in[5 * i + 2], in[5 * i + 3]) > 0))
+                fail_msg("%s: passing ray %zu outside the pupil sampler's support", names[k], i);
+        ray_generator_free(g);
+        lens_free(&L);
+    }
+    free(in);
+    free(out);
+    if (!tested)
+        skip();
+}
+
 static void test_bad_options(void **state)
 {
     (void)state;
@@ -267,7 +319,7 @@ int main(void)
         cmocka_unit_test(test_rng),         cmocka_unit_test(test_generator_deterministic),
         cmocka_unit_test(test_rear),        cmocka_unit_test(test_pupil_fisheye),
         cmocka_unit_test(test_pupil_dgauss), cmocka_unit_test(test_pupil_pdf),
-        cmocka_unit_test(test_bad_options),
+        cmocka_unit_test(test_pupil_shipped_lenses), cmocka_unit_test(test_bad_options),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

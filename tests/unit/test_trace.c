@@ -375,7 +375,17 @@ static void test_packet_widths(void **state)
         np[i] = nbuf[i];
     }
     memcpy(got, ref, sizeof got);
-    trace_packet_to_object_w(&L, np, M, ref, 0, rref, 2);
+    static double oref[4 * M], ogot[4 * M];
+    trace_packet_to_object_w(&L, np, M, ref, 0, rref, oref, 2);
+    /* the kernel's outer coordinates are ray_to_outer's, to rounding */
+    for (int i = 0; i < M; i++) {
+        if (rref[i].status != TRACE_PASSED)
+            continue;
+        double o[4];
+        ray_to_outer(&L, &ref[i], o);
+        for (int k = 0; k < 4; k++)
+            assert_true(fabs(o[k] - oref[4 * i + k]) < 1e-13);
+    }
     for (int w = 4; w <= trace_packet_width(); w *= 2) {
         for (int last = 0; last <= 1; last++) {
             lens_ray a[M];
@@ -384,13 +394,14 @@ static void test_packet_widths(void **state)
                 lens_ray b[M];
                 trace_result rb[M];
                 memcpy(b, got, sizeof b);
-                trace_packet_to_object_w(&L, np, M, b, L.stop, rb, 2);
-                trace_packet_to_object_w(&L, np, M, a, L.stop, rgot, w);
+                trace_packet_to_object_w(&L, np, M, b, L.stop, rb, NULL, 2);
+                trace_packet_to_object_w(&L, np, M, a, L.stop, rgot, NULL, w);
                 assert_memory_equal(a, b, sizeof a);
                 assert_memory_equal(rgot, rb, sizeof rb);
             } else {
-                trace_packet_to_object_w(&L, np, M, a, 0, rgot, w);
+                trace_packet_to_object_w(&L, np, M, a, 0, rgot, ogot, w);
                 assert_memory_equal(a, ref, sizeof a);
+                assert_memory_equal(ogot, oref, sizeof ogot);
                 assert_memory_equal(rgot, rref, sizeof rgot);
             }
         }
