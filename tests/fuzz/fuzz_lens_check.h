@@ -108,4 +108,33 @@ static inline void fuzz_check_lens(const lens_t *lens, const lens_load_options *
     free(n);
 }
 
+/* The whole target for a stream lens reader with lens_read_native's signature: the
+ * shipped glass catalog, one read per input, and on success the lens checks above;
+ * on failure the error must be one non-empty line. */
+#define FUZZ_LENS_READER_TARGET(reader, name)                                             \
+    int LLVMFuzzerInitialize(int *argc, char ***argv)                                     \
+    {                                                                                     \
+        (void)argc;                                                                       \
+        (void)argv;                                                                       \
+        fuzz_use_shipped_catalog();                                                       \
+        return 0;                                                                         \
+    }                                                                                     \
+    int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)                          \
+    {                                                                                     \
+        fuzz_stream s;                                                                    \
+        if (fuzz_stream_open(&s, data, size))                                             \
+            return 0;                                                                     \
+        lens_t lens;                                                                      \
+        lens_err err;                                                                     \
+        lens_init(&lens);                                                                 \
+        int rc = reader(s.f, name, NULL, &lens, &err);                                    \
+        fuzz_stream_close(&s);                                                            \
+        if (rc == 0)                                                                      \
+            fuzz_check_lens(&lens, NULL);                                                 \
+        else                                                                              \
+            FUZZ_CHECK(err.msg[0] != 0 && strchr(err.msg, '\n') == NULL);                 \
+        lens_free(&lens);                                                                 \
+        return 0;                                                                         \
+    }
+
 #endif
