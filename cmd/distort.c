@@ -75,13 +75,7 @@ int main(int argc, char **argv)
     if (nl < 0)
         diag_die(prog, "--wavelengths: %s", err.msg);
     distort_request rq = {.lambda = wl[nl / 2], .mapping = -1, .sensor_w = NAN, .sensor_h = NAN};
-    if (strcmp(focus_s, "paraxial") == 0)
-        rq.focus = FOCUS_PARAXIAL;
-    else if (strcmp(focus_s, "best") == 0)
-        rq.focus = FOCUS_BEST;
-    else if (strcmp(focus_s, "file") == 0)
-        rq.focus = FOCUS_FILE;
-    else
+    if (focus_mode_parse(focus_s, &rq.focus) != 0)
         diag_die(prog, "--focus: '%s' is not file, paraxial or best", focus_s);
     rq.illum_rays = (int)cli_count(prog, "--illum-rays", illum_s, 0, 2000);
     int ng = (int)cli_count(prog, "--grid", grid_s, 2, 501);

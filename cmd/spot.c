@@ -63,13 +63,7 @@ int main(int argc, char **argv)
     int nl = wavelengths_parse(wl_s, lambda, IMAGING_MAX_WAVELENGTHS, &err);
     if (nl < 0)
         diag_die(prog, "--wavelengths: %s", err.msg);
-    if (strcmp(focus_s, "file") == 0)
-        rq.focus = FOCUS_FILE;
-    else if (strcmp(focus_s, "paraxial") == 0)
-        rq.focus = FOCUS_PARAXIAL;
-    else if (strcmp(focus_s, "best") == 0)
-        rq.focus = FOCUS_BEST;
-    else
+    if (focus_mode_parse(focus_s, &rq.focus) != 0)
         diag_die(prog, "--focus: '%s' is not file, paraxial or best", focus_s);
     if (pupil_pattern_parse(pupil_s, &rq.pattern) != 0)
         diag_die(prog, "--pupil: '%s' is not hexapolar, grid or random", pupil_s);

@@ -103,3 +103,14 @@ void spot_report_print(FILE *f, const spot_request *rq, const spot_report *rep)
                 row(f, rq->model_names[m], &rep->pooled[(size_t)m * rep->nfields + fi], "all");
         }
 }
+
+int focus_mode_parse(const char *s, focus_mode *mode)
+{
+    static const char *const names[] = {"file", "paraxial", "best"};
+    for (int i = 0; i < 3; i++)
+        if (strcmp(s, names[i]) == 0) {
+            *mode = (focus_mode)i;
+            return 0;
+        }
+    return -1;
+}

@@ -7,6 +7,10 @@
 
 typedef enum { FOCUS_FILE, FOCUS_PARAXIAL, FOCUS_BEST } focus_mode;
 
+/* "file", "paraxial" or "best" (the --focus values of lens-spot and lens-distort);
+ * -1 for anything else. */
+int focus_mode_parse(const char *s, focus_mode *mode);
+
 typedef struct {
     imaging im[2];              /* the models: the exact lens, and optionally a system */
     const char *model_names[2]; /* "lens", "poly" */
