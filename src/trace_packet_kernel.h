@@ -165,7 +165,7 @@ KATTR static void KNAME(const lens_t *lens, const double *const *n, int count, l
                 vd sp = a + b, sm = a - b, pp = f + cc, pm = f - cc;
                 vd den = sp * sp * pp * pp;
                 vd T = one - 0.5 * (sm * sm * pp * pp + pm * pm * sp * sp) / den;
-                T = K(vsel)(den > zero, T, zero);
+                T = K(vsel)((den > zero) & (T > zero), T, zero); /* 1 - R rounds below 0 as R -> 1 */
                 eta = K(vsel)(upd, eta * T, eta);
             }
         }
