@@ -8,6 +8,7 @@ cd "$(dirname "$0")/.."
 BIN=${BIN:-bin}
 BUILD=${BUILD:-build}
 out=$(mktemp)
+load_start=$(cut -d' ' -f1-3 /proc/loadavg)
 trap 'rm -f "$out"' EXIT
 
 for b in "$BUILD"/bench/bench_*; do
@@ -38,6 +39,8 @@ ratio ratio_render_exact_over_poly_dgauss render_map_exact_dgauss_ns_per_ray ren
   echo "- machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores, $(awk '/MemTotal/ { printf "%.0f GiB", $2 / 1048576 }' /proc/meminfo)"
   echo "- commit: $(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet 2>/dev/null || echo ' (with local changes)')"
   echo "- compiler: $(${CC:-cc} --version | head -1)"
+  echo "- load average (1, 5, 15 min) at the start: $load_start; at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "  (on 2 cores a load above 1 means another job shared the machine: times grow, ratios less so)"
   echo
   echo "Every figure is the median of several runs inside one program; ratios divide two"
   echo "figures of this same run (a ratio above 1 means the second is faster)."
