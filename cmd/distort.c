@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "lens_cli_options.h"
 #include "distort_run.h"
 #include "outfile.h"
 
@@ -36,6 +37,7 @@ static const char *const usage =
     "                         of WxH pixels; prints coefficients and residuals\n"
     "  --compare SYSTEM.poly  also through a fitted system, beside the lens\n"
     "  --lens LENS            the lens of a SYSTEM.poly given as the first argument\n"
+    LENS_CLI_OPTIONS_HELP
     "  --help\n";
 
 int main(int argc, char **argv)
@@ -43,7 +45,11 @@ int main(int argc, char **argv)
     const char *input = NULL, *fields_s = NULL, *dist_s = NULL, *wl_s = "d", *focus_s = "file",
                *illum_s = "32", *grid_s = "17", *mapping_s = NULL, *sensor_s = NULL, *exag_s = NULL,
                *map_path = NULL, *png = NULL, *opencv_s = NULL, *compare = NULL, *lens_path = NULL;
+    lens_cli_options lopt;
+    lens_cli_options_init(&lopt);
     for (int i = 1; i < argc; i++) {
+        if (lens_cli_options_take(prog, argc, argv, &i, &lopt))
+            continue;
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0)
             cli_help(usage);
         if (cli_opt(prog, argc, argv, &i, "--fields", &fields_s) ||
@@ -105,7 +111,10 @@ int main(int argc, char **argv)
     rq.grid = png || map_path || opencv_s ? ng : 0;
 
     imaging_models models;
-    if (imaging_models_load(input, compare, lens_path, &models, &err) != 0) {
+    int load_rc = imaging_models_load(input, compare, lens_path, lens_cli_options_get(&lopt),
+                                      &models, &err);
+    lens_cli_options_free(&lopt);
+    if (load_rc != 0) {
         diag_print(prog, &err);
         return 1;
     }

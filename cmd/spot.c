@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "lens_cli_options.h"
 #include "spot_run.h"
 
 static const char *const prog = "lens-spot";
@@ -26,6 +27,7 @@ static const char *const usage =
     "  --lens LENS            the lens of a SYSTEM.poly given as the first argument\n"
     "  --png FILE             spot diagram picture\n"
     "  --exr FILE             spot density as float images\n"
+    LENS_CLI_OPTIONS_HELP
     "  --help\n";
 
 int main(int argc, char **argv)
@@ -33,7 +35,11 @@ int main(int argc, char **argv)
     const char *input = NULL, *fields_s = NULL, *dist_s = NULL, *wl_s = "F,d,C", *focus_s = "file",
                *pupil_s = "hexapolar", *rays_s = "400", *seed_s = "1", *compare = NULL,
                *lens_path = NULL, *png = NULL, *exr = NULL;
+    lens_cli_options lopt;
+    lens_cli_options_init(&lopt);
     for (int i = 1; i < argc; i++) {
+        if (lens_cli_options_take(prog, argc, argv, &i, &lopt))
+            continue;
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0)
             cli_help(usage);
         if (cli_opt(prog, argc, argv, &i, "--fields", &fields_s) ||
@@ -72,7 +78,10 @@ int main(int argc, char **argv)
     double dist = dist_s ? cli_positive(prog, "--object-distance", dist_s) : INFINITY;
 
     imaging_models models;
-    if (imaging_models_load(input, compare, lens_path, &models, &err) != 0) {
+    int load_rc = imaging_models_load(input, compare, lens_path, lens_cli_options_get(&lopt),
+                                      &models, &err);
+    lens_cli_options_free(&lopt);
+    if (load_rc != 0) {
         diag_print(prog, &err);
         return 1;
     }

@@ -242,7 +242,7 @@ static int load_system(const char *path, poly_system **sys, lens_err *err)
 }
 
 int imaging_models_load(const char *path, const char *compare, const char *lens_path,
-                        imaging_models *m, lens_err *err)
+                        const lens_load_options *lopt, imaging_models *m, lens_err *err)
 {
     memset(m, 0, sizeof *m);
     lens_init(&m->lens);
@@ -259,13 +259,13 @@ int imaging_models_load(const char *path, const char *compare, const char *lens_
             imaging_models_free(m);
             return -1;
         }
-        if (lens_load(lp, NULL, &m->lens, err) != 0) {
+        if (lens_load(lp, lopt, &m->lens, err) != 0) {
             imaging_models_free(m);
             return -1;
         }
         return 0;
     }
-    if (lens_load(path, NULL, &m->lens, err) != 0)
+    if (lens_load(path, lopt, &m->lens, err) != 0)
         return -1;
     if (compare && load_system(compare, &m->compare, err) != 0) {
         imaging_models_free(m);

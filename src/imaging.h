@@ -78,6 +78,7 @@ typedef struct {
 } imaging_models;
 
 int imaging_models_load(const char *path, const char *compare, const char *lens_path,
+                        const lens_load_options *lopt,
                         imaging_models *m, lens_err *err);
 void imaging_models_free(imaging_models *m);
 /* Fills im[] and names[] ("lens", "poly") for the models given; returns their count. */
