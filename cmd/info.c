@@ -28,7 +28,7 @@ static void print_key(const char *key, double v)
     if (isinf(v))
         printf("%s %s\n", key, v > 0 ? "inf" : "-inf");
     else
-        printf("%s %.10g\n", key, v);
+        printf("%s %.10g\n", key, v == 0 ? 0.0 : v); /* no "-0" */
 }
 
 int main(int argc, char **argv)
