@@ -12,6 +12,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "trace.h"
+
 typedef struct {
     double a, b, c, d;
 } mat2;
@@ -27,19 +29,6 @@ static mat2 mul(mat2 m, mat2 n) /* m after n */
 static double curvature(const lens_surface *s)
 {
     return isfinite(s->radius) ? 1.0 / s->radius : 0.0;
-}
-
-static int indices(const lens_t *lens, double lambda, double *n, lens_err *err)
-{
-    for (size_t i = 0; i < lens->nsurf; i++) {
-        lens_err e;
-        if (glass_index(&lens->surf[i].medium, lambda, &n[i], &e) != 0) {
-            lens_errf(err, lens->path[0] ? lens->path : NULL, lens->surf[i].line, "surface %zu: %s",
-                      i + 1, e.msg);
-            return -1;
-        }
-    }
-    return 0;
 }
 
 /* Refraction at surfaces first..last with the transfers between them (not after last). */
@@ -74,7 +63,7 @@ int paraxial_compute(const lens_t *lens, double lambda, paraxial_data *p, lens_e
         return -1;
     }
     double n[lens->nsurf];
-    if (indices(lens, lambda, n, err) != 0)
+    if (lens_indices(lens, lambda, n, err) != 0)
         return -1;
     size_t last = lens->nsurf - 1, s = (size_t)lens->stop;
     double n_image = n[last];
@@ -117,7 +106,7 @@ int paraxial_focus_thickness(const lens_t *lens, double lambda, double distance,
                              lens_err *err)
 {
     double n[lens->nsurf];
-    if (lens->nsurf == 0 || indices(lens, lambda, n, err) != 0)
+    if (lens->nsurf == 0 || lens_indices(lens, lambda, n, err) != 0)
         return -1;
     mat2 m = span(lens, n, 0, lens->nsurf - 1);
     double n_image = n[lens->nsurf - 1];
