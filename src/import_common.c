@@ -462,3 +462,17 @@ void import_clean_text(lens_t *lens)
     out[o] = '\0';
     memcpy(lens->notes, out, o + 1);
 }
+
+int import_finish(lens_t *lens, const import_skips *skips, double fnumber, const char *fno_name,
+                  double epd_mm, const char *epd_name, int hard, lens_err *err)
+{
+    import_skips_note(skips, lens);
+    import_clean_text(lens);
+    if (lens_finish(lens, err) != 0)
+        return -1;
+    if (isfinite(fnumber) && fnumber > 0)
+        return import_set_aperture(lens, fnumber, 0, fno_name, hard, err);
+    if (isfinite(epd_mm) && epd_mm > 0)
+        return import_set_aperture(lens, 0, epd_mm, epd_name, hard, err);
+    return 0;
+}

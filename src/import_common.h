@@ -69,6 +69,13 @@ void import_clean_text(lens_t *lens);
 int import_set_aperture(lens_t *lens, double fnumber, double epd_mm, const char *what,
                         int hard, lens_err *err);
 
+/* The steps both design-file readers end with: the skipped-keyword note, cleaned
+ * header text, lens_finish, then the system aperture (an f-number when fnumber > 0,
+ * else an entrance pupil when epd_mm > 0; fno_name/epd_name are the file's keywords,
+ * for the notes). */
+int import_finish(lens_t *lens, const import_skips *skips, double fnumber, const char *fno_name,
+                  double epd_mm, const char *epd_name, int hard, lens_err *err);
+
 /* Glass look-up through lens_import.h's material_ctx: the extra catalogs
  * (opt->catalogs), glass.catalog beside the lens, then the shipped one. */
 typedef struct {

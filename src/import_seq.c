@@ -655,16 +655,8 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
     if (rc != 0)
         return -1;
     notes(st);
-    import_skips_note(&st->skips, lens);
-    import_clean_text(lens);
-    if (lens_finish(lens, err) != 0)
-        return -1;
-    int hard = !missing_stop_cir;
-    if (isfinite(st->fno) && st->fno > 0)
-        return import_set_aperture(lens, st->fno, 0, "FNO", hard, err);
-    if (isfinite(st->epd) && st->epd > 0)
-        return import_set_aperture(lens, 0, st->epd * u, "EPD", hard, err);
-    return 0;
+    return import_finish(lens, &st->skips, st->fno, "FNO", st->epd * u, "EPD", !missing_stop_cir,
+                         err);
 }
 
 int lens_parse_seq(const char *data, size_t len, const char *path,

@@ -481,16 +481,7 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
         lens_add_note(lens, "%d flat air-to-air dummy surface%s merged into the gaps", merged,
                     merged > 1 ? "s" : "");
     fields_and_waves_note(st);
-    import_skips_note(&st->skips, lens);
-    import_clean_text(lens);
-    if (lens_finish(lens, err) != 0)
-        return -1;
-    int hard = stop_clap;
-    if (isfinite(st->fnum) && st->fnum > 0)
-        return import_set_aperture(lens, st->fnum, 0, "FNUM", hard, err);
-    if (isfinite(st->epd) && st->epd > 0)
-        return import_set_aperture(lens, 0, st->epd * u, "ENPD", hard, err);
-    return 0;
+    return import_finish(lens, &st->skips, st->fnum, "FNUM", st->epd * u, "ENPD", stop_clap, err);
 }
 
 int lens_parse_zmx(const char *data, size_t len, const char *path,
