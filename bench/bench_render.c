@@ -75,7 +75,7 @@ static int run(const char *name, const char *path, double sw, double sh, size_t 
         !(sys = render_fit(&lens, &e, 0, &fit_s, &err)) ||
         !(le = render_lens_exact(&lens, sw, sh, &ce, &err)) ||
         !(lp = render_lens_poly(sys, &lens, sw, sh, &cp, &err)) ||
-        render_sampler_pupil(&smp, &ce, GLASS_D_LINE, hypot(sw, sh) / 2, 32, &err)) {
+        render_sampler_lens(&smp, &lens, GLASS_D_LINE, GLASS_D_LINE, hypot(sw, sh) / 2, 0, &err)) {
         fprintf(stderr, "bench_render: %s\n", rays ? err.msg : "out of memory");
         goto done;
     }

@@ -21,7 +21,7 @@
  *                      sample per emitter). See scene_radiance.
  *   p_A(s0')           the line pupil is the plane 1 mm in front of the sensor, where
  *                      s0' = s0 + (u, v, -1) mm; its area measure is du dv, so
- *                      p_A(s0') = p(u, v), the sampler's density (render_pupil.c).
+ *                      p_A(s0') = p(u, v), the sampler's density (render_sampler.c).
  *   |J_all| |A|        cancel between G-bar (Eq. 12) and p_A(s1) (Eq. 8), as Eq. 13 shows:
  *                      neither is evaluated per ray. (The system's Jacobian is what
  *                      Eq. 8's p_A(s1) needs; nothing here needs p_A(s1) alone.)

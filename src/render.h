@@ -5,10 +5,12 @@
  *
  * The renderer sees the lens as a map from a sensor ray to the ray leaving the front
  * element (exact tracing or a polynomial system: render_lens.c), and the camera-ray
- * directions come from a sampler with a known density in (u, v) (render_pupil.c). */
+ * directions come from a sampler with a known density in (u, v) (render_sampler.c). */
 #include <stddef.h>
 
 #include "diag.h"
+#include "lens.h"
+#include "pupil_sampler.h"
 #include "scene.h"
 
 /* Sensor ray (x, y, u, v, lambda) in the sensor parametrisation of trace.h (lens frame,
@@ -26,28 +28,28 @@ typedef struct {
     double rear_radius;        /* rear element's semi-diameter, mm */
 } render_camera;
 
-/* Camera-ray directions at a sensor point, with their density p(u, v) in du dv.
+/* Camera-ray directions at a sensor point, with their density p(u, v) in du dv
+ * (render_sampler.c).
  *  REAR:  a uniform point on the rear element's disk (the plane of its vertex), the
  *         naive sampler; p = rear_dist^2 / (pi rear_radius^2).
- *  PUPIL: the "line pupil": per ring of sensor radius, the cells of a grid in (u, v)
- *         (in the frame turned to the point's azimuth) that hold a direction that
- *         passes the lens, found by probing the lens map and grown by one cell; a
- *         uniform cell, then a uniform point in it. */
+ *  PUPIL: the "line pupil": the tracer's pupil sampler (pupil_sampler.h), an occupancy
+ *         grid of the passing directions per tabulated sensor radius, turned to the
+ *         point's azimuth; p is the exact density of its mixture. */
 typedef enum { RENDER_SAMPLE_REAR, RENDER_SAMPLE_PUPIL } render_sampling;
 
 typedef struct {
     render_sampling kind;
-    double rear_dist, rear_radius;
-    int nbins;
-    double rmax;
-    int grid;       /* PUPIL: cells per side */
-    double *win;    /* PUPIL: per ring u0 v0 du dv (cell 0's corner and the cell size) */
-    int *start;     /* PUPIL: ring b's cells are cells[start[b] .. start[b + 1]) */
-    int *cells;     /* PUPIL: cell index iu * grid + iv */
+    double rear_dist, rear_radius; /* REAR */
+    pupil_sampler *ps;             /* PUPIL, owned */
 } render_sampler;
 
 void render_sampler_rear(render_sampler *s, const render_camera *cam);
-/* Probes the lens map at wavelength lambda over sensor radii [0, rmax]. */
+/* The line pupil of an exact lens, probed by the packet tracer at wavelengths spread
+ * over [lambda_min, lambda_max], for sensor radii up to rmax. */
+int render_sampler_lens(render_sampler *s, const lens_t *lens, double lambda_min,
+                        double lambda_max, double rmax, int threads, lens_err *err);
+/* The same for a lens known only as a map (analytic lenses): probes cam->map at lambda,
+ * at nbins + 1 sensor radii over [0, rmax]. */
 int render_sampler_pupil(render_sampler *s, const render_camera *cam, double lambda,
                          double rmax, int nbins, lens_err *err);
 void render_sampler_free(render_sampler *s);

@@ -2,6 +2,7 @@
 #include "render_run.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -14,8 +15,6 @@
 #include "render_lens.h"
 #include "scene.h"
 #include "trace.h"
-
-#define PUPIL_RINGS 32
 
 static int cmp_float(const void *a, const void *b)
 {
@@ -199,9 +198,12 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
     double rmax = 0.5 * hypot(sw, sh);
     if (o->rear_sampling) {
         render_sampler_rear(&smp, &cam);
-    } else if (render_sampler_pupil(&smp, &cam, sc.mode == SCENE_GREY ? GLASS_D_LINE : 0.55, rmax,
-                                    PUPIL_RINGS, err)) {
-        goto done;
+    } else {
+        double t0 = omp_get_wtime();
+        double l0 = sc.mode == SCENE_GREY ? GLASS_D_LINE : RENDER_LAMBDA_MIN,
+               l1 = sc.mode == SCENE_GREY ? GLASS_D_LINE : RENDER_LAMBDA_MAX;
+        if (render_sampler_lens(&smp, &lens, l0, l1, rmax, o->threads, err)) goto done;
+        if (o->log) fprintf(o->log, "line pupil: built in %.2f s\n", omp_get_wtime() - t0);
     }
     img = malloc((size_t)sc.width * sc.height * 3 * sizeof *img);
     if (!img) {
