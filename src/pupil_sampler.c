@@ -271,9 +271,10 @@ pupil_sampler *pupil_sampler_build_probe(pupil_probe_fn fn, void *ctx, double re
     return build_sets(&p, opt, err);
 }
 
-/* The cache file: a magic line, then per set its grid and occupied cells, binary in the
- * machine's byte order (a cache, read back on the machine that wrote it). */
-static const char cache_magic[16] = "pupil_sampler 1";
+/* The cache file: a magic line, then per set its grid and its occupancy as a bitmap
+ * (the cells are listed in index order, so the list is rebuilt as build_set made it),
+ * binary in the machine's byte order (a cache, read back on the machine that wrote it). */
+static const char cache_magic[16] = "pupil_sampler 2";
 
 int pupil_sampler_write(FILE *f, const pupil_sampler *ps)
 {
@@ -283,8 +284,17 @@ int pupil_sampler_write(FILE *f, const pupil_sampler *ps)
         const pupil_set *s = &ps->sets[i];
         double w[4] = {s->u0, s->v0, s->du, s->dv};
         int gc[2] = {s->g, s->count};
-        ok = fwrite(w, sizeof w, 1, f) == 1 && fwrite(gc, sizeof gc, 1, f) == 1 &&
-             (s->count == 0 || fwrite(s->cells, sizeof *s->cells, (size_t)s->count, f) == (size_t)s->count);
+        ok = fwrite(w, sizeof w, 1, f) == 1 && fwrite(gc, sizeof gc, 1, f) == 1;
+        if (!ok || !s->count)
+            continue;
+        size_t nb = ((size_t)s->g * s->g + 7) / 8;
+        unsigned char *bits = calloc(nb, 1);
+        if (!bits)
+            return -1;
+        for (int k = 0; k < s->count; k++)
+            bits[s->cells[k] / 8] |= (unsigned char)(1u << (s->cells[k] % 8));
+        ok = fwrite(bits, 1, nb, f) == nb;
+        free(bits);
     }
     return ok ? 0 : -1;
 }
@@ -310,16 +320,21 @@ pupil_sampler *pupil_sampler_read(FILE *f, lens_err *err)
         s->u0 = w[0], s->v0 = w[1], s->du = w[2], s->dv = w[3], s->g = gc[0];
         if (gc[1] == 0)
             continue;
-        s->occ = calloc((size_t)s->g * s->g, 1);
+        size_t n = (size_t)s->g * s->g, nb = (n + 7) / 8;
+        unsigned char *bits = malloc(nb);
+        s->occ = calloc(n, 1);
         s->cells = malloc((size_t)gc[1] * sizeof *s->cells);
-        ok = s->occ && s->cells &&
-             fread(s->cells, sizeof *s->cells, (size_t)gc[1], f) == (size_t)gc[1];
-        for (int k = 0; ok && k < gc[1]; k++) {
-            ok = s->cells[k] >= 0 && s->cells[k] < s->g * s->g && !s->occ[s->cells[k]];
-            if (ok)
-                s->occ[s->cells[k]] = 1;
-        }
-        s->count = gc[1];
+        ok = bits && s->occ && s->cells && fread(bits, 1, nb, f) == nb;
+        for (size_t c = 0; ok && c < n; c++)
+            if (bits[c / 8] >> (c % 8) & 1) {
+                ok = s->count < gc[1];
+                if (ok) {
+                    s->occ[c] = 1;
+                    s->cells[s->count++] = (int)c;
+                }
+            }
+        ok = ok && s->count == gc[1];
+        free(bits);
         s->area = s->count * s->du * s->dv;
     }
     if (!ok) {

@@ -2,7 +2,6 @@
 #include "render_run.h"
 
 #include <math.h>
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -199,11 +198,13 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
     if (o->rear_sampling) {
         render_sampler_rear(&smp, &cam);
     } else {
-        double t0 = omp_get_wtime();
         double l0 = sc.mode == SCENE_GREY ? GLASS_D_LINE : RENDER_LAMBDA_MIN,
                l1 = sc.mode == SCENE_GREY ? GLASS_D_LINE : RENDER_LAMBDA_MAX;
-        if (render_sampler_lens(&smp, &lens, l0, l1, rmax, o->threads, err)) goto done;
-        if (o->log) fprintf(o->log, "line pupil: built in %.2f s\n", omp_get_wtime() - t0);
+        char dir[1024];
+        if (o->cache_dir) snprintf(dir, sizeof dir, "%s", o->cache_dir);
+        else render_default_cache_dir(dir, sizeof dir);
+        if (render_effects_sampler(&lens, l0, l1, rmax, dir, o->threads, o->log, &smp, err))
+            goto done;
     }
     img = malloc((size_t)sc.width * sc.height * 3 * sizeof *img);
     if (!img) {

@@ -35,6 +35,7 @@ if [ -s "$T/p.exr" ] && grep -q '^effects on:' <<<"$err" && grep -q '^effects of
    && ls "$T"/cache/*.poly >/dev/null 2>&1; then ok poly-render-fits-and-caches; else fail poly-render-fits-and-caches "$err"; fi
 err=$($R "$T/s.scene" -o "$T/p2.exr" --cache "$T/cache" 2>&1)
 grep -q 'system: cached' <<<"$err" && ok cache-reused || fail cache-reused "$err"
+grep -q 'line pupil: cached' <<<"$err" && ok pupil-cache-reused || fail pupil-cache-reused "$err"
 cmp -s "$T/p.exr" "$T/p2.exr" && ok reproducible || fail reproducible "same seed, different image"
 
 # a .poly camera: the cached system, named in a scene
