@@ -5,6 +5,7 @@
 
 #include "cli.h"
 #include "diag.h"
+#include "lens_cli_options.h"
 #include "render_run.h"
 
 static const char *usage =
@@ -24,7 +25,8 @@ static const char *usage =
     "  --cache DIR        fitted systems (default $XDG_CACHE_HOME/sparselens)\n"
     "  --rear-sampling    draw directions over the rear element instead of the line pupil\n"
     "  --reference FILE   print the RMS error against this image (same size)\n"
-    "  --quiet            no decisions, progress or figures on stderr\n";
+    "  --quiet            no decisions, progress or figures on stderr\n"
+    LENS_CLI_OPTIONS_HELP;
 
 typedef struct {
     int last;
@@ -47,7 +49,10 @@ int main(int argc, char **argv)
     render_options o = {0};
     int quiet = 0;
     const char *v;
+    lens_cli_options lopt;
+    lens_cli_options_init(&lopt);
     for (int i = 1; i < argc; i++) {
+        if (lens_cli_options_take(prog, argc, argv, &i, &lopt)) continue;
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) cli_help(usage);
         else if (cli_opt(prog, argc, argv, &i, "-o", &v)) o.exr = v;
         else if (cli_opt(prog, argc, argv, &i, "--png", &v)) o.png = v;
@@ -71,9 +76,12 @@ int main(int argc, char **argv)
         o.progress = progress;
         o.progress_ctx = &ps;
     }
+    o.load = lens_cli_options_get(&lopt);
     render_stats st;
     lens_err err;
-    if (render_run(&o, &st, &err)) {
+    int rc = render_run(&o, &st, &err);
+    lens_cli_options_free(&lopt);
+    if (rc) {
         diag_print(prog, &err);
         return 1;
     }

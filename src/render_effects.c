@@ -131,7 +131,9 @@ static uint64_t fnv(uint64_t h, const void *data, size_t len)
     return h;
 }
 
-void render_effects_key(const lens_t *lens, const render_effects *e, char key[17])
+/* The lens as written, and its indices at three wavelengths: a glass name resolved in
+ * another catalog (--glass-catalog) must not find a system fitted to the first one. */
+static uint64_t lens_hash(const lens_t *lens)
 {
     uint64_t h = 0xcbf29ce484222325ull;
     char *buf = NULL;
@@ -143,6 +145,18 @@ void render_effects_key(const lens_t *lens, const render_effects *e, char key[17
         h = fnv(h, buf, len);
     }
     free(buf);
+    const double lam[3] = {0.45, GLASS_D_LINE, 0.65};
+    for (size_t i = 0; i < lens->nsurf; i++)
+        for (int k = 0; k < 3; k++) {
+            double n = glass_index_unchecked(&lens->surf[i].medium, lam[k]);
+            h = fnv(h, &n, sizeof n);
+        }
+    return h;
+}
+
+void render_effects_key(const lens_t *lens, const render_effects *e, char key[17])
+{
+    uint64_t h = lens_hash(lens);
     char eff[160];
     int n = snprintf(eff, sizeof eff, "v2 disp %d eta %d vig %d r %.6g tol %.6g D %.6g",
                      e->dispersion, e->transmittance, e->vignetting, e->domain_radius,
@@ -214,16 +228,8 @@ int render_effects_sampler(const lens_t *lens, double lambda_min, double lambda_
                            double rmax, const char *dir, int threads, FILE *log,
                            render_sampler *smp, lens_err *err)
 {
-    uint64_t h = 0xcbf29ce484222325ull;
-    char *buf = NULL, tag[160], path[1200] = "";
-    size_t len = 0;
-    FILE *m = open_memstream(&buf, &len);
-    if (m) {
-        lens_write(m, lens);
-        fclose(m);
-        h = fnv(h, buf, len);
-    }
-    free(buf);
+    uint64_t h = lens_hash(lens);
+    char tag[160], path[1200] = "";
     int n = snprintf(tag, sizeof tag, "pupil v1 %.17g %.17g %.17g", lambda_min, lambda_max, rmax);
     h = fnv(h, tag, (size_t)n);
     memset(smp, 0, sizeof *smp);

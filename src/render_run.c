@@ -9,6 +9,7 @@
 #include "glass.h"
 #include "image.h"
 #include "lens.h"
+#include "lens_cli_options.h"
 #include "poly.h"
 #include "render_effects.h"
 #include "render_lens.h"
@@ -139,7 +140,8 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         else snprintf(lens_buf, sizeof lens_buf, "%s", lp); /* as recorded, from the cwd */
         lens_path = lens_buf;
     }
-    if (lens_load(lens_path, NULL, &lens, err)) goto done;
+    if (lens_load(lens_path, o->load, &lens, err)) goto done;
+    if (o->log) lens_cli_warn_notes("lens-render", &lens); /* what an importer skipped */
     if (sys) {
         /* a fitted system has its focus and aperture baked in */
         if (!isnan(sc.focus) || !isnan(sc.fstop)) {

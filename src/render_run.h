@@ -5,10 +5,12 @@
 #include <stdio.h>
 
 #include "diag.h"
+#include "lens.h"
 #include "render.h"
 
 typedef struct {
     const char *scene;      /* scene file */
+    const lens_load_options *load; /* glass catalogs and fallback for the lens; NULL: defaults */
     const char *exr;        /* output image (required) */
     const char *png;        /* preview, or NULL */
     const char *cache_dir;  /* fitted systems; NULL: $XDG_CACHE_HOME/sparselens or ~/.cache/sparselens */
