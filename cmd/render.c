@@ -11,7 +11,7 @@
 static const char *usage =
     "usage: lens-render SCENE -o IMAGE.exr [--png PREVIEW.png] [--exact] [--spp N]\n"
     "                   [--threads N] [--cache DIR] [--rear-sampling] [--reference REF.exr]\n"
-    "                   [--quiet]\n"
+    "                   [--estimator eq13|full] [--quiet]\n"
     "Renders SCENE (man 5 lens-scene) through its lens with the Monte Carlo estimator of\n"
     "the supplement (Eq. 13): camera rays start on the pixel, take their direction from\n"
     "the line pupil, cross the lens by a polynomial system fitted for the effects the\n"
@@ -25,6 +25,9 @@ static const char *usage =
     "  --cache DIR        fitted systems (default $XDG_CACHE_HOME/sparselens)\n"
     "  --rear-sampling    draw directions over the rear element instead of the line pupil\n"
     "  --reference FILE   print the RMS error against this image (same size)\n"
+    "  --estimator E      eq13 (default): the simplified weight of Eq. 13; full: Eq. 3 with\n"
+    "                     G-bar (Eq. 12) and p_A(s1) (Eq. 8) evaluated, |A| from the\n"
+    "                     system's Jacobian (the same image, slower: a check)\n"
     "  --quiet            no decisions, progress or figures on stderr\n"
     LENS_CLI_OPTIONS_HELP;
 
@@ -61,6 +64,11 @@ int main(int argc, char **argv)
             o.threads = (int)cli_count(prog, "--threads", v, 1, 1024);
         else if (cli_opt(prog, argc, argv, &i, "--cache", &v)) o.cache_dir = v;
         else if (cli_opt(prog, argc, argv, &i, "--reference", &v)) o.reference = v;
+        else if (cli_opt(prog, argc, argv, &i, "--estimator", &v)) {
+            if (!strcmp(v, "full")) o.estimator = RENDER_ESTIMATOR_FULL;
+            else if (!strcmp(v, "eq13")) o.estimator = RENDER_ESTIMATOR_EQ13;
+            else diag_die(prog, "--estimator: '%s' is not eq13 or full", v);
+        }
         else if (!strcmp(argv[i], "--exact")) o.exact = 1;
         else if (!strcmp(argv[i], "--rear-sampling")) o.rear_sampling = 1;
         else if (!strcmp(argv[i], "--quiet")) quiet = 1;

@@ -20,8 +20,17 @@
 typedef int (*render_map_fn)(void *ctx, const double in[5], double org[3], double dir[3],
                              double *eta);
 
+/* The same sensor ray to the outer pupil's coordinates o = (out_x, out_y, out_u, out_v)
+ * (trace.h) and, if jac is not NULL, their Jacobian jac[4 k + i] = d o_k / d in_i over
+ * in = (x, y, u, v) (NAN when unknown). Returns P_a as map does, for the same ray:
+ * ray_from_outer(lens, o) is the ray map gives. For the full estimator only. */
+typedef int (*render_outer_fn)(void *ctx, const double in[5], double o[4], double jac[16],
+                               double *eta);
+
 typedef struct {
     render_map_fn map;
+    render_outer_fn outer; /* NULL: no full estimator (analytic lenses) */
+    const lens_t *lens;    /* the lens whose front element o lies on (with outer) */
     void *ctx;
     double sensor_w, sensor_h; /* mm, centred on the axis */
     double rear_dist;          /* sensor plane to the rear element's vertex, mm */
@@ -58,9 +67,34 @@ void render_sampler_free(render_sampler *s);
 double render_sampler_sample(const render_sampler *s, double x, double y, double r1, double r2,
                              double *u, double *v);
 
+/* Eq. 13 (the default), or the unsimplified estimator: Eq. 3 with G-bar (Eq. 12) and
+ * p_A(s1) (Eq. 8) each evaluated, with |A| from the lens's Jacobian (render.c). */
+typedef enum { RENDER_ESTIMATOR_EQ13, RENDER_ESTIMATOR_FULL } render_estimator;
+
+/* The factors of the full estimator for one camera ray (render_full_weight). */
+typedef struct {
+    double A;        /* |det d(out_x, out_y) / d(u, v)|: line pupil -> front element */
+    double J_all;    /* area on the front element per d out_x d out_y (frames) */
+    double ds1_dsf;  /* area at s1 per area on the front element */
+    double cos_s0, cos_s0p; /* at the sensor point and at the line-pupil point */
+    double pA_s1;    /* Eq. 8: density of s1 per area of the scene surface */
+    double G;        /* Eq. 12 without P_a T_r: cos(theta_s0) dw_s0 / dA(s1) */
+    double weight;   /* T_r G / p_A(s1) (W_e / p_A(s0) = 1): the ray's weight before L */
+} render_full_terms;
+
+/* Evaluates the factors at the sensor ray in (x, y, u, v, lambda) drawn with density pdf
+ * (per du dv), whose outer-pupil coordinates o and Jacobian jac come from cam->outer,
+ * with transmittance eta, reaching the scene at s1 with unit normal n1 (scene frame).
+ * 0, or -1 when a factor is not finite and positive (|A| = 0, a blocked difference
+ * step, a grazing or exactly focused hit): the caller falls back to Eq. 13. */
+int render_full_weight(const lens_t *lens, const double in[5], const double o[4],
+                       const double jac[16], double pdf, double eta, const double s1[3],
+                       const double n1[3], render_full_terms *t);
+
 typedef struct {
     const scene_t *scene;
     const render_camera *cam;
+    render_estimator estimator;
     const render_sampler *sampler;
     int use_eta;  /* weight by the Fresnel transmittance T_r ... */
     double eta_const; /* ... else by this constant (0 means 1) */
@@ -74,6 +108,8 @@ typedef struct {
 typedef struct {
     double camera_rays; /* rays sent into the lens */
     double passed_rays; /* of those, the ones that passed (P_a = 1) */
+    double full_rays;   /* full estimator: rays weighted by it (they hit the scene) */
+    double full_fallback; /* ... and rays where it could not be evaluated (Eq. 13 used) */
     double seconds;
 } render_stats;
 

@@ -214,12 +214,20 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         goto done;
     }
     if (o->log)
-        fprintf(o->log, "rendering %dx%d, %ld spp, %s mode, %s sampling\n", sc.width, sc.height,
-                sc.spp, scene_mode_name(sc.mode), o->rear_sampling ? "rear-element" : "line-pupil");
-    render_job job = {.scene = &sc, .cam = &cam, .sampler = &smp, .use_eta = use_eta,
+        fprintf(o->log, "rendering %dx%d, %ld spp, %s mode, %s sampling, %s\n", sc.width, sc.height,
+                sc.spp, scene_mode_name(sc.mode), o->rear_sampling ? "rear-element" : "line-pupil",
+                o->estimator == RENDER_ESTIMATOR_FULL ? "full estimator (Eq. 3, 8, 12)"
+                                                      : "estimator of Eq. 13");
+    render_job job = {.scene = &sc, .cam = &cam, .sampler = &smp, .estimator = o->estimator,
+                      .use_eta = use_eta,
                       .eta_const = eta_const, .spp = sc.spp, .threads = o->threads, .progress = o->progress,
                       .progress_ctx = o->progress_ctx};
     if (render_image(&job, img, NULL, st, err)) goto done;
+    if (o->estimator == RENDER_ESTIMATOR_FULL && o->log && st)
+        fprintf(o->log, "full estimator: %.0f rays reached the scene, %.0f of them (%.3g%%) "
+                "weighted by Eq. 13 (a factor not finite: |A| = 0, a blocked difference step)\n",
+                st->full_rays, st->full_fallback,
+                st->full_rays > 0 ? 100 * st->full_fallback / st->full_rays : 0);
     if (write_exr(o->exr, sc.width, sc.height, img, err)) goto done;
     if (o->png && render_write_png(o->png, sc.width, sc.height, img, err)) goto done;
     if (o->reference) {
