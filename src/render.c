@@ -284,6 +284,13 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
             if (!u_nee) continue;
             for (int px = 0; px < W; px++) {
                 size_t pix = (size_t)py * W + px;
+                if (job->x1 > 0 && (px < job->x0 || px >= job->x1 || py < job->y0 || py >= job->y1)) {
+                    for (int c = 0; c < 3; c++) {
+                        rgb[3 * pix + c] = 0;
+                        if (var) var[3 * pix + c] = 0;
+                    }
+                    continue;
+                }
                 pix_rng rng = {sc->seed * 0x632BE59BD9B4E019ull + pix * 0xD1B54A32D192ED03ull};
                 double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
                 int passed = 0;
@@ -319,7 +326,10 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
         return -1;
     }
     if (st) {
-        st->camera_rays = (double)W * H * job->spp;
+        double npix = job->x1 > 0 ? (double)(fmin(job->x1, W) - fmax(job->x0, 0)) *
+                                        (fmin(job->y1, H) - fmax(job->y0, 0))
+                                  : (double)W * H;
+        st->camera_rays = npix * job->spp;
         st->passed_rays = passed_total;
         st->full_rays = full_total;
         st->full_fallback = fallback_total;

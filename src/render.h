@@ -100,6 +100,9 @@ typedef struct {
     double eta_const; /* ... else by this constant (0 means 1) */
     long spp;
     int threads;  /* <= 0: OpenMP default */
+    /* pixels rendered: [x0, x1) x [y0, y1); x1 == 0: the whole image. The others are 0
+     * (a crop: a test looks at one bokeh at a time). Samples do not depend on it. */
+    int x0, y0, x1, y1;
     /* called now and then from one thread with the fraction of rows done; may be NULL */
     void (*progress)(void *ctx, double done);
     void *progress_ctx;
