@@ -23,8 +23,9 @@
  *                      s0' = s0 + (u, v, -1) mm; its area measure is du dv, so
  *                      p_A(s0') = p(u, v), the sampler's density (render_sampler.c).
  *   |J_all| |A|        cancel between G-bar (Eq. 12) and p_A(s1) (Eq. 8), as Eq. 13 shows:
- *                      neither is evaluated per ray. (The system's Jacobian is what
- *                      Eq. 8's p_A(s1) needs; nothing here needs p_A(s1) alone.)
+ *                      the default weight evaluates neither. --estimator full
+ *                      (RENDER_ESTIMATOR_FULL, render_full_weight) evaluates both, and
+ *                      tests/unit/test_render_full.c shows the weights agree to rounding.
  *   cos(theta_s0) cos^2(theta_s1) cos(theta_sf) / (cos^2(theta_s0') |s_f - s1|^2)
  *                      the remaining geometry. Eq. 5 writes ds1/ds_f as a function of s_f
  *                      alone (cos^2 theta_sf / cos^2 theta_s1), while G (Eq. 10) is
@@ -40,6 +41,28 @@
  *   with cos(theta_s0) = 1 / sqrt(1 + u^2 + v^2). tests/unit/test_render.c checks this
  *   weight against a finite-difference solid angle, and the whole estimator against the
  *   closed-form irradiance behind a circular aperture and against rear-element sampling.
+ *
+ * The full estimator (render_full_weight), Eq. 3 = L W_e G-bar / (p_A(s0) p_A(s1)), with
+ * the chain of Eq. 5-7 made exact for this parametrisation:
+ *   s0' -> s_f   |A| = |det d(out_x, out_y) / d(u, v)| at fixed s0 (the pupil point moves
+ *                by (du, dv) mm), from the system's Jacobian (poly_eval_jacobian; the
+ *                exact map: central differences of the tracer). The supplement's block
+ *                d(out_x, out_y) / d(x, y) is taken at fixed (u, v), along which a camera
+ *                sample does not move; tests compare both blocks with the exact tracer.
+ *                |J_all|: area on the front element per d out_x d out_y (its sag; the
+ *                lens-to-scene half turn has determinant 1), from the frames.
+ *   s_f -> s1    |ds1/dsf|: the ray field over the front element, d(ray)/d(out_x, out_y)
+ *                = d(ray)/d(u, v) A^-1, carried to the scene surface at s1 (projected
+ *                along the ray onto its tangent plane). Eq. 5's closed form
+ *                cos^2(theta_sf) / cos^2(theta_s1) leaves out the distance and the
+ *                spread of the ray field; here the Jacobian is computed. Needs A
+ *                invertible: where |A| = 0 the chain breaks (Eq. 13 is used, counted).
+ *   Eq. 8        p_A(s1) = p_A(s0') / (|ds1/dsf| |J_all| |A|) (the supplement writes the
+ *                Jacobian as a factor; a density divides by it);
+ *   Eq. 12       G-bar = P_a T_r cos(theta_s0) cos(theta_s0') / |s0' - s0|^2 /
+ *                (|J_all| |A| |ds1/dsf|), the projected solid angle at s0 per area at s1
+ *                (equal, by the conservation of etendue, to dw_perp(s1) / dA(s0)).
+ *   Their ratio is Eq. 13's weight; the factors are exposed in render_full_terms.
  */
 #include "render.h"
 
