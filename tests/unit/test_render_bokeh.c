@@ -35,13 +35,18 @@
 #define RES_Y 314
 #define WIN 40    /* window around a bokeh, pixels */
 #define DIST 500.0
-#define RADIUS 6.0
-#define CONE atan(14.0 / DIST) /* half-angle of the light-traced cone */
+#define RADIUS 10.0
+#define CONE atan(5.0 / DIST) /* half-angle of the light-traced cone */
 
 typedef struct {
     double cx, cy;   /* centroid, mm */
     double sr, st;   /* standard deviations along the radius and across it, mm */
 } moments;
+
+static double dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 static double u01(uint64_t *s)
 {
@@ -75,7 +80,7 @@ static moments finish(const acc *a, double ex, double ey)
 
 /* The sphere whose chief ray lands on sensor point (sx, sy): lens-frame centre. */
 static void place(const lens_t *lens, const double *n, double sx, double sy, double P[3],
-                  double dir[3])
+                  double dir[3], double F[3])
 {
     double u, v;
     assert_int_equal(aim_from_sensor(lens, n, sx, sy, 0, 0, &u, &v), 0);
@@ -83,12 +88,13 @@ static void place(const lens_t *lens, const double *n, double sx, double sy, dou
     lens_ray r;
     ray_from_sensor(lens, in, &r);
     assert_int_equal(trace_to_object(lens, n, &r, 0).status, TRACE_PASSED);
-    for (int k = 0; k < 3; k++) P[k] = r.o[k] + DIST * r.d[k], dir[k] = r.d[k];
+    for (int k = 0; k < 3; k++) P[k] = r.o[k] + DIST * r.d[k], dir[k] = r.d[k], F[k] = r.o[k];
 }
 
 /* Light traced from the silhouette disk (radius RADIUS, facing the lens) to the sensor. */
 static moments light_traced(const lens_t *lens, const double *n, const double P[3],
-                            const double dir[3], double ex, double ey, int rays)
+                            const double dir[3], const double F[3], double ex, double ey,
+                            int rays)
 {
     /* a frame (a, b) across the view direction; the cone towards the front element */
     double a[3] = {dir[1], -dir[0], 0}, la = hypot(a[0], a[1]);
@@ -103,10 +109,12 @@ static moments light_traced(const lens_t *lens, const double *n, const double P[
         double rr = RADIUS * sqrt(u01(&st)), ph = 2 * M_PI * u01(&st);
         double o[3], d[3];
         for (int k = 0; k < 3; k++) o[k] = P[k] + rr * (cos(ph) * a[k] + sin(ph) * b[k]);
-        /* uniform in solid angle inside a cone from o around the chief ray (towards the
-         * stop's centre), wide enough for the entrance pupil: no ray may pass in its
-         * outer fifth (asserted below), so none outside it is missed */
-        double to[3] = {-dir[0], -dir[1], -dir[2]};
+        /* uniform in solid angle inside a cone from o towards F, where the chief ray (to
+         * the stop's centre) meets the front element, wide enough for the entrance
+         * pupil: no ray may pass in its outer fifth (asserted below), so none outside it
+         * is missed */
+        double to[3] = {F[0] - o[0], F[1] - o[1], F[2] - o[2]}, lt = sqrt(dot(to, to));
+        for (int k = 0; k < 3; k++) to[k] /= lt;
         double cmax = cos(CONE), c = 1 - u01(&st) * (1 - cmax), s = sqrt(1 - c * c),
                q = 2 * M_PI * u01(&st);
         double p1[3] = {to[1], -to[0], 0}, l1 = hypot(p1[0], p1[1]);
@@ -177,29 +185,29 @@ static void test_cats_eye(void **state)
                                          0.5 * hypot(SW, SH), 0, &err), 0);
     const char *san = getenv("SANITIZE");
     int sanitized = san && *san;
-    long spp = getenv("BOKEH_SPP") ? atol(getenv("BOKEH_SPP")) : sanitized ? 32 : 128;
-    int rays = getenv("BOKEH_RAYS") ? atoi(getenv("BOKEH_RAYS")) : sanitized ? 100000 : 400000;
+    long spp = getenv("BOKEH_SPP") ? atol(getenv("BOKEH_SPP")) : sanitized ? 48 : 128;
+    int rays = getenv("BOKEH_RAYS") ? atoi(getenv("BOKEH_RAYS")) : sanitized ? 40000 : 200000;
     /* the centre, and 85% of the way to the corner along the diagonal */
     double rc = 0.85 * 0.5 * hypot(SW, SH), ang = atan2(SH, SW);
     const double pts[2][2] = {{0, 0}, {rc * cos(ang), rc * sin(ang)}};
     moments mr[2], ml[2];
     for (int k = 0; k < 2; k++) {
-        double ex = k ? cos(ang) : 1, ey = k ? sin(ang) : 0, P[3], dir[3];
-        place(&lens, n, pts[k][0], pts[k][1], P, dir);
+        double ex = k ? cos(ang) : 1, ey = k ? sin(ang) : 0, P[3], dir[3], F[3];
+        place(&lens, n, pts[k][0], pts[k][1], P, dir, F);
         mr[k] = rendered(&lens, &smp, P, pts[k][0], pts[k][1], ex, ey, spp);
-        ml[k] = light_traced(&lens, n, P, dir, ex, ey, rays);
+        ml[k] = light_traced(&lens, n, P, dir, F, ex, ey, rays);
         print_message("%s: rendered centroid (%.3f, %.3f) sd radial %.4f tangential %.4f mm; "
                       "light traced (%.3f, %.3f) %.4f %.4f mm\n", k ? "corner" : "centre",
                       mr[k].cx, mr[k].cy, mr[k].sr, mr[k].st, ml[k].cx, ml[k].cy, ml[k].sr, ml[k].st);
         /* the renderer against the light's own path */
         /* (tolerances: about three times the scatter over seeds, 1-2% at 128 spp) */
-        double tol = sanitized ? 0.10 : 0.06;
+        double tol = sanitized ? 0.12 : 0.06;
         assert_true(hypot(mr[k].cx - ml[k].cx, mr[k].cy - ml[k].cy) < 2 * tol * ml[k].st);
         assert_true(fabs(mr[k].sr / ml[k].sr - 1) < tol);
         assert_true(fabs(mr[k].st / ml[k].st - 1) < tol);
     }
     /* round at the centre; a cat's eye at the corner */
-    assert_true(fabs(mr[0].sr / mr[0].st - 1) < (sanitized ? 0.05 : 0.03));
+    assert_true(fabs(mr[0].sr / mr[0].st - 1) < (sanitized ? 0.08 : 0.03));
     assert_true(mr[1].sr < 0.8 * mr[1].st);
     assert_true(mr[1].sr < 0.8 * mr[0].sr);
     render_sampler_free(&smp);
