@@ -154,8 +154,8 @@ echo "| field point | rendered radial | rendered tangential | light-traced radia
 echo "|---|---|---|---|---|"
 ${BUILD:-build}/tests/test_render_bokeh 2>&1 | sed -n 's/^\(centre\|corner\): rendered centroid ([^)]*) sd radial \([0-9.]*\) tangential \([0-9.]*\) mm; light traced ([^)]*) \([0-9.]*\) \([0-9.]*\) mm/| \1 | \2 | \3 | \4 | \5 |/p'
 echo
-echo "Round at the centre (the two within 3%), a cat's eye at the corner (radial a third of"
-echo "tangential, and a fifth of the centre disk's), and the renderer matches the light's own"
+echo "Round at the centre (the two within 3%), a cat's eye at the corner (radial about 0.4 of"
+echo "tangential, and under 0.3 of the centre disk's), and the renderer matches the light's own"
 echo "path within the test's 6%."
 echo
 echo "![bokeh on fisheye-ii](render/bokeh-fisheye.png)"
