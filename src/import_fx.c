@@ -138,11 +138,10 @@ static int fx_surface(char *text, lens_t *lens, fx_state *st, const char *path, 
                       m);
             return -1;
         }
-        if (!(nd >= 1) || !(vd > 0)) {
-            lens_errf(err, path, line, "glass '%s': n_d %g must be >= 1 and V_d %g positive", m,
-                      nd, vd);
+        char what[64];
+        snprintf(what, sizeof what, "glass '%.40s'", m);
+        if (glass_check_ndvd(nd, vd, what, path, line, err) != 0)
             return -1;
-        }
         const glass_t *g = NULL;
         const char *searched;
         int rc = strcasecmp(m, "abbe") == 0 ? 1 : material_lookup(&st->mat, m, &g, &searched, err);

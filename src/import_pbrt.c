@@ -64,11 +64,10 @@ int lens_read_pbrt(FILE *f, const char *path, const lens_load_options *opt, lens
         if (v[2] == 0 || v[2] == 1) {
             s->medium = glass_air();
             strcpy(s->material, s->is_stop ? "stop" : "air");
-        } else if (v[2] > 1) {
+        } else if (glass_check_ndvd(v[2], NAN, "index", path, line, err) == 0) {
             s->medium = glass_constant(v[2]);
             snprintf(s->material, sizeof s->material, "%s", tok[2]);
         } else {
-            lens_errf(err, path, line, "index %g is below 1", v[2]);
             goto out;
         }
         if (!(v[3] > 0)) {

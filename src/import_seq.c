@@ -67,27 +67,11 @@ static void refuse(qsurf *q, long line, const char *why)
     }
 }
 
-static int any_nonzero(char **tok, int n, int from)
-{
-    for (int i = from; i < n; i++) {
-        double v;
-        if (parse_double(tok[i], &v) == 0 && v != 0)
-            return 1;
-    }
-    return 0;
-}
-
 static qsurf *new_surface(seq_state *st, int kind, long line, lens_err *err)
 {
-    if (st->ns == st->cap) {
-        size_t nc = st->cap ? 2 * st->cap : 16;
-        qsurf *ns = realloc(st->s, nc * sizeof *ns);
-        if (!ns) {
-            lens_errf(err, st->path, line, "out of memory");
-            return NULL;
-        }
-        st->s = ns;
-        st->cap = nc;
+    if (import_grow((void **)&st->s, &st->cap, st->ns, sizeof *st->s) != 0) {
+        lens_errf(err, st->path, line, "out of memory");
+        return NULL;
     }
     qsurf *q = &st->s[st->ns++];
     memset(q, 0, sizeof *q);
@@ -287,7 +271,7 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
             refuse(cur, line, "is a mirror (REFL); sparselens models refracting lenses only");
     } else if (import_eq(k, "ADE") || import_eq(k, "BDE") || import_eq(k, "CDE") ||
                import_eq(k, "XDE") || import_eq(k, "YDE") || import_eq(k, "ZDE")) {
-        if (any_nonzero(tok, n, 1))
+        if (import_any_nonzero(tok, n, 1))
             refuse(cur, line, "is tilted or decentred; sparselens models centred systems only");
     } else if (import_eq(k, "DAR") || import_eq(k, "BEN") || import_eq(k, "REV") ||
                import_eq(k, "RET") || import_eq(k, "DEC") || import_eq(k, "TILT")) {
@@ -352,11 +336,11 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
                 st->yan[st->nyan++] = v;
     } else if (import_eq(k, "XAN") || import_eq(k, "XOB") || import_eq(k, "XIM") ||
                import_eq(k, "XRI")) {
-        if (any_nonzero(tok, n, 1))
+        if (import_any_nonzero(tok, n, 1))
             import_skip(&st->skips, "x fields");
     } else if (import_eq(k, "VUX") || import_eq(k, "VLX") || import_eq(k, "VUY") ||
                import_eq(k, "VLY")) {
-        if (any_nonzero(tok, n, 1))
+        if (import_any_nonzero(tok, n, 1))
             import_skip(&st->skips, "vignetting factors");
     } else if (import_eq(k, "PIM")) {
         import_skip(&st->skips, "paraxial image solve (thickness as written)");
@@ -612,7 +596,11 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
             s->medium = glass_air();
             strcpy(s->material, "air");
         } else if (fictitious(q->glass, &nd, &vd)) {
-            if (import_glass_model(s, nd, vd, st->path, q->glass_line, err) != 0) {
+            /* A code always carries V_d: 0 there is not "no dispersion" but a bad code. */
+            char what[64];
+            snprintf(what, sizeof what, "glass %.40s", q->glass);
+            if (glass_check_ndvd(nd, vd, what, st->path, q->glass_line, err) != 0 ||
+                import_glass_model(s, nd, vd, st->path, q->glass_line, err) != 0) {
                 import_glass_free(&gl);
                 free(missing);
                 return -1;
@@ -662,21 +650,15 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
 int lens_parse_seq(const char *data, size_t len, const char *path,
                    const lens_load_options *opt, lens_t *lens, lens_err *err)
 {
-    lens_init(lens);
-    char *text = import_decode(data, len);
-    if (!text) {
-        lens_errf(err, path, 0, "out of memory");
+    char *text = import_begin(data, len, path, "CODE V", lens, err);
+    if (!text)
         return -1;
-    }
     seq_state st;
     memset(&st, 0, sizeof st);
     st.path = path;
     st.lens = lens;
     st.unit = 1;
     st.epd = st.fno = NAN;
-    snprintf(lens->path, sizeof lens->path, "%s", path);
-    const char *base = strrchr(path, '/');
-    snprintf(lens->source, sizeof lens->source, "CODE V file %s", base ? base + 1 : path);
 
     import_lines it = {text, 0};
     char *line, *tok[SEQ_MAX_TOK];
@@ -746,12 +728,5 @@ int lens_parse_seq(const char *data, size_t len, const char *path,
 int lens_read_seq(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
                   lens_err *err)
 {
-    char *data;
-    size_t len;
-    lens_init(lens);
-    if (import_read_stream(f, path, &data, &len, err) != 0)
-        return -1;
-    int rc = lens_parse_seq(data, len, path, opt, lens, err);
-    free(data);
-    return rc;
+    return import_read_parse(f, path, opt, lens, err, lens_parse_seq);
 }

@@ -97,16 +97,6 @@ static void refuse(zsurf *z, long line, const char *fmt, const char *what)
     z->refuse_line = line;
 }
 
-static int any_nonzero(char **tok, int n, int from)
-{
-    for (int i = from; i < n; i++) {
-        double v;
-        if (parse_double(tok[i], &v) == 0 && v != 0)
-            return 1;
-    }
-    return 0;
-}
-
 static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, lens_err *err)
 {
     const char *k = tok[0];
@@ -165,7 +155,7 @@ static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, le
     } else if (import_eq(k, "COAT")) {
         import_skip(&st->skips, "coatings");
     } else if (import_eq(k, "IGNR")) {
-        if (any_nonzero(tok, n, 1))
+        if (import_any_nonzero(tok, n, 1))
             refuse(z, line, "%s", "is marked 'ignore this surface'; remove it in the design first");
     } else if (import_eq(k, "OBSC") || import_eq(k, "OBDC")) {
         import_skip(&st->skips, "obscurations");
@@ -173,7 +163,7 @@ static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, le
         import_skip(&st->skips, "non-circular apertures (DIAM used)");
     } else if (!strncmp(k, "DEC", 3) || !strncmp(k, "TILT", 4) || !strncmp(k, "SCB", 3)) {
         /* Tilt/decentre of a surface: harmless when all zero, refused otherwise. */
-        if (any_nonzero(tok, n, 1))
+        if (import_any_nonzero(tok, n, 1))
             refuse(z, line, "%s", "is tilted or decentred; sparselens models centred systems only");
     } else if (import_eq(k, "TOL") || !strncmp(k, "TOL", 3)) {
         import_skip(&st->skips, "tolerance data");
@@ -285,7 +275,7 @@ static int system_key(zmx_state *st, char *raw, char **tok, int n, long line, le
     } else if (!strncmp(k, "MFE", 3) || import_eq(k, "MNCA") || import_eq(k, "OPER")) {
         import_skip(&st->skips, "merit function");
     } else if (!strncmp(k, "VD", 2) || !strncmp(k, "VC", 2) || import_eq(k, "VANN")) {
-        if (any_nonzero(tok, n, 1))
+        if (import_any_nonzero(tok, n, 1))
             import_skip(&st->skips, "field vignetting factors");
     } else if (!silent_system_key(k)) {
         char label[40];
@@ -487,21 +477,15 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
 int lens_parse_zmx(const char *data, size_t len, const char *path,
                    const lens_load_options *opt, lens_t *lens, lens_err *err)
 {
-    lens_init(lens);
-    char *text = import_decode(data, len);
-    if (!text) {
-        lens_errf(err, path, 0, "out of memory");
+    char *text = import_begin(data, len, path, "Zemax", lens, err);
+    if (!text)
         return -1;
-    }
     zmx_state st;
     memset(&st, 0, sizeof st);
     st.path = path;
     st.lens = lens;
     st.unit = 1;
     st.epd = st.fnum = NAN;
-    snprintf(lens->path, sizeof lens->path, "%s", path);
-    const char *base = strrchr(path, '/');
-    snprintf(lens->source, sizeof lens->source, "Zemax file %s", base ? base + 1 : path);
 
     import_lines it = {text, 0};
     char *line, *tok[ZMX_MAX_TOK], raw[256];
@@ -523,16 +507,10 @@ int lens_parse_zmx(const char *data, size_t len, const char *path,
                 rc = -1;
                 break;
             }
-            if (st.ns == st.cap) {
-                size_t nc = st.cap ? 2 * st.cap : 16;
-                zsurf *ns = realloc(st.s, nc * sizeof *ns);
-                if (!ns) {
-                    lens_errf(err, path, it.line, "out of memory");
-                    rc = -1;
-                    break;
-                }
-                st.s = ns;
-                st.cap = nc;
+            if (import_grow((void **)&st.s, &st.cap, st.ns, sizeof *st.s) != 0) {
+                lens_errf(err, path, it.line, "out of memory");
+                rc = -1;
+                break;
             }
             cur = &st.s[st.ns++];
             memset(cur, 0, sizeof *cur);
@@ -564,12 +542,5 @@ int lens_parse_zmx(const char *data, size_t len, const char *path,
 int lens_read_zmx(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
                   lens_err *err)
 {
-    char *data;
-    size_t len;
-    lens_init(lens);
-    if (import_read_stream(f, path, &data, &len, err) != 0)
-        return -1;
-    int rc = lens_parse_zmx(data, len, path, opt, lens, err);
-    free(data);
-    return rc;
+    return import_read_parse(f, path, opt, lens, err, lens_parse_zmx);
 }

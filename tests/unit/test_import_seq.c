@@ -12,7 +12,7 @@
 #include "import_check.h"
 
 static const char *const test_catalogs[] = {DATA "test.agf", NULL};
-static const lens_load_options with_catalog = {test_catalogs, 0};
+static const lens_load_options with_catalog = {.catalogs = test_catalogs};
 
 static void load(const char *path, const lens_load_options *opt, lens_t *lens)
 {
