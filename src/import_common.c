@@ -143,9 +143,14 @@ int import_read_file(const char *path, char **data, size_t *len, lens_err *err)
 }
 
 char *import_begin(const char *data, size_t len, const char *path, const char *program,
-                   lens_t *lens, lens_err *err)
+                   lens_t *lens, import_system *sys, lens_err *err)
 {
     lens_init(lens);
+    memset(sys, 0, sizeof *sys);
+    sys->path = path;
+    sys->lens = lens;
+    sys->unit = 1;
+    sys->epd = sys->fno = NAN;
     snprintf(lens->path, sizeof lens->path, "%s", path);
     const char *base = strrchr(path, '/');
     snprintf(lens->source, sizeof lens->source, "%s file %s", program, base ? base + 1 : path);

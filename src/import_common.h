@@ -21,12 +21,6 @@ char *import_decode(const char *data, size_t len);
 int import_read_file(const char *path, char **data, size_t *len, lens_err *err);
 int import_read_stream(FILE *f, const char *path, char **data, size_t *len, lens_err *err);
 
-/* The start of every design-file parser: *lens emptied, lens->path = path, lens->source =
- * "PROGRAM file BASENAME", and data decoded (import_decode) into the returned text, which
- * the caller frees. NULL (err set) when out of memory. */
-char *import_begin(const char *data, size_t len, const char *path, const char *program,
-                   lens_t *lens, lens_err *err);
-
 /* A lens_read_* over a lens_parse_*: reads the whole stream f, then parses it. */
 typedef int (*import_parser)(const char *data, size_t len, const char *path,
                              const lens_load_options *opt, lens_t *lens, lens_err *err);
@@ -65,6 +59,24 @@ typedef struct {
 void import_skip(import_skips *sk, const char *label);
 /* Appends "skipped: a (2), b" to lens->notes (nothing when there is nothing). */
 void import_skips_note(const import_skips *sk, lens_t *lens);
+
+/* What both design-file parsers keep about the whole system while they read. */
+typedef struct {
+    const char *path;  /* for messages */
+    lens_t *lens;      /* being built */
+    import_skips skips;
+    double unit;       /* mm per length unit of the file */
+    double epd;        /* entrance pupil diameter, file units; NAN if not given */
+    double fno;        /* f-number; NAN if not given */
+} import_system;
+
+/* The start of every design-file parser: *lens emptied, lens->path = path, lens->source =
+ * "PROGRAM file BASENAME", *sys set for it (mm, no aperture yet), and data decoded
+ * (import_decode) into the returned text, which the caller frees. NULL (err set) when out
+ * of memory. */
+char *import_begin(const char *data, size_t len, const char *path, const char *program,
+                   lens_t *lens, import_system *sys, lens_err *err);
+
 
 /* Appends "; "-separated text to lens->notes, ending in "..." if it does not fit. */
 void import_note(lens_t *lens, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

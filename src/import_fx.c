@@ -92,12 +92,9 @@ static int fx_surface(char *text, lens_t *lens, fx_state *st, const char *path, 
                   "expected: radius thickness material [n_d V_d] housing-radius (%d fields)", nt);
         return -1;
     }
-    lens_surface *s = lens_add_surface(lens);
-    if (!s) {
-        lens_errf(err, path, line, "out of memory");
+    lens_surface *s = lens_add_surface_at(lens, path, line, err);
+    if (!s)
         return -1;
-    }
-    s->line = line;
     size_t idx = lens->nsurf;
     if (parse_double(tok[0], &s->radius) != 0 || s->radius == 0) {
         lens_errf(err, path, line, "radius '%s' is not a non-zero number", tok[0]);

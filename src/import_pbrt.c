@@ -52,12 +52,9 @@ int lens_read_pbrt(FILE *f, const char *path, const lens_load_options *opt, lens
                 lens_errf(err, path, line, "'%s' is not a finite number", tok[i]);
                 goto out;
             }
-        lens_surface *s = lens_add_surface(lens);
-        if (!s) {
-            lens_errf(err, path, line, "out of memory");
+        lens_surface *s = lens_add_surface_at(lens, path, line, err);
+        if (!s)
             goto out;
-        }
-        s->line = line;
         s->radius = v[0] == 0 ? INFINITY : v[0];
         s->is_stop = v[0] == 0;
         s->thickness = v[1];

@@ -84,6 +84,9 @@ int lens_copy(lens_t *dst, const lens_t *src);
 
 /* Appends a surface (importers); returns its pointer or NULL on allocation failure. */
 lens_surface *lens_add_surface(lens_t *lens);
+/* The same for readers: the surface gets source line `line`; on allocation failure err
+ * says "path:line: out of memory". */
+lens_surface *lens_add_surface_at(lens_t *lens, const char *path, long line, lens_err *err);
 void lens_init(lens_t *lens); /* empty lens, NAN metadata */
 
 double lens_total_track(const lens_t *lens); /* first vertex to sensor plane */

@@ -91,6 +91,17 @@ int lens_cli_options_take(const char *prog, int argc, char **argv, int *i, lens_
     return r;
 }
 
+int lens_cli_common_take(const char *prog, const char *usage, int argc, char **argv, int *i,
+                         lens_cli_options *o)
+{
+    if (strcmp(argv[*i], "--help") == 0 || strcmp(argv[*i], "-h") == 0) {
+        lens_cli_options_free(o);
+        fputs(usage, stdout);
+        exit(0);
+    }
+    return lens_cli_options_take(prog, argc, argv, i, o);
+}
+
 const lens_load_options *lens_cli_options_get(const lens_cli_options *o)
 {
     return &o->opt;

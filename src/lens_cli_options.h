@@ -49,6 +49,11 @@ int lens_cli_options_parse(lens_cli_options *o, int argc, char **argv, int *i, l
 /* The same for thin commands: a bad value prints "prog: ..." and exits 1. */
 int lens_cli_options_take(const char *prog, int argc, char **argv, int *i, lens_cli_options *o);
 
+/* The start of every command's argument loop: the flags above (as _take), and --help or
+ * -h, which prints usage and exits 0. Returns 1 when argv[*i] was one of them. */
+int lens_cli_common_take(const char *prog, const char *usage, int argc, char **argv, int *i,
+                         lens_cli_options *o);
+
 /* The options to pass to lens_load() or cli_load_lens(). */
 const lens_load_options *lens_cli_options_get(const lens_cli_options *o);
 

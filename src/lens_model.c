@@ -34,6 +34,17 @@ lens_surface *lens_add_surface(lens_t *lens)
     return s;
 }
 
+lens_surface *lens_add_surface_at(lens_t *lens, const char *path, long line, lens_err *err)
+{
+    lens_surface *s = lens_add_surface(lens);
+    if (!s) {
+        lens_errf(err, path, line, "out of memory");
+        return NULL;
+    }
+    s->line = line;
+    return s;
+}
+
 int lens_copy(lens_t *dst, const lens_t *src)
 {
     *dst = *src;

@@ -189,12 +189,9 @@ static int parse_surface(char **tok, int nt, lens_t *lens, material_ctx *mat, co
                   nt, nt == 1 ? "" : "s");
         return -1;
     }
-    lens_surface *s = lens_add_surface(lens);
-    if (!s) {
-        lens_errf(err, path, line, "out of memory");
+    lens_surface *s = lens_add_surface_at(lens, path, line, err);
+    if (!s)
         return -1;
-    }
-    s->line = line;
     if (parse_radius(tok[0], &s->radius) != 0) {
         lens_errf(err, path, line, "radius '%s' is not a number (inf for a flat surface)", tok[0]);
         return -1;

@@ -327,15 +327,8 @@ static void test_truncated(void **state)
         snprintf(path, sizeof path, DATA "%s", files[i]);
         size_t len;
         char *data = slurp(path, &len);
+        check_truncations(lens_parse_zmx, path, data, len, &with_catalog);
         size_t step = len / 23 + 1;
-        for (size_t cut = 0; cut < len; cut += step) {
-            lens_t lens;
-            lens_err err;
-            if (lens_parse_zmx(data, cut, path, &with_catalog, &lens, &err) == 0)
-                lens_free(&lens);
-            else
-                assert_true(strlen(err.msg) > 0);
-        }
         /* a byte flipped in the middle of each line's number */
         for (size_t at = 7; at < len; at += step) {
             char *copy = malloc(len);
