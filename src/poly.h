@@ -35,6 +35,10 @@ int poly_eval_jacobian(const poly_system *sys, const double *in, double *out, do
  * use it wherever rays come in bulk. */
 void poly_eval_batch(const poly_system *sys, size_t count, const double *in, double *out,
                      unsigned char *pass);
+/* The Jacobian of count rays (the same values as poly_eval_jacobian): jac is count x
+ * (noutputs x ninputs), row r holding d out_o / d in_i at [o * ninputs + i]. */
+void poly_eval_jacobian_batch(const poly_system *sys, size_t count, const double *in,
+                              double *jac);
 /* Evaluates part `part` whatever the radius of in (to compare parts at a boundary);
  * returns the pass flag as poly_eval does. */
 int poly_eval_part(const poly_system *sys, int part, const double *in, double *out);

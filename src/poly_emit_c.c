@@ -1,11 +1,12 @@
 /* C code for a polynomial system (lens-fit --emit c, lens-eval --emit c): one function
  * that repeats poly_eval's arithmetic exactly (poly_impl.h): the same scaled inputs,
- * part selection, products in the same pairs, and the same four interleaved partial
- * sums, so compiled without floating-point contraction it gives the same bits. */
+ * part selection, products in the same pairs, and the same plan of four interleaved
+ * partial sums, so compiled without floating-point contraction it gives the same bits. */
 #include "poly_impl.h"
 
 #include <ctype.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 static int c_identifier(const char *s)
@@ -44,28 +45,48 @@ static void comment_name(FILE *f, const char *s)
     }
 }
 
-static void emit_part(FILE *f, const poly_system *s, const poly_part *p)
+/* The kept products in depth order, then per output its terms in the plan's order, a
+ * fused term multiplying its monomial in place as the plan does. */
+static int emit_part(FILE *f, const poly_system *s, const poly_part *p)
 {
     const int nin = s->nin;
-    for (int j = 0; j < p->nslots - 1 - nin; j++) {
-        int k = p->order[j];
-        fprintf(f, "        const double m%d = m%d * m%d; /* ", k, p->slot_a[k], p->slot_b[k]);
-        poly_format_monomial(f, s, p->slot_exps + (size_t)k * (size_t)nin);
+    const poly_mono *m = &p->mono;
+    const poly_plan *pl = &p->plan;
+    char *fused = calloc((size_t)m->nslots, 1);
+    if (!fused)
+        return -1;
+    for (int o = 0; o < s->nout; o++)
+        for (int q = pl->start[o] + pl->nsingle[o]; q < pl->start[o + 1]; q++)
+            fused[p->out[o].slot[pl->src[q]]] = 1;
+    for (int j = 0; j < m->nslots - 1 - nin; j++) {
+        int k = pl->order[j];
+        if (fused[k])
+            continue;
+        fprintf(f, "        const double m%d = m%d * m%d; /* ", k, m->a[k], m->b[k]);
+        poly_format_monomial(f, s, m->exps + (size_t)k * (size_t)nin);
         fputs(" */\n", f);
     }
     for (int o = 0; o < s->nout; o++) {
         const poly_out_terms *ot = &p->out[o];
+        const int t0 = pl->start[o], ns = pl->nsingle[o];
         fprintf(f, "        { /* ");
         comment_name(f, s->outputs[o]);
         fprintf(f, ": %d terms */\n", ot->nterms);
         fputs("            double a0 = 0, a1 = 0, a2 = 0, a3 = 0;\n", f);
-        for (int t = 0; t < ot->nterms; t++) {
-            fprintf(f, "            a%d += ", t % POLY_NSUMS);
+        /* the plan's order: single terms, then fused ones, each run from sum a0 on */
+        for (int q = t0; q < pl->start[o + 1]; q++) {
+            int t = pl->src[q], k = ot->slot[t];
+            fprintf(f, "            a%d += ", (q - t0 - (q - t0 >= ns ? ns : 0)) % POLY_NSUMS);
             num(f, ot->coef[t]);
-            fprintf(f, " * m%d;\n", ot->slot[t]);
+            if (q - t0 < ns)
+                fprintf(f, " * m%d;\n", k);
+            else
+                fprintf(f, " * (m%d * m%d);\n", m->a[k], m->b[k]);
         }
         fprintf(f, "            out[%d] = (a0 + a1) + (a2 + a3);\n        }\n", o);
     }
+    free(fused);
+    return 0;
 }
 
 int poly_emit_c(FILE *f, const poly_system *s, const char *func)
@@ -156,7 +177,8 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
         fputs(", ", f);
         num(f, s->parts[p].rmax);
         fputs(") */\n", f);
-        emit_part(f, s, &s->parts[p]);
+        if (emit_part(f, s, &s->parts[p]) != 0)
+            return -1;
         fputs("        break;\n    }\n", f);
     }
     fputs("    }\n", f);
