@@ -118,11 +118,15 @@ int poly_eval_part(const poly_system *s, int part, const double *in, double *out
     return passes(s, out);
 }
 
-/* A block of BLK rays in one vector (GCC/clang vector extension), split by the compiler
- * into the vectors of the clone below. Only IEEE multiplies, adds and divides, never
- * contracted: every clone gives the same bits as the scalar path. */
-typedef double vblk __attribute__((vector_size(BLK * sizeof(double))));
-typedef long long vmask __attribute__((vector_size(BLK * sizeof(long long))));
+/* A block is NV vectors of VW rays (GCC/clang vector extension). VW = 8 is one AVX-512
+ * register (two AVX2 ones); the loops over q < NV below have constant bounds and are
+ * unrolled, so the partial sums stay in registers. (A single vector type of BLK lanes
+ * would be split by the compiler through the stack.) Only IEEE multiplies, adds and
+ * divides, never contracted: every clone gives the same bits as the scalar path. */
+#define VW 8
+#define NV (BLK / VW)
+typedef double vn __attribute__((vector_size(VW * sizeof(double))));
+typedef long long vmask __attribute__((vector_size(VW * sizeof(long long))));
 
 /* What a batch run computes: the outputs with the passage test, or the derivatives
  * d out_o / d in_i of the derivative plan (chain rule applied). */
@@ -130,94 +134,132 @@ enum { RUN_EVAL, RUN_JAC };
 
 /* Runs plan pl on n rays: ray r is row idx[r] of in (row first + r if idx is NULL) and
  * goes to the same row of out (and pass). The whole loop over blocks is one function
- * per instruction set, chosen once per call. v[pl->nvals] and res[pl->nout] are
- * scratch. Unused lanes of the last block repeat its first ray so no lane computes on
- * garbage. */
+ * per instruction set, chosen once per call. v[pl->nvals * NV] and res[pl->nout * NV]
+ * are scratch (value k of lanes q * VW.. at v[k * NV + q]). Unused lanes of the last
+ * block repeat its first ray so no lane computes on garbage. */
 __attribute__((target_clones("avx512f", "avx2", "default"))) static void
 run_blocks(const poly_system *s, const poly_plan *pl, int what, size_t n, const size_t *idx,
-           size_t first, const double *in, double *out, unsigned char *pass, vblk *v,
-           vblk *res)
+           size_t first, const double *in, double *out, unsigned char *pass, vn *v, vn *res,
+           int *off)
 {
-    const int nin = s->nin, nres = pl->nout, np = pl->nprod;
-    const int *pr = pl->prod;
-    vblk *d = v + 1 + nin;
+    const int nin = s->nin, nres = pl->nout, np = pl->nprod, nt = pl->start[nres];
+    /* the plan's value numbers as offsets in doubles into v: one load each, no
+     * arithmetic on the index (half the integer work of the loops below) */
+    int *pr = off, *fa_off = off + 2 * np, *fb_off = fa_off + nt;
+    for (int j = 0; j < 2 * np; j++)
+        pr[j] = pl->prod[j] * BLK;
+    for (int t = 0; t < nt; t++) {
+        fa_off[t] = pl->fa[t] * BLK;
+        fb_off[t] = pl->fb[t] * BLK;
+    }
+    const double *vd = (const double *)v;
+    vn *d = v + (1 + nin) * NV;
     for (size_t b0 = 0; b0 < n; b0 += BLK) {
         const int m = n - b0 < BLK ? (int)(n - b0) : BLK;
+        const double *src[BLK];
         size_t row[BLK];
         for (int r = 0; r < BLK; r++) {
             size_t k = b0 + (size_t)(r < m ? r : 0);
             row[r] = idx ? idx[k] : first + k;
+            src[r] = in + row[r] * (size_t)nin;
         }
-        for (int r = 0; r < BLK; r++)
-            v[0][r] = 1;
+        for (int q = 0; q < NV; q++)
+            for (int r = 0; r < VW; r++)
+                v[q][r] = 1;
         for (int i = 0; i < nin; i++) {
             double col[BLK];
             for (int r = 0; r < BLK; r++)
-                col[r] = in[row[r] * (size_t)nin + (size_t)i];
+                col[r] = src[r][i];
             poly_scale_column(s, i, col, BLK);
-            memcpy(&v[1 + i], col, sizeof col);
+            memcpy(&v[(1 + i) * NV], col, sizeof col);
         }
-        for (int j = 0; j < np; j++)
-            d[j] = v[pr[2 * j]] * v[pr[2 * j + 1]];
+        for (int j = 0; j < np; j++) {
+            const vn *x = (const vn *)(vd + pr[2 * j]), *y = (const vn *)(vd + pr[2 * j + 1]);
+            for (int q = 0; q < NV; q++)
+                d[j * NV + q] = x[q] * y[q];
+        }
         for (int o = 0; o < nres; o++) {
             const int t0 = pl->start[o], ns = pl->nsingle[o], nf = pl->start[o + 1] - t0 - ns;
             const double *c = pl->coef + t0;
-            const int *fa = pl->fa + t0;
-            vblk a0 = {0}, a1 = {0}, a2 = {0}, a3 = {0};
+            const int *fa = fa_off + t0;
+            vn a0[NV], a1[NV], a2[NV], a3[NV];
+            for (int q = 0; q < NV; q++)
+                a0[q] = a1[q] = a2[q] = a3[q] = (vn){0};
+#define SINGLE(acc, k)                                                                    \
+    do {                                                                                   \
+        const vn *x = (const vn *)(vd + fa[k]);                                            \
+        const double ck = c[k];                                                            \
+        for (int q = 0; q < NV; q++)                                                       \
+            acc[q] += ck * x[q];                                                           \
+    } while (0)
+#define FUSED(acc, k)                                                                     \
+    do {                                                                                   \
+        const vn *x = (const vn *)(vd + fa[k]), *y = (const vn *)(vd + fb[k]);             \
+        const double ck = c[k];                                                            \
+        for (int q = 0; q < NV; q++)                                                       \
+            acc[q] += ck * (x[q] * y[q]);                                                  \
+    } while (0)
             int t = 0;
             for (; t + 4 <= ns; t += 4) {
-                a0 += c[t] * v[fa[t]];
-                a1 += c[t + 1] * v[fa[t + 1]];
-                a2 += c[t + 2] * v[fa[t + 2]];
-                a3 += c[t + 3] * v[fa[t + 3]];
+                SINGLE(a0, t);
+                SINGLE(a1, t + 1);
+                SINGLE(a2, t + 2);
+                SINGLE(a3, t + 3);
             }
             if (t < ns)
-                a0 += c[t] * v[fa[t]];
+                SINGLE(a0, t);
             if (t + 1 < ns)
-                a1 += c[t + 1] * v[fa[t + 1]];
+                SINGLE(a1, t + 1);
             if (t + 2 < ns)
-                a2 += c[t + 2] * v[fa[t + 2]];
+                SINGLE(a2, t + 2);
             c += ns;
             fa += ns;
-            const int *fb = pl->fb + t0 + ns;
+            const int *fb = fb_off + t0 + ns;
             for (t = 0; t + 4 <= nf; t += 4) {
-                a0 += c[t] * (v[fa[t]] * v[fb[t]]);
-                a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
-                a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
-                a3 += c[t + 3] * (v[fa[t + 3]] * v[fb[t + 3]]);
+                FUSED(a0, t);
+                FUSED(a1, t + 1);
+                FUSED(a2, t + 2);
+                FUSED(a3, t + 3);
             }
             if (t < nf)
-                a0 += c[t] * (v[fa[t]] * v[fb[t]]);
+                FUSED(a0, t);
             if (t + 1 < nf)
-                a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
+                FUSED(a1, t + 1);
             if (t + 2 < nf)
-                a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
-            res[o] = (a0 + a1) + (a2 + a3);
+                FUSED(a2, t + 2);
+#undef SINGLE
+#undef FUSED
+            for (int q = 0; q < NV; q++)
+                res[o * NV + q] = (a0[q] + a1[q]) + (a2[q] + a3[q]);
         }
+        const double *rs = (const double *)res; /* output k of lane r at rs[k * BLK + r] */
         if (what == RUN_JAC) {
             for (int r = 0; r < m; r++) {
-                const double *x = in + row[r] * (size_t)nin;
                 double *jr = out + row[r] * (size_t)nres;
                 for (int k = 0; k < nres; k++)
-                    jr[k] = poly_scale_chain(s, k % nin, x[k % nin], res[k][r]);
+                    jr[k] = poly_scale_chain(s, k % nin, src[r][k % nin], rs[k * BLK + r]);
             }
             continue;
-        }
-        /* the passage test of passes(), per lane (all bits set: passes) */
-        vmask ok = res[0] == res[0];
-        for (int o = 0; o < nres; o++)
-            ok &= (res[o] - res[o]) == 0; /* finite: inf - inf and nan give nan */
-        for (int c = 0; c < s->ncircles; c++) {
-            const vblk a = res[s->circles[c].a], b = res[s->circles[c].b];
-            const double rad = s->circles[c].radius;
-            ok &= a * a + b * b <= rad * rad;
         }
         for (int r = 0; r < m; r++) {
             double *o = out + row[r] * (size_t)nres;
             for (int k = 0; k < nres; k++)
-                o[k] = res[k][r];
-            if (pass)
-                pass[row[r]] = ok[r] != 0;
+                o[k] = rs[k * BLK + r];
+        }
+        if (!pass)
+            continue;
+        for (int q = 0; q < NV; q++) {
+            /* the passage test of passes(), per lane (all bits set: passes) */
+            vmask ok = res[q] == res[q];
+            for (int o = 0; o < nres; o++)
+                ok &= (res[o * NV + q] - res[o * NV + q]) == 0; /* inf - inf, nan: nan */
+            for (int c = 0; c < s->ncircles; c++) {
+                const vn a = res[s->circles[c].a * NV + q], b = res[s->circles[c].b * NV + q];
+                const double rad = s->circles[c].radius;
+                ok &= a * a + b * b <= rad * rad;
+            }
+            for (int r = q * VW; r < m && r < (q + 1) * VW; r++)
+                pass[row[r]] = ok[r % VW] != 0;
         }
     }
 }
@@ -231,18 +273,23 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
     if (count == 0)
         return;
     int maxv = 0, maxo = nw;
+    size_t maxoff = 1;
     for (int p = 0; p < s->nparts; p++) {
         const poly_plan *pl = what == RUN_JAC ? &s->parts[p].dplan : &s->parts[p].plan;
+        size_t no = 2 * (size_t)pl->nprod + 2 * (size_t)pl->start[pl->nout];
         if (pl->nvals > maxv)
             maxv = pl->nvals;
+        if (no > maxoff)
+            maxoff = no;
     }
-    vblk *v = s->nparts ? aligned_alloc(sizeof(vblk), (size_t)maxv * sizeof(vblk)) : NULL;
-    vblk *res = aligned_alloc(sizeof(vblk), (size_t)maxo * sizeof(vblk));
+    int *off = malloc(maxoff * sizeof(int));
+    vn *v = s->nparts ? aligned_alloc(sizeof(vn), (size_t)maxv * NV * sizeof(vn)) : NULL;
+    vn *res = aligned_alloc(sizeof(vn), (size_t)maxo * NV * sizeof(vn));
     size_t *idx = s->nparts > 1 ? malloc(CHUNK * sizeof(size_t)) : NULL;
     int *part = s->nparts > 1 ? malloc(CHUNK * sizeof(int)) : NULL;
     int *start = calloc((size_t)s->nparts + 1, sizeof(int));
     int *cur = calloc((size_t)s->nparts + 1, sizeof(int));
-    if (!v || !res || !start || !cur || (s->nparts > 1 && (!idx || !part))) {
+    if (!v || !res || !off || !start || !cur || (s->nparts > 1 && (!idx || !part))) {
         /* no parts, or out of memory: the rays do not pass */
         for (size_t r = 0; r < count; r++) {
             fill_nan(out + r * (size_t)nw, nw);
@@ -251,7 +298,7 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
         }
     } else if (s->nparts == 1) {
         const poly_plan *pl = what == RUN_JAC ? &s->parts[0].dplan : &s->parts[0].plan;
-        run_blocks(s, pl, what, count, NULL, 0, in, out, pass, v, res);
+        run_blocks(s, pl, what, count, NULL, 0, in, out, pass, v, res, off);
     } else {
         for (size_t c0 = 0; c0 < count; c0 += CHUNK) {
             size_t n = count - c0 < CHUNK ? count - c0 : CHUNK;
@@ -269,12 +316,13 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
                 const poly_plan *pl = what == RUN_JAC ? &s->parts[q].dplan : &s->parts[q].plan;
                 if (start[q + 1] > start[q])
                     run_blocks(s, pl, what, (size_t)(start[q + 1] - start[q]), idx + start[q],
-                               0, in, out, pass, v, res);
+                               0, in, out, pass, v, res, off);
             }
         }
     }
     free(v);
     free(res);
+    free(off);
     free(idx);
     free(part);
     free(start);
