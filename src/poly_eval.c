@@ -118,151 +118,42 @@ int poly_eval_part(const poly_system *s, int part, const double *in, double *out
     return passes(s, out);
 }
 
-/* A block is NV vectors of VW rays (GCC/clang vector extension). VW = 8 is one AVX-512
- * register (two AVX2 ones); the loops over q < NV below have constant bounds and are
- * unrolled, so the partial sums stay in registers. (A single vector type of BLK lanes
- * would be split by the compiler through the stack.) Only IEEE multiplies, adds and
- * divides, never contracted: every clone gives the same bits as the scalar path. */
-#define VW 8
-#define NV (BLK / VW)
-typedef double vn __attribute__((vector_size(VW * sizeof(double))));
-typedef long long vmask __attribute__((vector_size(VW * sizeof(long long))));
-
 /* What a batch run computes: the outputs with the passage test, or the derivatives
  * d out_o / d in_i of the derivative plan (chain rule applied). */
 enum { RUN_EVAL, RUN_JAC };
 
-/* Runs plan pl on n rays: ray r is row idx[r] of in (row first + r if idx is NULL) and
- * goes to the same row of out (and pass). The whole loop over blocks is one function
- * per instruction set, chosen once per call. v[pl->nvals * NV] and res[pl->nout * NV]
- * are scratch (value k of lanes q * VW.. at v[k * NV + q]). Unused lanes of the last
- * block repeat its first ray so no lane computes on garbage. */
-__attribute__((target_clones("avx512f", "avx2", "default"))) static void
-run_blocks(const poly_system *s, const poly_plan *pl, int what, size_t n, const size_t *idx,
-           size_t first, const double *in, double *out, unsigned char *pass, vn *v, vn *res,
-           int *off)
-{
-    const int nin = s->nin, nres = pl->nout, np = pl->nprod, nt = pl->start[nres];
-    /* the plan's value numbers as offsets in doubles into v: one load each, no
-     * arithmetic on the index (half the integer work of the loops below) */
-    int *pr = off, *fa_off = off + 2 * np, *fb_off = fa_off + nt;
-    for (int j = 0; j < 2 * np; j++)
-        pr[j] = pl->prod[j] * BLK;
-    for (int t = 0; t < nt; t++) {
-        fa_off[t] = pl->fa[t] * BLK;
-        fb_off[t] = pl->fb[t] * BLK;
-    }
-    const double *vd = (const double *)v;
-    vn *d = v + (1 + nin) * NV;
-    for (size_t b0 = 0; b0 < n; b0 += BLK) {
-        const int m = n - b0 < BLK ? (int)(n - b0) : BLK;
-        const double *src[BLK];
-        size_t row[BLK];
-        for (int r = 0; r < BLK; r++) {
-            size_t k = b0 + (size_t)(r < m ? r : 0);
-            row[r] = idx ? idx[k] : first + k;
-            src[r] = in + row[r] * (size_t)nin;
-        }
-        for (int q = 0; q < NV; q++)
-            for (int r = 0; r < VW; r++)
-                v[q][r] = 1;
-        for (int i = 0; i < nin; i++) {
-            double col[BLK];
-            for (int r = 0; r < BLK; r++)
-                col[r] = src[r][i];
-            poly_scale_column(s, i, col, BLK);
-            memcpy(&v[(1 + i) * NV], col, sizeof col);
-        }
-        for (int j = 0; j < np; j++) {
-            const vn *x = (const vn *)(vd + pr[2 * j]), *y = (const vn *)(vd + pr[2 * j + 1]);
-            for (int q = 0; q < NV; q++)
-                d[j * NV + q] = x[q] * y[q];
-        }
-        for (int o = 0; o < nres; o++) {
-            const int t0 = pl->start[o], ns = pl->nsingle[o], nf = pl->start[o + 1] - t0 - ns;
-            const double *c = pl->coef + t0;
-            const int *fa = fa_off + t0;
-            vn a0[NV], a1[NV], a2[NV], a3[NV];
-            for (int q = 0; q < NV; q++)
-                a0[q] = a1[q] = a2[q] = a3[q] = (vn){0};
-#define SINGLE(acc, k)                                                                    \
-    do {                                                                                   \
-        const vn *x = (const vn *)(vd + fa[k]);                                            \
-        const double ck = c[k];                                                            \
-        for (int q = 0; q < NV; q++)                                                       \
-            acc[q] += ck * x[q];                                                           \
-    } while (0)
-#define FUSED(acc, k)                                                                     \
-    do {                                                                                   \
-        const vn *x = (const vn *)(vd + fa[k]), *y = (const vn *)(vd + fb[k]);             \
-        const double ck = c[k];                                                            \
-        for (int q = 0; q < NV; q++)                                                       \
-            acc[q] += ck * (x[q] * y[q]);                                                  \
-    } while (0)
-            int t = 0;
-            for (; t + 4 <= ns; t += 4) {
-                SINGLE(a0, t);
-                SINGLE(a1, t + 1);
-                SINGLE(a2, t + 2);
-                SINGLE(a3, t + 3);
-            }
-            if (t < ns)
-                SINGLE(a0, t);
-            if (t + 1 < ns)
-                SINGLE(a1, t + 1);
-            if (t + 2 < ns)
-                SINGLE(a2, t + 2);
-            c += ns;
-            fa += ns;
-            const int *fb = fb_off + t0 + ns;
-            for (t = 0; t + 4 <= nf; t += 4) {
-                FUSED(a0, t);
-                FUSED(a1, t + 1);
-                FUSED(a2, t + 2);
-                FUSED(a3, t + 3);
-            }
-            if (t < nf)
-                FUSED(a0, t);
-            if (t + 1 < nf)
-                FUSED(a1, t + 1);
-            if (t + 2 < nf)
-                FUSED(a2, t + 2);
-#undef SINGLE
-#undef FUSED
-            for (int q = 0; q < NV; q++)
-                res[o * NV + q] = (a0[q] + a1[q]) + (a2[q] + a3[q]);
-        }
-        const double *rs = (const double *)res; /* output k of lane r at rs[k * BLK + r] */
-        if (what == RUN_JAC) {
-            for (int r = 0; r < m; r++) {
-                double *jr = out + row[r] * (size_t)nres;
-                for (int k = 0; k < nres; k++)
-                    jr[k] = poly_scale_chain(s, k % nin, src[r][k % nin], rs[k * BLK + r]);
-            }
-            continue;
-        }
-        for (int r = 0; r < m; r++) {
-            double *o = out + row[r] * (size_t)nres;
-            for (int k = 0; k < nres; k++)
-                o[k] = rs[k * BLK + r];
-        }
-        if (!pass)
-            continue;
-        for (int q = 0; q < NV; q++) {
-            /* the passage test of passes(), per lane (all bits set: passes) */
-            vmask ok = res[q] == res[q];
-            for (int o = 0; o < nres; o++)
-                ok &= (res[o * NV + q] - res[o * NV + q]) == 0; /* inf - inf, nan: nan */
-            for (int c = 0; c < s->ncircles; c++) {
-                const vn a = res[s->circles[c].a * NV + q], b = res[s->circles[c].b * NV + q];
-                const double rad = s->circles[c].radius;
-                ok &= a * a + b * b <= rad * rad;
-            }
-            for (int r = q * VW; r < m && r < (q + 1) * VW; r++)
-                pass[row[r]] = ok[r % VW] != 0;
-        }
-    }
-}
+/* The batch kernel once per instruction set, each with the vector width of its
+ * registers; batch() picks one per call. */
+#define KERNEL_NAME run_blocks_avx512
+#define KERNEL_TARGET __attribute__((target("avx512f")))
+#define VW 8
+#define KBLK 16
+#include "poly_eval_kernel.h"
+#undef KERNEL_NAME
+#undef KERNEL_TARGET
+#undef VW
+#undef KBLK
+#define KERNEL_NAME run_blocks_avx2
+#define KERNEL_TARGET __attribute__((target("avx2")))
+#define VW 4
+#define KBLK 8
+#include "poly_eval_kernel.h"
+#undef KERNEL_NAME
+#undef KERNEL_TARGET
+#undef VW
+#undef KBLK
+#define KERNEL_NAME run_blocks_sse
+#define KERNEL_TARGET
+#define VW 2
+#define KBLK 4
+#include "poly_eval_kernel.h"
+#undef KERNEL_NAME
+#undef KERNEL_TARGET
+#undef VW
+#undef KBLK
+
+typedef void run_fn(const poly_system *, const poly_plan *, int, size_t, const size_t *, size_t,
+                    const double *, double *, unsigned char *, double *, double *, int *);
 
 /* The batch driver of poly_eval_batch and poly_eval_jacobian_batch: rays in runs of one
  * part (each chunk counting-sorted by part when there are several). */
@@ -283,8 +174,11 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
             maxoff = no;
     }
     int *off = malloc(maxoff * sizeof(int));
-    vn *v = s->nparts ? aligned_alloc(sizeof(vn), (size_t)maxv * NV * sizeof(vn)) : NULL;
-    vn *res = aligned_alloc(sizeof(vn), (size_t)maxo * NV * sizeof(vn));
+    run_fn *run = __builtin_cpu_supports("avx512f") ? run_blocks_avx512
+                  : __builtin_cpu_supports("avx2")  ? run_blocks_avx2
+                                                    : run_blocks_sse;
+    double *v = s->nparts ? aligned_alloc(64, (size_t)maxv * BLK * sizeof(double)) : NULL;
+    double *res = aligned_alloc(64, (size_t)maxo * BLK * sizeof(double));
     size_t *idx = s->nparts > 1 ? malloc(CHUNK * sizeof(size_t)) : NULL;
     int *part = s->nparts > 1 ? malloc(CHUNK * sizeof(int)) : NULL;
     int *start = calloc((size_t)s->nparts + 1, sizeof(int));
@@ -298,7 +192,7 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
         }
     } else if (s->nparts == 1) {
         const poly_plan *pl = what == RUN_JAC ? &s->parts[0].dplan : &s->parts[0].plan;
-        run_blocks(s, pl, what, count, NULL, 0, in, out, pass, v, res, off);
+        run(s, pl, what, count, NULL, 0, in, out, pass, v, res, off);
     } else {
         for (size_t c0 = 0; c0 < count; c0 += CHUNK) {
             size_t n = count - c0 < CHUNK ? count - c0 : CHUNK;
@@ -315,7 +209,7 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
             for (int q = 0; q < s->nparts; q++) {
                 const poly_plan *pl = what == RUN_JAC ? &s->parts[q].dplan : &s->parts[q].plan;
                 if (start[q + 1] > start[q])
-                    run_blocks(s, pl, what, (size_t)(start[q + 1] - start[q]), idx + start[q],
+                    run(s, pl, what, (size_t)(start[q + 1] - start[q]), idx + start[q],
                                0, in, out, pass, v, res, off);
             }
         }
