@@ -2,11 +2,14 @@
  * 5 inputs (the size of the supplement's fisheye-ii system; the term set of
  * tests/unit/poly_fixture.h, random coefficients: speed does not depend on them),
  * single thread, CPU time of this thread.
- * Prints "bench NAME VALUE UNIT" lines, each the median of 5 runs, for
+ * Prints "bench NAME VALUE UNIT" lines, each the median of 5 runs (11 shorter ones for
+ * the batch paths; their best run too, the figure of a quiet machine), for
  *   naive     each term's powers computed from scratch (the baseline)
  *   scalar    poly_eval, one ray at a time
  *   batch     poly_eval_batch
  *   emitted   the C of poly_emit_c, compiled now with $CC (or cc) -O2, one call per ray
+ *   jacobian  poly_eval_jacobian (outputs and all 25 derivatives), one ray at a time
+ *   jacobian_batch  poly_eval_jacobian_batch (the 25 derivatives)
  *   trace     the exact tracer (trace_batch, one thread) on passing fisheye-ii rays,
  *             for the speed-up of the polynomial system over tracing
  * Usage: bench_poly [RAYS [SYSTEM.poly]]   (default 1000000 rays, the fixture system;
@@ -167,36 +170,52 @@ int main(int argc, char **argv)
     char dir[] = "/tmp/bench_poly_XXXXXX";
     void *handle = NULL;
     emitted_fn fn = mkdtemp(dir) ? load_emitted(s, dir, &handle) : NULL;
-    const char *names[4] = {"naive", "scalar", "batch", "emitted_c"};
+    const char *names[6] = {"naive", "scalar", "batch", "emitted_c", "jacobian", "jacobian_batch"};
     double checksum = 0, batch_ns = 0;
-    for (int m = 0; m < 4; m++) {
+    double *jac = malloc(n * 25 * sizeof(double));
+    for (int m = 0; m < 6; m++) {
         if (m == 3 && !fn) {
             fprintf(stderr, "bench_poly: no C compiler: emitted C not measured\n");
             continue;
         }
-        double t[5];
-        for (int run = 0; run < 5; run++) {
+        /* the batch paths are fast: more, shorter runs (a tenth of the rays each) give a
+         * steadier median on a shared machine */
+        const int batchlike = m == 2 || m == 5, runs = batchlike ? 11 : 5;
+        const size_t nr = batchlike ? (n / 10 ? n / 10 : n) : m == 4 ? (n / 10 ? n / 10 : n) : n;
+        double t[11];
+        for (int run = 0; run < runs; run++) {
+            const double *rin = in + (batchlike ? (size_t)run % 10 * nr * 5 : 0);
             double t0 = now();
             if (m == 0)
-                naive(&F, n, in, out);
+                naive(&F, nr, rin, out);
             else if (m == 1)
-                for (size_t r = 0; r < n; r++)
-                    pass[r] = (unsigned char)poly_eval(s, in + r * 5, out + r * 5);
+                for (size_t r = 0; r < nr; r++)
+                    pass[r] = (unsigned char)poly_eval(s, rin + r * 5, out + r * 5);
             else if (m == 2)
-                poly_eval_batch(s, n, in, out, pass);
+                poly_eval_batch(s, nr, rin, out, pass);
+            else if (m == 3)
+                for (size_t r = 0; r < nr; r++)
+                    pass[r] = (unsigned char)fn(rin + r * 5, out + r * 5);
+            else if (m == 4)
+                for (size_t r = 0; r < nr; r++)
+                    pass[r] = (unsigned char)poly_eval_jacobian(s, rin + r * 5, out + r * 5,
+                                                                jac + r * 25);
             else
-                for (size_t r = 0; r < n; r++)
-                    pass[r] = (unsigned char)fn(in + r * 5, out + r * 5);
+                poly_eval_jacobian_batch(s, nr, rin, jac);
             t[run] = now() - t0;
-            checksum += out[n / 2 * 5];
+            checksum += out[nr / 2 * 5] + jac[nr / 2 * 25];
         }
-        qsort(t, 5, sizeof t[0], cmp);
-        double ns = t[2] / (double)n * 1e9;
+        qsort(t, (size_t)runs, sizeof t[0], cmp);
+        double ns = t[runs / 2] / (double)nr * 1e9;
         if (m == 2)
             batch_ns = ns;
         printf("bench poly_eval_%s_ns_per_ray %.2f ns\n", names[m], ns);
         printf("bench poly_eval_%s_mrays_per_s %.2f Mrays/s\n", names[m], 1e3 / ns);
+        if (batchlike)
+            printf("bench poly_eval_%s_best_ns_per_ray %.2f ns\n", names[m],
+                   t[0] / (double)nr * 1e9);
     }
+    free(jac);
     if (handle)
         dlclose(handle);
     char cmd[400];

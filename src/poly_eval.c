@@ -123,9 +123,12 @@ int poly_eval_part(const poly_system *s, int part, const double *in, double *out
 enum { RUN_EVAL, RUN_JAC };
 
 /* The batch kernel once per instruction set, each with the vector width of its
- * registers; batch() picks one per call. */
+ * registers and a block that keeps its partial sums in registers (AVX-512: 16 rays in
+ * 2 x 8 lanes, AVX2: 8 in 2 x 4, SSE: 4 in 2 x 2); batch() picks one per call. -O3 for
+ * these alone: it unrolls the gathers and scatters of the rows, about 8 % faster on
+ * the fisheye-ii system; it never contracts into FMA (ISO C mode), so the bits stay. */
 #define KERNEL_NAME run_blocks_avx512
-#define KERNEL_TARGET __attribute__((target("avx512f")))
+#define KERNEL_TARGET __attribute__((target("avx512f"), optimize("O3")))
 #define VW 8
 #define KBLK 16
 #include "poly_eval_kernel.h"
@@ -134,7 +137,7 @@ enum { RUN_EVAL, RUN_JAC };
 #undef VW
 #undef KBLK
 #define KERNEL_NAME run_blocks_avx2
-#define KERNEL_TARGET __attribute__((target("avx2")))
+#define KERNEL_TARGET __attribute__((target("avx2"), optimize("O3")))
 #define VW 4
 #define KBLK 8
 #include "poly_eval_kernel.h"
@@ -143,7 +146,7 @@ enum { RUN_EVAL, RUN_JAC };
 #undef VW
 #undef KBLK
 #define KERNEL_NAME run_blocks_sse
-#define KERNEL_TARGET
+#define KERNEL_TARGET __attribute__((optimize("O3")))
 #define VW 2
 #define KBLK 4
 #include "poly_eval_kernel.h"
