@@ -45,9 +45,81 @@ static void comment_name(FILE *f, const char *s)
     }
 }
 
+/* m1.. = the scaled inputs (poly_scale_column), input i read as srcfmt with i. */
+static void emit_scaled_inputs(FILE *f, const poly_system *s, const char *indent,
+                               const char *srcfmt)
+{
+    for (int i = 0; i < s->nin; i++) {
+        fprintf(f, "%sconst double m%d = (", indent, 1 + i);
+        fprintf(f, srcfmt, i);
+        fputs(" - ", f);
+        num(f, s->offset[i]);
+        fputs(") / ", f);
+        num(f, s->scale[i]);
+        fputs("; /* ", f);
+        comment_name(f, s->inputs[i]);
+        fputs(" */\n", f);
+    }
+}
+
+static int emit_part(FILE *f, const poly_system *s, const poly_part *p, const char *outfmt);
+
+/* NAME_batch: one part goes in blocks of 8 rays through one loop without branches, which
+ * compilers vectorise; several parts (and the last rays) go ray by ray through NAME. */
+static int emit_batch(FILE *f, const poly_system *s, const char *func)
+{
+    const int nin = s->nin, nout = s->nout;
+    fprintf(f,
+            "\n/* %s on n rays: in holds n rows of %d inputs, out gets n rows of %d outputs\n"
+            " * and pass (unless NULL) n flags, the values of %s ray by ray. */\n"
+            "void %s_batch(size_t n, const double *restrict in, double *restrict out,\n"
+            "    unsigned char *restrict pass)\n{\n"
+            "    size_t b = 0;\n",
+            func, nin, nout, func, func);
+    if (s->nparts == 1) {
+        fputs("    for (; b + 8 <= n; b += 8) {\n        double ", f);
+        for (int i = 0; i < nin; i++)
+            fprintf(f, "%sx%d[8]", i ? ", " : "", i);
+        fputs(";\n        double ", f);
+        for (int o = 0; o < nout; o++)
+            fprintf(f, "%sy%d[8]", o ? ", " : "", o);
+        fputs(";\n        for (int r = 0; r < 8; r++) {\n", f);
+        for (int i = 0; i < nin; i++)
+            fprintf(f, "            x%d[r] = in[(b + r) * %d + %d];\n", i, nin, i);
+        fputs("        }\n        for (int r = 0; r < 8; r++) {\n", f);
+        fputs("            const double m0 = 1;\n            (void)m0;\n", f);
+        emit_scaled_inputs(f, s, "            ", "x%d[r]");
+        if (emit_part(f, s, &s->parts[0], "y%d[r]") != 0)
+            return -1;
+        fputs("        }\n        for (int r = 0; r < 8; r++) {\n", f);
+        fprintf(f, "            double *o = out + (b + r) * %d;\n", nout);
+        for (int o = 0; o < nout; o++)
+            fprintf(f, "            o[%d] = y%d[r];\n", o, o);
+        fputs("            if (pass)\n                pass[b + r] = (unsigned char)(1", f);
+        for (int o = 0; o < nout; o++)
+            fprintf(f, " && isfinite(o[%d])", o);
+        for (int c = 0; c < s->ncircles; c++) {
+            fprintf(f, "\n                    && o[%d] * o[%d] + o[%d] * o[%d] <= ", s->circles[c].a,
+                    s->circles[c].a, s->circles[c].b, s->circles[c].b);
+            num(f, s->circles[c].radius);
+            fputs(" * ", f);
+            num(f, s->circles[c].radius);
+        }
+        fputs(");\n        }\n    }\n", f);
+    }
+    fprintf(f,
+            "    for (; b < n; b++) {\n"
+            "        int p = %s(in + b * %d, out + b * %d);\n"
+            "        if (pass)\n"
+            "            pass[b] = (unsigned char)p;\n"
+            "    }\n}\n",
+            func, nin, nout);
+    return 0;
+}
+
 /* The kept products in depth order, then per output its terms in the plan's order, a
  * fused term multiplying its monomial in place as the plan does. */
-static int emit_part(FILE *f, const poly_system *s, const poly_part *p)
+static int emit_part(FILE *f, const poly_system *s, const poly_part *p, const char *outfmt)
 {
     const int nin = s->nin;
     const poly_mono *m = &p->mono;
@@ -83,7 +155,9 @@ static int emit_part(FILE *f, const poly_system *s, const poly_part *p)
             else
                 fprintf(f, " * (m%d * m%d);\n", m->a[k], m->b[k]);
         }
-        fprintf(f, "            out[%d] = (a0 + a1) + (a2 + a3);\n        }\n", o);
+        fputs("            ", f);
+        fprintf(f, outfmt, o);
+        fputs(" = (a0 + a1) + (a2 + a3);\n        }\n", f);
     }
     free(fused);
     return 0;
@@ -112,28 +186,22 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
         fprintf(f, "%s[%d] ", o ? ", " : " ", o);
         comment_name(f, s->outputs[o]);
     }
-    fputs("\n * Returns 1 if the ray passes the lens, 0 if not (out[] is filled either way).\n"
-          " * Compile without floating-point contraction (-ffp-contract=off, the default\n"
-          " * with -std=c99 or -std=c11) to get exactly the values of lens-eval. */\n"
-          "#include <math.h>\n\n",
-          f);
+    fprintf(f,
+            "\n * Returns 1 if the ray passes the lens, 0 if not (out[] is filled either way).\n"
+            " * %s_batch does the same for many rays, several times faster (vectorised).\n"
+            " * Compile without floating-point contraction (-ffp-contract=off, the default\n"
+            " * with -std=c99 or -std=c11) to get exactly the values of lens-eval. */\n"
+            "#include <math.h>\n#include <stddef.h>\n\n",
+            func);
     fprintf(f, "int %s(const double in[%d], double out[%d])\n{\n", func, nin, nout);
     if (s->nparts == 0) {
         for (int o = 0; o < nout; o++)
             fprintf(f, "    out[%d] = NAN;\n", o);
         fputs("    (void)in;\n    return 0;\n}\n", f);
-        return ferror(f) ? -1 : 0;
+        return emit_batch(f, s, func) != 0 || ferror(f) ? -1 : 0;
     }
     fputs("    const double m0 = 1;\n", f);
-    for (int i = 0; i < nin; i++) {
-        fprintf(f, "    const double m%d = (in[%d] - ", 1 + i, i);
-        num(f, s->offset[i]);
-        fputs(") / ", f);
-        num(f, s->scale[i]);
-        fputs("; /* ", f);
-        comment_name(f, s->inputs[i]);
-        fputs(" */\n", f);
-    }
+    emit_scaled_inputs(f, s, "    ", "in[%d]");
     fputs("    (void)m0;\n", f);
     if (s->nparts > 1 && s->ix >= 0 && s->iy >= 0) {
         /* the same search as poly_part_for_radius: the containing part, else the nearest */
@@ -177,7 +245,7 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
         fputs(", ", f);
         num(f, s->parts[p].rmax);
         fputs(") */\n", f);
-        if (emit_part(f, s, &s->parts[p]) != 0)
+        if (emit_part(f, s, &s->parts[p], "out[%d]") != 0)
             return -1;
         fputs("        break;\n    }\n", f);
     }
@@ -193,5 +261,5 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
         fputs("))\n        return 0;\n", f);
     }
     fputs("    return 1;\n}\n", f);
-    return ferror(f) ? -1 : 0;
+    return emit_batch(f, s, func) != 0 || ferror(f) ? -1 : 0;
 }
