@@ -27,8 +27,10 @@ static const char *usage =
     "  --parts P          allow up to P radial parts where one polynomial misses T (default 1)\n"
     "  --inputs LIST      input columns (default x,y,u,v,lambda); without lambda the samples\n"
     "                     must hold a single wavelength\n"
-    "  --outputs LIST     output columns (default out_x,out_y,out_u,out_v,out_eta, and\n"
-    "                     ap_x,ap_y when the samples have them: lens-trace --stop-columns)\n"
+    "  --outputs LIST     output columns (default out_x,out_y,out_u,out_v,out_eta, and the\n"
+    "                     pairs ap_x,ap_y and sN_x,sN_y the samples have: lens-trace\n"
+    "                     --stop-columns, --clip-columns); each such pair, and out_x,out_y,\n"
+    "                     gets a pass circle\n"
     "  --holdout F        fraction of samples held out for stopping (default 0.2)\n"
     "  --seed S           seed of the held-out split (default 1)\n"
     "  --threads N        threads (default: all); the result does not depend on it\n"
@@ -69,6 +71,38 @@ static void lens_name_from(const char *path, char *buf, size_t len)
     for (char *p = buf; *p; p++)
         if (*p == ' ' || *p == '\t' || *p == '#')
             *p = '_';
+}
+
+/* base, then every x,y column pair of the samples named ap_* or sN_* (digits N). */
+static char *clip_outputs(const samples_reader *r, const char *base)
+{
+    size_t cap = strlen(base) + 1;
+    for (int c = 0; c < samples_ncols(r); c++)
+        cap += strlen(samples_colname(r, c)) * 2 + 4;
+    char *s = malloc(cap);
+    if (!s)
+        return NULL;
+    strcpy(s, base);
+    for (int c = 0; c < samples_ncols(r); c++) {
+        const char *nm = samples_colname(r, c);
+        size_t len = strlen(nm), d = 1;
+        while (nm[0] == 's' && d < len && nm[d] >= '0' && nm[d] <= '9')
+            d++;
+        int clip = (len == 4 && !strncmp(nm, "ap_x", 4)) ||
+                   (nm[0] == 's' && d > 1 && d + 2 == len && !strcmp(nm + d, "_x"));
+        char yname[256];
+        if (!clip || len >= sizeof yname)
+            continue;
+        memcpy(yname, nm, len + 1);
+        yname[len - 1] = 'y';
+        if (samples_find(r, yname) < 0)
+            continue;
+        strcat(s, ",");
+        strcat(s, nm);
+        strcat(s, ",");
+        strcat(s, yname);
+    }
+    return s;
 }
 
 int main(int argc, char **argv)
@@ -126,7 +160,7 @@ int main(int argc, char **argv)
      * leak checker sees none either way. */
     lens_err err;
     int rc = 1;
-    char *incopy = NULL, *outcopy = NULL;
+    char *incopy = NULL, *outcopy = NULL, *default_out = NULL;
     const char **in_names = NULL, **out_names = NULL;
     double *tols = NULL, *in = NULL, *out = NULL, *vals = NULL;
     int *inmap = NULL, *outmap = NULL;
@@ -134,10 +168,15 @@ int main(int argc, char **argv)
     samples_reader *r = samples_open(path, &err);
     if (!r)
         goto fail;
-    /* Stop hits in the samples: fit them too, so the system gets the stop's pass
-     * circle and rays blocked at the stop do not pass it. */
-    if (!outputs_given && samples_find(r, "ap_x") >= 0 && samples_find(r, "ap_y") >= 0)
-        outputs_s = "out_x,out_y,out_u,out_v,out_eta,ap_x,ap_y";
+    /* Hits on the stop (ap_*) and on clipping surfaces (sN_*, lens-trace --clip-columns)
+     * in the samples: fit them too, so the system gets their pass circles and rays
+     * blocked there do not pass it. */
+    if (!outputs_given) {
+        default_out = clip_outputs(r, outputs_s);
+        if (!default_out)
+            diag_die(prog, "out of memory");
+        outputs_s = default_out;
+    }
     int nin = split_list("--inputs", inputs_s, &incopy, &in_names);
     int nout = split_list("--outputs", outputs_s, &outcopy, &out_names);
 
@@ -306,6 +345,6 @@ done:
         samples_close(r);
     poly_free(sys);
     free(in); free(out); free(vals); free(inmap); free(outmap);
-    free(in_names); free(out_names); free(tols); free(incopy); free(outcopy);
+    free(in_names); free(out_names); free(tols); free(incopy); free(outcopy); free(default_out);
     return rc;
 }

@@ -12,13 +12,15 @@
 #include "samples.h"
 #include "sampling.h"
 #include "trace.h"
+#include "trace_clip.h"
 #include "trace_stop.h"
 
 static const char *prog = "lens-trace";
 
 static const char *usage =
     "usage: lens-trace LENS [-n N] [--seed S] [--sampling pupil|rear] [--lambda A:B|L]\n"
-    "                  [--to outer|stop] [--all] [--stop-columns] [--sensor WxH]\n"
+    "                  [--to outer|stop] [--all] [--stop-columns] [--clip-columns]\n"
+    "                  [--clip-surfaces LIST] [--sensor WxH]\n"
     "                  [--threads T] [-o FILE] [-]\n"
     "Generates N rays from the sensor and traces them through LENS, writing a sample file\n"
     "with columns x y u v lambda out_x out_y out_u out_v out_eta. With '-', traces the rays\n"
@@ -34,16 +36,25 @@ static const char *usage =
     "  --stop-columns   add columns ap_x ap_y: the ray's hit on the aperture stop (nan when\n"
     "                   it does not get through to the stop); lens-fit then fits a stop\n"
     "                   pass circle\n"
-    "  --sensor WxH     sensor size in mm (default: the lens header)\n"
+    "  --clip-columns   ap_x ap_y, plus sN_x sN_y for every other surface N (numbered as in\n"
+    "                   lens-info) that blocks >= 0.5%% of a pilot trace of 65536 rays\n"
+    "                   (same sampling, fixed seed): the hit on surface N, nan when the ray\n"
+    "                   does not get there within its semi-diameter; lens-fit fits a pass\n"
+    "                   circle for each\n"
+    "  --clip-surfaces LIST  as --clip-columns, for the surfaces N,N,... given (no pilot)\n"    "  --sensor WxH     sensor size in mm (default: the lens header)\n"
     "  --threads T      threads (default: all)\n"
     "  -o FILE          write FILE (complete or not at all) instead of stdout\n"
     LENS_CLI_OPTIONS_HELP
     "See lens-trace(1) and lens-samples(5).\n";
 
-static const char *const columns[] = {"x", "y", "u", "v", "lambda",
-                                      "out_x", "out_y", "out_u", "out_v", "out_eta",
-                                      "ap_x", "ap_y"};
+static const char *const base_columns[] = {"x", "y", "u", "v", "lambda",
+                                           "out_x", "out_y", "out_u", "out_v", "out_eta",
+                                           "ap_x", "ap_y"};
 enum { NCOLS = 10, NCOLS_STOP = 12 };
+/* Rays of the pilot trace that picks the clip surfaces, and its seed: fixed, so that a
+ * training and a test set traced with different --seed get the same columns. */
+enum { PILOT_RAYS = 65536, PILOT_SEED = 20161 };
+#define CLIP_MIN_SHARE 0.005
 
 typedef struct {
     const char *lens_path, *out_path;
@@ -52,12 +63,16 @@ typedef struct {
     sampling_strategy strategy;
     double lambda_min, lambda_max, sensor_w, sensor_h;
     trace_target target;
-    int all, threads, from_stdin, stop_columns;
+    int all, threads, from_stdin, stop_columns, clip_columns;
+    const char *clip_list;
+    int nclip, *clip;        /* clip surfaces, 0-based (besides the stop) */
+    double *clip_share;      /* pilot: blocked share per surface, or NULL */
+    char **names;            /* column names */
 } trace_args;
 
 static int ncols(const trace_args *a)
 {
-    return a->stop_columns ? NCOLS_STOP : NCOLS;
+    return (a->stop_columns ? NCOLS_STOP : NCOLS) + 2 * a->nclip;
 }
 
 static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
@@ -69,7 +84,112 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
                 sampling_strategy_name(a->strategy), a->seed, a->lambda_min, a->lambda_max,
                 a->sensor_w, a->sensor_h);
     fputc('\n', f);
-    samples_write_header(f, columns, ncols(a));
+    if (a->clip_share) {
+        fprintf(f, "# clip surfaces (>= %g%% of %d pilot rays blocked there):", 100 * CLIP_MIN_SHARE,
+                PILOT_RAYS);
+        for (int k = 0; k < a->nclip; k++)
+            fprintf(f, " %d (%.3g%%)", a->clip[k] + 1, 100 * a->clip_share[a->clip[k]]);
+        fprintf(f, "; stop %d (%.3g%%)\n", lens->stop + 1, 100 * a->clip_share[lens->stop]);
+    }
+    samples_write_header(f, (const char *const *)a->names, ncols(a));
+}
+
+static void sampling_setup(const trace_args *a, sampling_options *so)
+{
+    *so = sampling_defaults();
+    so->strategy = a->strategy;
+    so->sensor_w = a->sensor_w;
+    so->sensor_h = a->sensor_h;
+    so->lambda_min = a->lambda_min;
+    so->lambda_max = a->lambda_max;
+    so->seed = a->seed;
+    so->threads = a->threads;
+}
+
+/* The clip surfaces: those given, or those a pilot trace finds blocking rays. */
+static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
+{
+    a->clip = malloc(lens->nsurf * sizeof *a->clip);
+    if (!a->clip) {
+        lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    if (a->clip_list) {
+        const char *p = a->clip_list;
+        while (*p) {
+            char *end;
+            long s = strtol(p, &end, 10);
+            if (end == p || (*end && *end != ',') || s < 1 || (size_t)s > lens->nsurf) {
+                lens_errf(err, NULL, 0, "--clip-surfaces: expected surface numbers 1..%zu "
+                          "separated by commas, not '%s'", lens->nsurf, a->clip_list);
+                return -1;
+            }
+            int dup = (int)s - 1 == lens->stop; /* the stop has ap_x ap_y already */
+            for (int k = 0; k < a->nclip; k++)
+                dup |= a->clip[k] == (int)s - 1;
+            if (!dup)
+                a->clip[a->nclip++] = (int)s - 1;
+            p = *end ? end + 1 : end;
+        }
+        return 0;
+    }
+    if (isnan(a->sensor_w)) {
+        lens_errf(err, a->lens_path, 0, "--clip-columns: no sensor size for the pilot trace; "
+                  "give --sensor WxH or --clip-surfaces");
+        return -1;
+    }
+    sampling_options so;
+    sampling_setup(a, &so);
+    so.seed = PILOT_SEED;
+    a->clip_share = malloc(lens->nsurf * sizeof *a->clip_share);
+    double *in = malloc((size_t)PILOT_RAYS * 5 * sizeof *in);
+    ray_generator *g = a->clip_share && in ? ray_generator_new(lens, &so, err) : NULL;
+    int rc = -1;
+    if (!a->clip_share || !in)
+        lens_errf(err, NULL, 0, "out of memory");
+    else if (g && ray_generator_fill(g, 0, PILOT_RAYS, in, err) == 0 &&
+             trace_clip_census(lens, PILOT_RAYS, in, a->clip_share, a->threads, err) == 0) {
+        a->nclip = trace_clip_choose(lens, a->clip_share, CLIP_MIN_SHARE,
+                                     a->target == TRACE_TO_OUTER, a->clip);
+        rc = 0;
+    }
+    if (g)
+        ray_generator_free(g);
+    free(in);
+    return rc;
+}
+
+static int make_names(const lens_t *lens, trace_args *a, lens_err *err)
+{
+    (void)lens;
+    int nc = ncols(a), nb = a->stop_columns ? NCOLS_STOP : NCOLS;
+    a->names = calloc((size_t)nc, sizeof *a->names);
+    if (!a->names)
+        goto oom;
+    for (int k = 0; k < nb; k++)
+        a->names[k] = (char *)base_columns[k];
+    for (int k = 0; k < 2 * a->nclip; k++) {
+        a->names[nb + k] = malloc(32);
+        if (!a->names[nb + k])
+            goto oom;
+        snprintf(a->names[nb + k], 32, "s%d_%c", a->clip[k / 2] + 1, k % 2 ? 'y' : 'x');
+    }
+    return 0;
+oom:
+    lens_errf(err, NULL, 0, "out of memory");
+    return -1;
+}
+
+static void free_names(trace_args *a)
+{
+    if (a->names) {
+        int nb = a->stop_columns ? NCOLS_STOP : NCOLS;
+        for (int k = 0; k < 2 * a->nclip; k++)
+            free(a->names[nb + k]);
+    }
+    free(a->names);
+    free(a->clip);
+    free(a->clip_share);
 }
 
 static void progress(long done, long total, long generated)
@@ -81,25 +201,23 @@ static void progress(long done, long total, long generated)
  * the same whatever the chunk size or thread count. */
 static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *err)
 {
-    sampling_options so = sampling_defaults();
-    so.strategy = a->strategy;
-    so.sensor_w = a->sensor_w;
-    so.sensor_h = a->sensor_h;
-    so.lambda_min = a->lambda_min;
-    so.lambda_max = a->lambda_max;
-    so.seed = a->seed;
-    so.threads = a->threads;
+    sampling_options so;
+    sampling_setup(a, &so);
     ray_generator *g = ray_generator_new(lens, &so, err);
     if (!g)
         return -1;
     const size_t chunk = 1 << 16;
     double *in = malloc(chunk * 5 * sizeof *in), *out = malloc(chunk * 5 * sizeof *out);
     double *ap = a->stop_columns ? malloc(chunk * 2 * sizeof *ap) : NULL;
-    if (!in || !out || (a->stop_columns && !ap)) {
+    double *hits = a->nclip ? malloc(chunk * 2 * (size_t)a->nclip * sizeof *hits) : NULL;
+    double *row = malloc((size_t)ncols(a) * sizeof *row);
+    if (!in || !out || (a->stop_columns && !ap) || (a->nclip && !hits) || !row) {
         lens_errf(err, NULL, 0, "out of memory");
         free(in);
         free(out);
         free(ap);
+        free(hits);
+        free(row);
         ray_generator_free(g);
         return -1;
     }
@@ -126,15 +244,22 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
             rc = -1;
             break;
         }
+        for (int k = 0; k < a->nclip && rc == 0; k++)
+            if (trace_surface_batch(lens, a->clip[k], n, in, hits + 2 * chunk * (size_t)k,
+                                    a->threads, err) != 0)
+                rc = -1;
+        if (rc)
+            break;
         next += n;
         for (size_t i = 0; i < n && written < a->count; i++) {
             if (!a->all && !(out[5 * i + 4] > 0))
                 continue;
-            double row[NCOLS_STOP];
             memcpy(row, in + 5 * i, 5 * sizeof *row);
             memcpy(row + 5, out + 5 * i, 5 * sizeof *row);
             if (ap)
                 memcpy(row + NCOLS, ap + 2 * i, 2 * sizeof *row);
+            for (int k = 0, nb = ap ? NCOLS_STOP : NCOLS; k < a->nclip; k++)
+                memcpy(row + nb + 2 * k, hits + 2 * chunk * (size_t)k + 2 * i, 2 * sizeof *row);
             samples_write_row(f, row, ncols(a));
             written++;
         }
@@ -146,6 +271,8 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
     free(in);
     free(out);
     free(ap);
+    free(hits);
+    free(row);
     ray_generator_free(g);
     return rc;
 }
@@ -166,13 +293,13 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
     int nc = samples_ncols(r);
     double *vals = malloc((size_t)nc * sizeof *vals);
     double *n = malloc(lens->nsurf * sizeof *n);
+    double *row = malloc((size_t)ncols(a) * sizeof *row);
     double cached_lambda = NAN;
     int cached_ok = 0;
     lens_err cached_err = {{0}};
     int st;
-    while (vals && n && (st = samples_next(r, vals, err)) != 0) {
-        double row[NCOLS_STOP];
-        for (int k = 0; k < NCOLS_STOP; k++)
+    while (vals && n && row && (st = samples_next(r, vals, err)) != 0) {
+        for (int k = 0; k < ncols(a); k++)
             row[k] = NAN;
         if (st < 0) {
             diag_print(prog, err);
@@ -203,15 +330,18 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
                 row[9] = res.status == TRACE_PASSED ? res.transmittance : 0.0;
                 if (a->stop_columns)
                     trace_stop_hit(lens, n, row, row + NCOLS);
+                for (int k = 0, nb = a->stop_columns ? NCOLS_STOP : NCOLS; k < a->nclip; k++)
+                    trace_surface_hit(lens, a->clip[k], n, row, row + nb + 2 * k);
             }
         }
         samples_write_row(f, row, ncols(a));
     }
-    int rc = (vals && n) ? 0 : -1;
-    if (!vals || !n)
+    int rc = (vals && n && row) ? 0 : -1;
+    if (rc)
         lens_errf(err, NULL, 0, "out of memory");
     free(vals);
     free(n);
+    free(row);
     samples_close(r);
     return rc;
 }
@@ -219,7 +349,7 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
 int main(int argc, char **argv)
 {
     trace_args a = {NULL, "-", 10000, 1, SAMPLING_PUPIL, 0.4, 0.7, NAN, NAN,
-                    TRACE_TO_OUTER, 0, 0, 0, 0};
+                    TRACE_TO_OUTER, 0, 0, 0, 0, 0, NULL, 0, NULL, NULL, NULL};
     const char *v;
     lens_cli_options lopt;
     lens_cli_options_init(&lopt);
@@ -251,6 +381,10 @@ int main(int argc, char **argv)
             a.all = 1;
         else if (!strcmp(argv[i], "--stop-columns"))
             a.stop_columns = 1;
+        else if (!strcmp(argv[i], "--clip-columns"))
+            a.stop_columns = a.clip_columns = 1;
+        else if (cli_opt(prog, argc, argv, &i, "--clip-surfaces", &v))
+            a.clip_list = v, a.stop_columns = a.clip_columns = 1;
         else if (cli_opt(prog, argc, argv, &i, "--sensor", &v)) {
             cli_pair(prog, "--sensor", v, 'x', &a.sensor_w, &a.sensor_h);
             if (!(a.sensor_w > 0 && a.sensor_h > 0))
@@ -281,9 +415,17 @@ int main(int argc, char **argv)
         diag_die(prog, "%s: no sensor size in the lens header; give --sensor WxH", a.lens_path);
 
     lens_err err;
+    if ((a.clip_columns && choose_clip(&lens, &a, &err) != 0) || make_names(&lens, &a, &err) != 0) {
+        diag_print(prog, &err);
+        free_names(&a);
+        lens_free(&lens);
+        return 1;
+    }
     outfile *of = outfile_open(a.out_path, &err);
     if (!of) {
         diag_print(prog, &err);
+        free_names(&a);
+        lens_free(&lens);
         return 1;
     }
     FILE *f = outfile_stream(of);
@@ -293,6 +435,7 @@ int main(int argc, char **argv)
     if (rc != 0) {
         outfile_abort(of);
         diag_print(prog, &err);
+        free_names(&a);
         lens_free(&lens);
         return 1;
     }
@@ -302,6 +445,7 @@ int main(int argc, char **argv)
     }
     if (bad_rows)
         fprintf(stderr, "%s: %d bad input rows (written as nan)\n", prog, bad_rows);
+    free_names(&a);
     lens_free(&lens);
     return rc != 0 || bad_rows ? 1 : 0;
 }

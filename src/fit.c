@@ -290,6 +290,20 @@ static int find_name(int n, const char *const *names, const char *name)
     return -1;
 }
 
+/* Output prefixes that name a hit whose furthest passing radius bounds passage: out
+ * (front element), ap (stop), sN (surface N, lens-trace --clip-columns). */
+static int fit_is_clip_prefix(const char *name, size_t len)
+{
+    if ((len == 3 && !strncmp(name, "out", 3)) || (len == 2 && !strncmp(name, "ap", 2)))
+        return 1;
+    if (len < 2 || name[0] != 's')
+        return 0;
+    for (size_t i = 1; i < len; i++)
+        if (name[i] < '0' || name[i] > '9')
+            return 0;
+    return 1;
+}
+
 
 /* qsort_r is not C11; a small merge sort keeps the order deterministic and stable. */
 static void sort_by(size_t *idx, size_t *tmp, size_t n, const double *key)
@@ -545,11 +559,19 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
                 poly_add_term(sys, pi, o, c.b.exps + (size_t)of->cand[t] * ninputs, of->coef[t]);
         }
     }
-    /* Passage: inside the furthest passing hit on the front element / the stop. */
-    const char *circ[2][2] = {{"out_x", "out_y"}, {"ap_x", "ap_y"}};
-    for (int q = 0; q < 2; q++) {
-        int a = find_name(noutputs, outputs, circ[q][0]), bb = find_name(noutputs, outputs, circ[q][1]);
-        if (a < 0 || bb < 0)
+    /* Passage: inside the furthest passing hit on the front element (out_*), the stop
+     * (ap_*) and each clipping surface N (sN_*, lens-trace --clip-columns). */
+    for (int a = 0; a < noutputs; a++) {
+        char yname[64];
+        size_t len = strlen(outputs[a]);
+        if (len < 3 || len >= sizeof yname || strcmp(outputs[a] + len - 2, "_x") != 0 ||
+            !fit_is_clip_prefix(outputs[a], len - 2))
+            continue;
+        memcpy(yname, outputs[a], len - 1);
+        yname[len - 1] = 'y';
+        yname[len] = '\0';
+        int bb = find_name(noutputs, outputs, yname);
+        if (bb < 0)
             continue;
         double rmax = 0;
         for (size_t r = 0; r < n; r++)
