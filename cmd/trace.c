@@ -159,9 +159,8 @@ static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
     return rc;
 }
 
-static int make_names(const lens_t *lens, trace_args *a, lens_err *err)
+static int make_names(trace_args *a, lens_err *err)
 {
-    (void)lens;
     int nc = ncols(a), nb = a->stop_columns ? NCOLS_STOP : NCOLS;
     a->names = calloc((size_t)nc, sizeof *a->names);
     if (!a->names)
@@ -415,7 +414,7 @@ int main(int argc, char **argv)
         diag_die(prog, "%s: no sensor size in the lens header; give --sensor WxH", a.lens_path);
 
     lens_err err;
-    if ((a.clip_columns && choose_clip(&lens, &a, &err) != 0) || make_names(&lens, &a, &err) != 0) {
+    if ((a.clip_columns && choose_clip(&lens, &a, &err) != 0) || make_names(&a, &err) != 0) {
         diag_print(prog, &err);
         free_names(&a);
         lens_free(&lens);
