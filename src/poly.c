@@ -77,8 +77,9 @@ poly_system *poly_new(const char *lens_name, int ninputs, const char *const *inp
     s->scale = calloc((size_t)ninputs, sizeof(double));
     s->lo = calloc((size_t)ninputs, sizeof(double));
     s->hi = calloc((size_t)ninputs, sizeof(double));
+    s->xform = calloc((size_t)ninputs, sizeof(int)); /* identity (poly_frame.c) */
     if (!s->lens_name || !s->lens_path || !s->inputs || !s->outputs || !s->offset ||
-        !s->scale || !s->lo || !s->hi) {
+        !s->scale || !s->lo || !s->hi || !s->xform) {
         poly_free(s);
         return NULL;
     }
@@ -101,6 +102,8 @@ poly_system *poly_new(const char *lens_name, int ninputs, const char *const *inp
     }
     s->ix = name_index(s->inputs, ninputs, "x");
     s->iy = name_index(s->inputs, ninputs, "y");
+    s->iu = name_index(s->inputs, ninputs, "u");
+    s->iv = name_index(s->inputs, ninputs, "v");
     return s;
 }
 
@@ -148,6 +151,9 @@ void poly_free(poly_system *s)
     free(s->scale);
     free(s->lo);
     free(s->hi);
+    free(s->xform);
+    free(s->pair);
+    free(s->plain);
     free(s->circles);
     free(s->lens_name);
     free(s->lens_path);

@@ -68,6 +68,65 @@ static void emit_part(FILE *f, const poly_system *s, const poly_part *p)
     }
 }
 
+/* The frame and transforms around NAME_core (poly_frame.c), as the same expressions in
+ * the same order; the pass test on the final outputs. */
+static void emit_frame(FILE *f, const poly_system *s, const char *func)
+{
+    const int nin = s->nin, nout = s->nout;
+    fprintf(f, "    double t[%d];\n", nin);
+    for (int i = 0; i < nin; i++)
+        fprintf(f, "    t[%d] = in[%d];\n", i, i);
+    if (s->frame == POLY_FRAME_MERIDIONAL)
+        fprintf(f,
+                "    /* the meridional frame: the sensor point rotated onto +x */\n"
+                "    const double fr = sqrt(in[%d] * in[%d] + in[%d] * in[%d]);\n"
+                "    const double fc = fr > 0 ? in[%d] / fr : 1, fs = fr > 0 ? in[%d] / fr : 0;\n"
+                "    t[%d] = fr;\n    t[%d] = 0;\n"
+                "    t[%d] = fc * in[%d] + fs * in[%d];\n"
+                "    t[%d] = fc * in[%d] - fs * in[%d];\n",
+                s->ix, s->ix, s->iy, s->iy, s->ix, s->iy, s->ix, s->iy, s->iu, s->iu, s->iv,
+                s->iv, s->iv, s->iu);
+    for (int i = 0; i < nin; i++)
+        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE) {
+            fprintf(f, "    t[%d] = 1 / (t[%d] * t[%d]); /* ", i, i, i);
+            comment_name(f, s->inputs[i]);
+            fputs(": inverse-square */\n", f);
+        }
+    fprintf(f, "    %s_core(t, out);\n", func);
+    if (s->frame == POLY_FRAME_MERIDIONAL && s->nplain > 0) {
+        fputs("    /* outputs outside the frame: the inputs through their transforms only */\n", f);
+        fprintf(f, "    double p[%d], op[%d];\n", nin, nout);
+        for (int i = 0; i < nin; i++) {
+            if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
+                fprintf(f, "    p[%d] = 1 / (in[%d] * in[%d]);\n", i, i, i);
+            else
+                fprintf(f, "    p[%d] = in[%d];\n", i, i);
+        }
+        fprintf(f, "    %s_core(p, op);\n", func);
+        for (int o = 0; o < nout; o++)
+            if (s->plain[o])
+                fprintf(f, "    out[%d] = op[%d];\n", o, o);
+    }
+    for (int k = 0; k < s->npairs; k++) {
+        int a = s->pair[2 * k], b = s->pair[2 * k + 1];
+        fprintf(f,
+                "    {\n        const double a = out[%d], b = out[%d];\n"
+                "        out[%d] = fc * a - fs * b;\n        out[%d] = fs * a + fc * b;\n    }\n",
+                a, b, a, b);
+    }
+    fprintf(f, "    for (int o = 0; o < %d; o++)\n        if (!isfinite(out[o]))\n            return 0;\n",
+            nout);
+    for (int c = 0; c < s->ncircles; c++) {
+        fprintf(f, "    if (!(out[%d] * out[%d] + out[%d] * out[%d] <= ", s->circles[c].a,
+                s->circles[c].a, s->circles[c].b, s->circles[c].b);
+        num(f, s->circles[c].radius);
+        fputs(" * ", f);
+        num(f, s->circles[c].radius);
+        fputs("))\n        return 0;\n", f);
+    }
+    fputs("    return 1;\n}\n", f);
+}
+
 int poly_emit_c(FILE *f, const poly_system *s, const char *func)
 {
     if (!c_identifier(func))
@@ -96,7 +155,12 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
           " * with -std=c99 or -std=c11) to get exactly the values of lens-eval. */\n"
           "#include <math.h>\n\n",
           f);
-    fprintf(f, "int %s(const double in[%d], double out[%d])\n{\n", func, nin, nout);
+    const int act = poly_frame_active(s) && s->nparts > 0;
+    if (act) /* the polynomials alone; the function below wraps the frame around them */
+        fprintf(f, "static void %s_core(const double in[%d], double out[%d])\n{\n", func, nin,
+                nout);
+    else
+        fprintf(f, "int %s(const double in[%d], double out[%d])\n{\n", func, nin, nout);
     if (s->nparts == 0) {
         for (int o = 0; o < nout; o++)
             fprintf(f, "    out[%d] = NAN;\n", o);
@@ -160,6 +224,12 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
         fputs("        break;\n    }\n", f);
     }
     fputs("    }\n", f);
+    if (act) {
+        fputs("}\n\n", f);
+        fprintf(f, "int %s(const double in[%d], double out[%d])\n{\n", func, nin, nout);
+        emit_frame(f, s, func);
+        return ferror(f) ? -1 : 0;
+    }
     fputs("    for (int o = 0; o < ", f);
     fprintf(f, "%d; o++)\n        if (!isfinite(out[o]))\n            return 0;\n", nout);
     for (int c = 0; c < s->ncircles; c++) {

@@ -1,4 +1,5 @@
-/* Evaluation of polynomial systems: one ray, batches, and the Jacobian.
+/* Evaluation of polynomial systems: one ray, batches, and the Jacobian (the core in the
+ * system's frame; poly_frame.c wraps it into the public functions).
  * All paths compute the same products in the same order (poly_impl.h), so scalar and
  * batch results are bit-identical. */
 #include "poly_impl.h"
@@ -70,12 +71,7 @@ static void dots_one(const poly_system *s, const poly_part *p, const double *v, 
     }
 }
 
-int poly_eval(const poly_system *s, const double *in, double *out)
-{
-    return poly_eval_part(s, s->nparts ? poly_select_part(s, in) : -1, in, out);
-}
-
-int poly_eval_part(const poly_system *s, int part, const double *in, double *out)
+int poly_eval_part_core(const poly_system *s, int part, const double *in, double *out)
 {
     if (part < 0 || part >= s->nparts) {
         fill_nan(out, s->nout);
@@ -169,8 +165,8 @@ static void run_block(const poly_system *s, const poly_part *p, int n, const siz
     }
 }
 
-void poly_eval_batch(const poly_system *s, size_t count, const double *in, double *out,
-                     unsigned char *pass)
+void poly_eval_batch_core(const poly_system *s, size_t count, const double *in, double *out,
+                          unsigned char *pass)
 {
     if (count == 0)
         return;
@@ -235,10 +231,10 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
     free(idx);
 }
 
-int poly_eval_jacobian(const poly_system *s, const double *in, double *out, double *jac)
+int poly_eval_jacobian_core(const poly_system *s, const double *in, double *out, double *jac)
 {
     const int nin = s->nin, nout = s->nout;
-    int pass = poly_eval(s, in, out);
+    int pass = poly_eval_part_core(s, s->nparts ? poly_select_part(s, in) : -1, in, out);
     if (s->nparts == 0) {
         for (int k = 0; k < nin * nout; k++)
             jac[k] = NAN;
