@@ -154,6 +154,8 @@ void poly_free(poly_system *s)
     free(s->xform);
     free(s->pair);
     free(s->plain);
+    poly_free(s->vframe);
+    poly_free(s->vplain);
     free(s->circles);
     free(s->lens_name);
     free(s->lens_path);
@@ -191,6 +193,7 @@ void poly_set_scaling(poly_system *s, int i, double offset, double scale)
         return;
     s->offset[i] = offset;
     s->scale[i] = scale;
+    poly_frame_on_change(s);
 }
 
 void poly_set_domain(poly_system *s, int i, double lo, double hi)
@@ -377,7 +380,9 @@ int poly_add_part(poly_system *s, double rmin, double rmax)
         free_part(p, s->nout);
         return -1;
     }
-    return s->nparts++;
+    s->nparts++;
+    poly_frame_on_change(s);
+    return s->nparts - 1;
 }
 
 int poly_add_term(poly_system *s, int part, int output, const int *exps, double coef)
@@ -436,6 +441,7 @@ int poly_add_term(poly_system *s, int part, int output, const int *exps, double 
         ot->nterms--;
         return -1;
     }
+    poly_frame_on_term(s, part, output, exps, coef);
     return 0;
 }
 

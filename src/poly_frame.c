@@ -105,6 +105,61 @@ static int rebuild_pairs(poly_system *s, int strict)
     return 0;
 }
 
+/* The views (poly_impl.h): copies of the inputs, scaling and parts, each with the
+ * terms of its own outputs. No frame, transform or pass circle: the wrapper applies
+ * them. On failure there are no views, and evaluation runs the whole system twice. */
+static void rebuild_views(poly_system *s)
+{
+    poly_free(s->vframe);
+    poly_free(s->vplain);
+    s->vframe = s->vplain = NULL;
+    if (s->frame == POLY_FRAME_NONE || s->nplain == 0)
+        return;
+    poly_system *v[2];
+    for (int k = 0; k < 2; k++) {
+        v[k] = poly_new(s->lens_name, s->nin, (const char *const *)s->inputs, s->nout,
+                        (const char *const *)s->outputs);
+        if (!v[k]) {
+            poly_free(v[0]);
+            return;
+        }
+        for (int i = 0; i < s->nin; i++)
+            poly_set_scaling(v[k], i, s->offset[i], s->scale[i]);
+    }
+    int ok = 1;
+    for (int p = 0; ok && p < s->nparts; p++)
+        for (int k = 0; k < 2; k++)
+            ok &= poly_add_part(v[k], s->parts[p].rmin, s->parts[p].rmax) == p;
+    for (int p = 0; ok && p < s->nparts; p++)
+        for (int o = 0; ok && o < s->nout; o++) {
+            const poly_out_terms *ot = &s->parts[p].out[o];
+            for (int t = 0; ok && t < ot->nterms; t++)
+                ok &= poly_add_term(v[s->plain[o] ? 1 : 0], p, o, ot->exps + (size_t)t * s->nin,
+                                    ot->coef[t]) == 0;
+        }
+    if (!ok) {
+        poly_free(v[0]);
+        poly_free(v[1]);
+        return;
+    }
+    s->vframe = v[0];
+    s->vplain = v[1];
+}
+
+void poly_frame_on_change(poly_system *s)
+{
+    if (s->vframe || (s->frame != POLY_FRAME_NONE && s->nplain > 0))
+        rebuild_views(s);
+}
+
+void poly_frame_on_term(poly_system *s, int part, int o, const int *exps, double coef)
+{
+    if (!s->vframe)
+        return;
+    if (poly_add_term(s->plain[o] ? s->vplain : s->vframe, part, o, exps, coef) != 0)
+        rebuild_views(s); /* out of memory there: start over (or run without views) */
+}
+
 int poly_set_frame(poly_system *s, int frame)
 {
     if (frame == POLY_FRAME_NONE) {
@@ -113,6 +168,7 @@ int poly_set_frame(poly_system *s, int frame)
         s->nplain = 0;
         free(s->plain);
         s->plain = NULL;
+        rebuild_views(s);
         return 0;
     }
     if (frame != POLY_FRAME_MERIDIONAL || s->ix < 0 || s->iy < 0 || s->iu < 0 || s->iv < 0)
@@ -124,6 +180,7 @@ int poly_set_frame(poly_system *s, int frame)
     if (rebuild_pairs(s, 1) != 0)
         return -1;
     s->frame = frame;
+    rebuild_views(s);
     return 0;
 }
 
@@ -133,6 +190,7 @@ int poly_set_output_plain(poly_system *s, int o, int plain)
         return -1;
     s->nplain += (plain != 0) - (s->plain[o] != 0);
     s->plain[o] = plain != 0;
+    rebuild_views(s);
     return rebuild_pairs(s, 0);
 }
 
@@ -249,8 +307,8 @@ int poly_eval_part(const poly_system *s, int part, const double *in, double *out
     if (!poly_frame_active(s))
         return poly_eval_part_core(s, part, in, out);
     const int nin = s->nin, nout = s->nout, np = s->frame && s->nplain;
-    double cs[2];
-    double *t = malloc((size_t)(2 * nin + nout) * sizeof *t);
+    double cs[2], buf[64];
+    double *t = 2 * nin + nout <= 64 ? buf : malloc((size_t)(2 * nin + nout) * sizeof *t);
     if (!t) {
         for (int o = 0; o < nout; o++)
             out[o] = NAN;
@@ -258,14 +316,15 @@ int poly_eval_part(const poly_system *s, int part, const double *in, double *out
     }
     double *tp = t + nin, *op = tp + nin;
     poly_frame_in(s, in, t, cs);
-    poly_eval_part_core(s, part, t, out);
+    poly_eval_part_core(s->vframe ? s->vframe : s, part, t, out);
     if (np) {
         plain_in(s, in, tp);
-        poly_eval_part_core(s, part, tp, op);
+        poly_eval_part_core(s->vplain ? s->vplain : s, part, tp, op);
         take_plain(s, op, out);
     }
     poly_frame_out(s, cs, out);
-    free(t);
+    if (t != buf)
+        free(t);
     return passes(s, out);
 }
 
@@ -295,11 +354,11 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
         size_t n = count - r0 < FRAME_CHUNK ? count - r0 : FRAME_CHUNK;
         for (size_t r = 0; r < n; r++)
             poly_frame_in(s, in + (r0 + r) * nin, t + r * nin, cs + 2 * r);
-        poly_eval_batch_core(s, n, t, out + r0 * nout, NULL);
+        poly_eval_batch_core(s->vframe ? s->vframe : s, n, t, out + r0 * nout, NULL);
         if (np) {
             for (size_t r = 0; r < n; r++)
                 plain_in(s, in + (r0 + r) * nin, t + r * nin);
-            poly_eval_batch_core(s, n, t, op, NULL);
+            poly_eval_batch_core(s->vplain ? s->vplain : s, n, t, op, NULL);
             for (size_t r = 0; r < n; r++)
                 take_plain(s, op + r * nout, out + (r0 + r) * nout);
         }
@@ -339,7 +398,7 @@ int poly_eval_jacobian(const poly_system *s, const double *in, double *out, doub
     double cs[2];
     rotate_in(s, in, w, cs);
     poly_frame_in(s, in, t, cs);
-    poly_eval_jacobian_core(s, t, out, J);
+    poly_eval_jacobian_core(s->vframe ? s->vframe : s, t, out, J);
     const double c = cs[0], sn = cs[1];
     /* derivatives of c and s with respect to x and y */
     double dc[2] = {0, 0}, ds[2] = {0, 0};
@@ -394,7 +453,7 @@ int poly_eval_jacobian(const poly_system *s, const double *in, double *out, doub
     if (np) {
         /* outside the frame: the transforms alone, diagonal */
         plain_in(s, in, t);
-        poly_eval_jacobian_core(s, t, op, Jp);
+        poly_eval_jacobian_core(s->vplain ? s->vplain : s, t, op, Jp);
         for (int o = 0; o < nout; o++) {
             if (!s->plain[o])
                 continue;

@@ -68,6 +68,11 @@ struct poly_system {
                              with their transforms only), as direction components
                              that do not turn with the ray; NULL: none */
     int nplain;
+    /* With outputs outside the frame, two views of the system that evaluation runs
+     * instead of it: vframe holds only the outputs in the frame, vplain only the others
+     * (the rest of their outputs have no terms), so each term is computed once.
+     * Kept in step by poly_frame_on_change / poly_frame_on_term (poly_frame.c). */
+    poly_system *vframe, *vplain;
     int npairs;     /* output pairs rotated with the frame */
     int *pair;      /* npairs x 2: outputs (a, b) = (..._x, ..._y) or (..._u, ..._v) */
     int nparts;
@@ -89,6 +94,11 @@ int poly_eval_part_core(const poly_system *sys, int part, const double *in, doub
 void poly_eval_batch_core(const poly_system *sys, size_t count, const double *in, double *out,
                           unsigned char *pass);
 int poly_eval_jacobian_core(const poly_system *sys, const double *in, double *out, double *jac);
+
+/* Hooks of the builders in poly.c: a change of scaling or parts rebuilds the views, a
+ * new term is added to its view. */
+void poly_frame_on_change(poly_system *s);
+void poly_frame_on_term(poly_system *s, int part, int output, const int *exps, double coef);
 
 /* 1 when evaluation needs the frame or a transform around the core. */
 static inline int poly_frame_active(const poly_system *s) { return s->frame != 0 || s->nxform > 0; }
