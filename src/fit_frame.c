@@ -254,7 +254,7 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
      * compares with is the error per lens-frame coordinate, which for rays spread
      * evenly in angle is sqrt((radial^2 + sagittal^2) / 2) for both. */
     for (int o = 0; opt->frame && o < noutputs; o++) {
-        int first = 0, q = -1;
+        int q;
         char key[256], kq[256], m1[256], m2[256];
         size_t l = strlen(outputs[o]);
         if (poly_get_output_plain(sys, o) || l < 2 || outputs[o][l - 2] != '_' ||
@@ -263,7 +263,6 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
         snprintf(kq, sizeof kq, "%s", outputs[o]);
         kq[l - 1] = outputs[o][l - 1] == 'x' ? 'y' : 'v';
         q = find_name(noutputs, outputs, kq);
-        (void)first;
         snprintf(key, sizeof key, "fit_%s", outputs[o]);
         snprintf(kq, sizeof kq, "fit_%s", outputs[q]);
         const char *va = poly_get_meta(sys, key), *vb = poly_get_meta(sys, kq);

@@ -83,7 +83,8 @@ static void emit_frame(FILE *f, const poly_system *s, const char *func)
                 "    const double fc = fr > 0 ? in[%d] / fr : 1, fs = fr > 0 ? in[%d] / fr : 0;\n"
                 "    t[%d] = fr;\n    t[%d] = 0;\n"
                 "    t[%d] = fc * in[%d] + fs * in[%d];\n"
-                "    t[%d] = fc * in[%d] - fs * in[%d];\n",
+                "    t[%d] = fc * in[%d] - fs * in[%d];\n"
+                "    (void)fc;\n    (void)fs;\n",
                 s->ix, s->ix, s->iy, s->iy, s->ix, s->iy, s->ix, s->iy, s->iu, s->iu, s->iv,
                 s->iv, s->iv, s->iu);
     for (int i = 0; i < nin; i++)
