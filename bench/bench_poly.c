@@ -2,11 +2,16 @@
  * 5 inputs (the size of the supplement's fisheye-ii system; the term set of
  * tests/unit/poly_fixture.h, random coefficients: speed does not depend on them),
  * single thread, CPU time of this thread.
- * Prints "bench NAME VALUE UNIT" lines, each the median of 5 runs, for
+ * Prints "bench NAME VALUE UNIT" lines, each the median of 5 runs (11 shorter ones for
+ * the batch paths; their best run too, the figure of a quiet machine), for
  *   naive     each term's powers computed from scratch (the baseline)
  *   scalar    poly_eval, one ray at a time
  *   batch     poly_eval_batch
  *   emitted   the C of poly_emit_c, compiled now with $CC (or cc) -O2, one call per ray
+ *   emitted_c_batch         its NAME_batch function on all rays, -O2 as well
+ *   emitted_c_batch_native  the same compiled with -O2 -march=native (this CPU's vectors)
+ *   jacobian  poly_eval_jacobian (outputs and all 25 derivatives), one ray at a time
+ *   jacobian_batch  poly_eval_jacobian_batch (the 25 derivatives)
  *   trace     the exact tracer (trace_batch, one thread) on passing fisheye-ii rays,
  *             for the speed-up of the polynomial system over tracing
  * Usage: bench_poly [RAYS [SYSTEM.poly]]   (default 1000000 rays, the fixture system;
@@ -31,13 +36,16 @@ static double now(void)
 }
 
 typedef int (*emitted_fn)(const double *in, double *out);
+typedef void (*emitted_batch_fn)(size_t n, const double *in, double *out, unsigned char *pass);
 
-/* Compiles the emitted C into a shared object and loads it; NULL if no compiler. */
-static emitted_fn load_emitted(const poly_system *s, char *dir, void **handle)
+/* Compiles the emitted C into a shared object with the extra flags and loads it; NULL if
+ * no compiler. *batch gets its NAME_batch function. */
+static emitted_fn load_emitted(const poly_system *s, char *dir, const char *flags, void **handle,
+                               emitted_batch_fn *batch)
 {
     char src[300], so[300], cmd[1024];
     snprintf(src, sizeof src, "%s/fn.c", dir);
-    snprintf(so, sizeof so, "%s/fn.so", dir);
+    snprintf(so, sizeof so, "%s/fn%s.so", dir, *flags ? "_native" : "");
     FILE *f = fopen(src, "w");
     if (!f || poly_emit_c(f, s, "bench_fn") != 0) {
         if (f)
@@ -46,13 +54,14 @@ static emitted_fn load_emitted(const poly_system *s, char *dir, void **handle)
     }
     fclose(f);
     const char *cc = getenv("CC");
-    snprintf(cmd, sizeof cmd, "%s -std=c99 -O2 -fPIC -shared %s -o %s -lm", cc && *cc ? cc : "cc",
-             src, so);
+    snprintf(cmd, sizeof cmd, "%s -std=c99 -O2 %s -fPIC -shared %s -o %s -lm", cc && *cc ? cc : "cc",
+             flags, src, so);
     if (system(cmd) != 0)
         return NULL;
     *handle = dlopen(so, RTLD_NOW);
     if (!*handle)
         return NULL;
+    *batch = (emitted_batch_fn)(uintptr_t)dlsym(*handle, "bench_fn_batch");
     return (emitted_fn)(uintptr_t)dlsym(*handle, "bench_fn");
 }
 
@@ -165,40 +174,64 @@ int main(int argc, char **argv)
         poly_get_scaling(s, i, &F.off[i], &F.scale[i]);
 
     char dir[] = "/tmp/bench_poly_XXXXXX";
-    void *handle = NULL;
-    emitted_fn fn = mkdtemp(dir) ? load_emitted(s, dir, &handle) : NULL;
-    const char *names[4] = {"naive", "scalar", "batch", "emitted_c"};
+    void *handle = NULL, *handle_native = NULL;
+    emitted_batch_fn fn_batch = NULL, fn_batch_native = NULL;
+    emitted_fn fn = mkdtemp(dir) ? load_emitted(s, dir, "", &handle, &fn_batch) : NULL;
+    if (fn && !load_emitted(s, dir, "-march=native", &handle_native, &fn_batch_native))
+        fn_batch_native = NULL;
+    const char *names[8] = {"naive",    "scalar",         "batch",           "emitted_c",
+                            "jacobian", "jacobian_batch", "emitted_c_batch", "emitted_c_batch_native"};
     double checksum = 0, batch_ns = 0;
-    for (int m = 0; m < 4; m++) {
-        if (m == 3 && !fn) {
-            fprintf(stderr, "bench_poly: no C compiler: emitted C not measured\n");
+    double *jac = malloc(n * 25 * sizeof(double));
+    for (int m = 0; m < 8; m++) {
+        if ((m == 3 && !fn) || (m == 6 && !fn_batch) || (m == 7 && !fn_batch_native)) {
+            fprintf(stderr, "bench_poly: no C compiler: emitted C (%s) not measured\n", names[m]);
             continue;
         }
-        double t[5];
-        for (int run = 0; run < 5; run++) {
+        /* the batch paths are fast: more, shorter runs (a tenth of the rays each) give a
+         * steadier median on a shared machine */
+        const int batchlike = m == 2 || m >= 5, runs = batchlike ? 11 : 5;
+        const size_t nr = batchlike ? (n / 10 ? n / 10 : n) : m == 4 ? (n / 10 ? n / 10 : n) : n;
+        double t[11];
+        for (int run = 0; run < runs; run++) {
+            const double *rin = in + (batchlike ? (size_t)run % 10 * nr * 5 : 0);
             double t0 = now();
             if (m == 0)
-                naive(&F, n, in, out);
+                naive(&F, nr, rin, out);
             else if (m == 1)
-                for (size_t r = 0; r < n; r++)
-                    pass[r] = (unsigned char)poly_eval(s, in + r * 5, out + r * 5);
+                for (size_t r = 0; r < nr; r++)
+                    pass[r] = (unsigned char)poly_eval(s, rin + r * 5, out + r * 5);
             else if (m == 2)
-                poly_eval_batch(s, n, in, out, pass);
+                poly_eval_batch(s, nr, rin, out, pass);
+            else if (m == 3)
+                for (size_t r = 0; r < nr; r++)
+                    pass[r] = (unsigned char)fn(rin + r * 5, out + r * 5);
+            else if (m == 4)
+                for (size_t r = 0; r < nr; r++)
+                    pass[r] = (unsigned char)poly_eval_jacobian(s, rin + r * 5, out + r * 5,
+                                                                jac + r * 25);
+            else if (m == 5)
+                poly_eval_jacobian_batch(s, nr, rin, jac);
             else
-                for (size_t r = 0; r < n; r++)
-                    pass[r] = (unsigned char)fn(in + r * 5, out + r * 5);
+                (m == 6 ? fn_batch : fn_batch_native)(nr, rin, out, pass);
             t[run] = now() - t0;
-            checksum += out[n / 2 * 5];
+            checksum += out[nr / 2 * 5] + jac[nr / 2 * 25];
         }
-        qsort(t, 5, sizeof t[0], cmp);
-        double ns = t[2] / (double)n * 1e9;
+        qsort(t, (size_t)runs, sizeof t[0], cmp);
+        double ns = t[runs / 2] / (double)nr * 1e9;
         if (m == 2)
             batch_ns = ns;
         printf("bench poly_eval_%s_ns_per_ray %.2f ns\n", names[m], ns);
         printf("bench poly_eval_%s_mrays_per_s %.2f Mrays/s\n", names[m], 1e3 / ns);
+        if (batchlike)
+            printf("bench poly_eval_%s_best_ns_per_ray %.2f ns\n", names[m],
+                   t[0] / (double)nr * 1e9);
     }
+    free(jac);
     if (handle)
         dlclose(handle);
+    if (handle_native)
+        dlclose(handle_native);
     char cmd[400];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0)

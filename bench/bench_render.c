@@ -3,8 +3,9 @@
  * same rays: sensor points over the sensor, directions from the line pupil), on
  * lenses/dgauss.50mm.lens (36x24 sensor) and lenses/fisheye-ii.lens (23.6x15.7),
  * single thread, CPU time of this thread, median of 5 runs.
- * Prints "bench render_map_{exact,poly}_<lens>_ns_per_ray VALUE ns" and the share of
- * the rays that pass each map.
+ * Prints "bench render_map_{exact,poly}_<lens>_ns_per_ray VALUE ns", the share of the
+ * rays that pass the line pupil, and the lens part of the full estimator (--estimator
+ * full: the system's Jacobian, the frames, G-bar and p_A(s1)) against the map alone.
  * Usage: bench_render [RAYS]   (default 200000; from the repository root) */
 #include <math.h>
 #include <stdio.h>
@@ -18,6 +19,7 @@
 #include "render_effects.h"
 #include "render_lens.h"
 #include "scene.h"
+#include "trace.h"
 
 static double now(void)
 {
@@ -48,6 +50,34 @@ static double time_map(const render_camera *cam, const double *rays, size_t n, d
     return t[2];
 }
 
+/* median ns per ray of the full estimator's lens part: cam->outer with the Jacobian, the
+ * ray, and render_full_weight for a hit on the plane 1 m in front of the lens (scene
+ * frame z = 1000, facing the lens) */
+static double time_full(const render_camera *cam, const double *rays, size_t n)
+{
+    double t[5], sink = 0;
+    for (int rep = 0; rep < 5; rep++) {
+        double t0 = now();
+        for (size_t i = 0; i < n; i++) {
+            double o[4], jac[16], eta, os[3], ds[3];
+            const double *in = rays + 5 * i;
+            lens_ray r;
+            if (!cam->outer(cam->ctx, in, o, jac, &eta) || ray_from_outer(cam->lens, o, &r)) continue;
+            render_lens_to_scene(r.o, os);
+            render_lens_to_scene(r.d, ds);
+            if (!(ds[2] > 0)) continue;
+            double tau = (1000 - os[2]) / ds[2], s1[3] = {os[0] + tau * ds[0], os[1] + tau * ds[1], 1000},
+                   n1[3] = {0, 0, -1};
+            render_full_terms ft;
+            if (render_full_weight(cam->lens, in, o, jac, 1, eta, s1, n1, &ft) == 0) sink += ft.weight;
+        }
+        t[rep] = (now() - t0) / n * 1e9;
+    }
+    qsort(t, 5, sizeof *t, cmp);
+    if (sink == 42) printf("#\n"); /* keep the loop */
+    return t[2];
+}
+
 static int run(const char *name, const char *path, double sw, double sh, size_t n)
 {
     lens_t lens;
@@ -75,7 +105,7 @@ static int run(const char *name, const char *path, double sw, double sh, size_t 
         !(sys = render_fit(&lens, &e, 0, &fit_s, &err)) ||
         !(le = render_lens_exact(&lens, sw, sh, &ce, &err)) ||
         !(lp = render_lens_poly(sys, &lens, sw, sh, &cp, &err)) ||
-        render_sampler_pupil(&smp, &ce, GLASS_D_LINE, hypot(sw, sh) / 2, 32, &err)) {
+        render_sampler_lens(&smp, &lens, GLASS_D_LINE, GLASS_D_LINE, hypot(sw, sh) / 2, 0, &err)) {
         fprintf(stderr, "bench_render: %s\n", rays ? err.msg : "out of memory");
         goto done;
     }
@@ -98,6 +128,9 @@ static int run(const char *name, const char *path, double sw, double sh, size_t 
     printf("bench render_map_poly_%s_ns_per_ray %.1f ns\n", name, tp);
     printf("bench render_map_speedup_%s %.2f x\n", name, te / tp);
     printf("bench render_line_pupil_pass_%s %.1f %%\n", name, 100 * pe);
+    double tf = time_full(&cp, rays, n);
+    printf("bench render_full_estimator_poly_%s_ns_per_ray %.1f ns\n", name, tf);
+    printf("bench render_full_over_eq13_poly_%s %.2f x\n", name, tf / tp);
     rc = 0;
 done:
     free(rays);

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "imaging_cli.h"
 #include "lens_cli_options.h"
 #include "distort_run.h"
 #include "outfile.h"
@@ -40,51 +41,37 @@ static const char *const usage =
     LENS_CLI_OPTIONS_HELP
     "  --help\n";
 
+/* lens-distort's own flags, beside the shared ones of imaging_cli.h. */
+typedef struct {
+    const char *illum, *grid, *mapping, *sensor, *exag, *map, *opencv;
+} distort_flags;
+
+static int distort_flag(const char *p, int argc, char **argv, int *i, void *ctx)
+{
+    distort_flags *f = ctx;
+    return cli_opt(p, argc, argv, i, "--illum-rays", &f->illum) ||
+           cli_opt(p, argc, argv, i, "--grid", &f->grid) ||
+           cli_opt(p, argc, argv, i, "--mapping", &f->mapping) ||
+           cli_opt(p, argc, argv, i, "--sensor", &f->sensor) ||
+           cli_opt(p, argc, argv, i, "--exaggerate", &f->exag) ||
+           cli_opt(p, argc, argv, i, "--map", &f->map) ||
+           cli_opt(p, argc, argv, i, "--opencv", &f->opencv);
+}
+
 int main(int argc, char **argv)
 {
-    const char *input = NULL, *fields_s = NULL, *dist_s = NULL, *wl_s = "d", *focus_s = "file",
-               *illum_s = "32", *grid_s = "17", *mapping_s = NULL, *sensor_s = NULL, *exag_s = NULL,
-               *map_path = NULL, *png = NULL, *opencv_s = NULL, *compare = NULL, *lens_path = NULL;
-    lens_cli_options lopt;
-    lens_cli_options_init(&lopt);
-    for (int i = 1; i < argc; i++) {
-        if (lens_cli_options_take(prog, argc, argv, &i, &lopt))
-            continue;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0)
-            cli_help(usage);
-        if (cli_opt(prog, argc, argv, &i, "--fields", &fields_s) ||
-            cli_opt(prog, argc, argv, &i, "--object-distance", &dist_s) ||
-            cli_opt(prog, argc, argv, &i, "--wavelengths", &wl_s) ||
-            cli_opt(prog, argc, argv, &i, "--focus", &focus_s) ||
-            cli_opt(prog, argc, argv, &i, "--illum-rays", &illum_s) ||
-            cli_opt(prog, argc, argv, &i, "--grid", &grid_s) ||
-            cli_opt(prog, argc, argv, &i, "--mapping", &mapping_s) ||
-            cli_opt(prog, argc, argv, &i, "--sensor", &sensor_s) ||
-            cli_opt(prog, argc, argv, &i, "--exaggerate", &exag_s) ||
-            cli_opt(prog, argc, argv, &i, "--map", &map_path) ||
-            cli_opt(prog, argc, argv, &i, "--png", &png) ||
-            cli_opt(prog, argc, argv, &i, "--opencv", &opencv_s) ||
-            cli_opt(prog, argc, argv, &i, "--compare", &compare) ||
-            cli_opt(prog, argc, argv, &i, "--lens", &lens_path))
-            continue;
-        if (argv[i][0] == '-' && argv[i][1] != '\0')
-            diag_die(prog, "unknown option '%s' (see --help)", argv[i]);
-        if (input)
-            diag_die(prog, "one lens or system expected, got '%s' and '%s'", input, argv[i]);
-        input = argv[i];
-    }
-    if (!input)
-        diag_die(prog, "no lens given (see --help)");
+    distort_flags df = {.illum = "32", .grid = "17"};
+    imaging_cli a = {.wavelengths = "d"};
+    imaging_cli_parse(prog, usage, argc, argv, &a, distort_flag, &df);
+    const char *input = a.input, *fields_s = a.fields, *mapping_s = df.mapping,
+               *sensor_s = df.sensor, *exag_s = df.exag, *map_path = df.map, *png = a.png,
+               *opencv_s = df.opencv;
     lens_err err;
-    double wl[IMAGING_MAX_WAVELENGTHS], field[IMAGING_MAX_FIELDS];
-    int nl = wavelengths_parse(wl_s, wl, IMAGING_MAX_WAVELENGTHS, &err);
-    if (nl < 0)
-        diag_die(prog, "--wavelengths: %s", err.msg);
-    distort_request rq = {.lambda = wl[nl / 2], .mapping = -1, .sensor_w = NAN, .sensor_h = NAN};
-    if (focus_mode_parse(focus_s, &rq.focus) != 0)
-        diag_die(prog, "--focus: '%s' is not file, paraxial or best", focus_s);
-    rq.illum_rays = (int)cli_count(prog, "--illum-rays", illum_s, 0, 2000);
-    int ng = (int)cli_count(prog, "--grid", grid_s, 2, 501);
+    double field[IMAGING_MAX_FIELDS];
+    distort_request rq = {.lambda = a.lambda[a.nl / 2], .mapping = -1, .sensor_w = NAN,
+                          .sensor_h = NAN, .focus = a.focus_mode};
+    rq.illum_rays = (int)cli_count(prog, "--illum-rays", df.illum, 0, 2000);
+    int ng = (int)cli_count(prog, "--grid", df.grid, 2, 501);
     proj_kind mapping;
     if (mapping_s) {
         if (proj_parse(mapping_s, &mapping) != 0)
@@ -105,20 +92,12 @@ int main(int argc, char **argv)
             diag_die(prog, "--opencv: give the sensor size in whole pixels, e.g. 1920x1080");
         rq.cv_width = (int)w, rq.cv_height = (int)h;
     }
-    double dist = dist_s ? cli_positive(prog, "--object-distance", dist_s) : INFINITY;
-    if (opencv_s && isfinite(dist))
+    if (opencv_s && isfinite(a.object_distance))
         diag_die(prog, "--opencv needs an object at infinity");
     rq.grid = png || map_path || opencv_s ? ng : 0;
 
     imaging_models models;
-    int load_rc = imaging_models_load(input, compare, lens_path, lens_cli_options_get(&lopt),
-                                      &models, &err);
-    lens_cli_options_free(&lopt);
-    if (load_rc != 0) {
-        diag_print(prog, &err);
-        return 1;
-    }
-    rq.nmodels = imaging_models_setup(&models, dist, rq.im, rq.model_names);
+    rq.nmodels = imaging_cli_load(prog, &a, &models, rq.im, rq.model_names);
     if (fields_s) {
         rq.nfields = numbers_parse(fields_s, "field", field, IMAGING_MAX_FIELDS, &err);
         if (rq.nfields < 0)
@@ -153,7 +132,7 @@ int main(int argc, char **argv)
     }
     if (png && rc == 0) {
         double factor = isfinite(exag) ? exag : distort_auto_factor(&rep);
-        const char *base = strrchr(input, '/') ? strrchr(input, '/') + 1 : input;
+        const char *base = imaging_cli_basename(&a);
         char title[300];
         snprintf(title, sizeof title, "%s  distortion grid map (%s ideal, %.4g um)",
                  models.lens.name[0] ? models.lens.name : base, proj_name(rep.mapping), rq.lambda);

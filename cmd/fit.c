@@ -143,24 +143,27 @@ int main(int argc, char **argv)
         else
             diag_die(prog, "more than one sample file (see --help)");
     }
+    /* Everything below is released at `done`, on success and on every error, so that a
+     * leak checker sees none either way. */
     lens_err err;
+    int rc = 1;
+    char *incopy = NULL, *outcopy = NULL;
+    const char **in_names = NULL, **out_names = NULL;
+    double *tols = NULL, *in = NULL, *out = NULL, *vals = NULL;
+    unsigned char *plain = NULL;
+    int *inmap = NULL, *outmap = NULL;
+    poly_system *sys = NULL;
     samples_reader *r = samples_open(path, &err);
-    if (!r) {
-        diag_print(prog, &err);
-        return 1;
-    }
+    if (!r)
+        goto fail;
     /* Stop hits in the samples: fit them too, so the system gets the stop's pass
      * circle and rays blocked at the stop do not pass it. */
     if (!outputs_given && samples_find(r, "ap_x") >= 0 && samples_find(r, "ap_y") >= 0)
         outputs_s = "out_x,out_y,out_u,out_v,out_eta,ap_x,ap_y";
-    char *incopy, *outcopy;
-    const char **in_names, **out_names;
     int nin = split_list("--inputs", inputs_s, &incopy, &in_names);
     int nout = split_list("--outputs", outputs_s, &outcopy, &out_names);
 
     /* --tolerance T (every output) or name=T,name=T (those outputs only). */
-    double *tols = NULL;
-    unsigned char *plain = NULL;
     if (tol_s && strchr(tol_s, '=')) {
         char *tcopy;
         const char **items;
@@ -191,14 +194,13 @@ int main(int argc, char **argv)
             diag_die(prog, "--tolerance: must not be negative, not %s", tol_s);
     }
 
-    int *inmap = malloc((size_t)nin * sizeof *inmap), *outmap = malloc((size_t)nout * sizeof *outmap);
+    inmap = malloc((size_t)nin * sizeof *inmap);
+    outmap = malloc((size_t)nout * sizeof *outmap);
     if (!inmap || !outmap)
         diag_die(prog, "out of memory");
     if (samples_map(r, in_names, nin, inmap, &err) != 0 ||
-        samples_map(r, out_names, nout, outmap, &err) != 0) {
-        diag_print(prog, &err);
-        return 1;
-    }
+        samples_map(r, out_names, nout, outmap, &err) != 0)
+        goto fail;
     /* Blocked rays are marked by out_eta 0 even when out_eta is not fitted; a lambda
      * column that is not an input must hold a single wavelength (a system without
      * lambda cannot represent dispersion, so mixing wavelengths would be averaged). */
@@ -212,28 +214,33 @@ int main(int argc, char **argv)
     long lam_line = 0;
 
     size_t cap = 4096, count = 0, blocked = 0;
-    double *in = malloc(cap * (size_t)nin * sizeof *in), *out = malloc(cap * (size_t)nout * sizeof *out);
-    double *vals = malloc((size_t)samples_ncols(r) * sizeof *vals);
+    in = malloc(cap * (size_t)nin * sizeof *in);
+    out = malloc(cap * (size_t)nout * sizeof *out);
+    vals = malloc((size_t)samples_ncols(r) * sizeof *vals);
     if (!in || !out || !vals)
         diag_die(prog, "out of memory");
     int st;
     while ((st = samples_next(r, vals, &err)) != 0) {
-        if (st < 0) {
-            diag_print(prog, &err);
-            return 1;
-        }
+        if (st < 0)
+            goto fail;
         if (count == cap) {
             cap *= 2;
-            in = realloc(in, cap * (size_t)nin * sizeof *in);
-            out = realloc(out, cap * (size_t)nout * sizeof *out);
-            if (!in || !out)
+            double *nin_ = realloc(in, cap * (size_t)nin * sizeof *in);
+            if (nin_)
+                in = nin_;
+            double *nout_ = realloc(out, cap * (size_t)nout * sizeof *out);
+            if (nout_)
+                out = nout_;
+            if (!nin_ || !nout_)
                 diag_die(prog, "out of memory");
         }
         for (int i = 0; i < nin; i++) {
             double x = vals[inmap[i]];
-            if (!isfinite(x))
-                diag_die(prog, "%s:%ld: input %s is %g (inputs must be finite)",
-                         samples_path(r), samples_line(r), in_names[i], x);
+            if (!isfinite(x)) {
+                lens_errf(&err, samples_path(r), samples_line(r),
+                          "input %s is %g (inputs must be finite)", in_names[i], x);
+                goto fail;
+            }
             in[count * nin + i] = x;
         }
         int pass = ceta < 0 || vals[ceta] > 0;
@@ -247,29 +254,36 @@ int main(int argc, char **argv)
             if (isnan(lam0)) {
                 lam0 = l;
                 lam_line = samples_line(r);
-            } else if (l != lam0)
-                diag_die(prog, "%s:%ld: lambda %g differs from %g (line %ld), but lambda is "
-                         "not among --inputs: add it, or trace a single wavelength",
-                         samples_path(r), samples_line(r), l, lam0, lam_line);
+            } else if (l != lam0) {
+                lens_errf(&err, samples_path(r), samples_line(r),
+                          "lambda %g differs from %g (line %ld), but lambda is not among "
+                          "--inputs: add it, or trace a single wavelength",
+                          l, lam0, lam_line);
+                goto fail;
+            }
         }
         count++;
     }
     char lens_buf[256];
     lens_name_from(lens ? lens : path, lens_buf, sizeof lens_buf);
     samples_close(r);
-    if (count == 0)
-        diag_die(prog, "%s: no samples (the file has no data rows)", path);
+    r = NULL;
+    if (count == 0) {
+        lens_errf(&err, path, 0, "no samples (the file has no data rows)");
+        goto fail;
+    }
 
     /* auto: the meridional frame where the inputs and outputs allow it (every lens
      * sparselens traces is rotationally symmetric), 1/lambda^2 where lambda is fitted:
      * both lower the held-out error on every lens measured (reports/fit.md). */
     {
         poly_system *probe = poly_new("probe", nin, in_names, nout, out_names);
-        if (!probe)
-            diag_die(prog, "bad or repeated column names in --inputs or --outputs");
         plain = calloc((size_t)nout, 1);
-        if (!plain)
-            diag_die(prog, "out of memory");
+        if (!probe || !plain) {
+            poly_free(probe);
+            lens_errf(&err, NULL, 0, "bad or repeated column names in --inputs or --outputs");
+            goto fail;
+        }
         if (*except_s) {
             char *ecopy;
             const char **en;
@@ -287,18 +301,22 @@ int main(int argc, char **argv)
             if (plain[o])
                 poly_set_output_plain(probe, o, 1);
         can = can && poly_frame_check(probe) == 0;
+        poly_free(probe);
         opt.frame_plain = plain;
         if (strcmp(frame_s, "auto") == 0)
             opt.frame = can ? POLY_FRAME_MERIDIONAL : POLY_FRAME_NONE;
-        else if ((opt.frame = poly_frame_parse(frame_s)) == POLY_FRAME_MERIDIONAL && !can)
-            diag_die(prog, "--frame meridional needs inputs x, y, u, v and outputs in pairs "
-                           "(..._x with ..._y, ..._u with ..._v)");
+        else if ((opt.frame = poly_frame_parse(frame_s)) == POLY_FRAME_MERIDIONAL && !can) {
+            lens_errf(&err, NULL, 0, "--frame meridional needs inputs x, y, u, v and outputs in "
+                                     "pairs (..._x with ..._y, ..._u with ..._v)");
+            goto fail;
+        }
         opt.lambda_transform = strcmp(lxf_s, "auto") == 0 ? (lam_is_input ? POLY_XFORM_INVERSE_SQUARE
                                                                           : POLY_XFORM_IDENTITY)
                                                           : poly_xform_parse(lxf_s);
-        if (opt.lambda_transform != POLY_XFORM_IDENTITY && !lam_is_input)
-            diag_die(prog, "--lambda-transform %s needs lambda among --inputs", lxf_s);
-        poly_free(probe);
+        if (opt.lambda_transform != POLY_XFORM_IDENTITY && !lam_is_input) {
+            lens_errf(&err, NULL, 0, "--lambda-transform %s needs lambda among --inputs", lxf_s);
+            goto fail;
+        }
     }
     int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
     if (!quiet)
@@ -309,33 +327,28 @@ int main(int argc, char **argv)
     opt.verbose = !quiet && opt.max_parts > 1;
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
-    poly_system *sys = fit_system(lens_buf, nin, in_names, nout, out_names, count, in, out,
+    sys = fit_system(lens_buf, nin, in_names, nout, out_names, count, in, out,
                                   &opt, &err);
     clock_gettime(CLOCK_MONOTONIC, &t1);
-    if (!sys) {
-        diag_print(prog, &err);
-        return 1;
-    }
+    if (!sys)
+        goto fail;
     if (clam >= 0 && !isnan(lam0)) {
         char buf[64];
         snprintf(buf, sizeof buf, "%.17g", lam0);
         poly_set_meta(sys, "lambda", buf);
     }
     outfile *of = outfile_open(outpath, &err);
-    if (!of) {
-        diag_print(prog, &err);
-        return 1;
-    }
+    if (!of)
+        goto fail;
     int wrc = emit ? poly_emit_c(outfile_stream(of), sys, fname) : poly_write(outfile_stream(of), sys);
     if (wrc != 0) {
         outfile_abort(of);
-        diag_die(prog, "%s: cannot write the system%s", outpath,
-                 emit ? " (is --name a C identifier?)" : "");
+        lens_errf(&err, outpath, 0, "cannot write the system%s",
+                  emit ? " (is --name a C identifier?)" : "");
+        goto fail;
     }
-    if (outfile_commit(of, &err) != 0) {
-        diag_print(prog, &err);
-        return 1;
-    }
+    if (outfile_commit(of, &err) != 0)
+        goto fail;
     if (!quiet) {
         double secs = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
         fprintf(stderr, "lens-fit: %s; %s part%s; fit time %.3f s\n", poly_get_meta(sys, "fit_samples"),
@@ -351,8 +364,15 @@ int main(int argc, char **argv)
                     j ? " largest_part_jump " : "", j ? j : "");
         }
     }
+    rc = 0;
+    goto done;
+fail:
+    diag_print(prog, &err);
+done:
+    if (r)
+        samples_close(r);
     poly_free(sys);
     free(in); free(out); free(vals); free(inmap); free(outmap);
     free(in_names); free(out_names); free(tols); free(plain); free(incopy); free(outcopy);
-    return 0;
+    return rc;
 }

@@ -39,11 +39,9 @@ int main(int argc, char **argv)
     lens_cli_options lopt;
     lens_cli_options_init(&lopt);
     for (int i = 1; i < argc; i++) {
-        if (lens_cli_options_take(prog, argc, argv, &i, &lopt))
+        if (lens_cli_common_take(prog, usage, argc, argv, &i, &lopt))
             continue;
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h"))
-            cli_help(usage);
-        else if (cli_opt(prog, argc, argv, &i, "--wavelength", &v))
+        if (cli_opt(prog, argc, argv, &i, "--wavelength", &v))
             lambda = cli_positive(prog, "--wavelength", v);
         else if (cli_opt(prog, argc, argv, &i, "--sensor", &v)) {
             cli_pair(prog, "--sensor", v, 'x', &sw, &sh);

@@ -5,12 +5,13 @@
 
 #include "cli.h"
 #include "diag.h"
+#include "lens_cli_options.h"
 #include "render_run.h"
 
 static const char *usage =
     "usage: lens-render SCENE -o IMAGE.exr [--png PREVIEW.png] [--exact] [--spp N]\n"
     "                   [--threads N] [--cache DIR] [--rear-sampling] [--reference REF.exr]\n"
-    "                   [--quiet]\n"
+    "                   [--estimator eq13|full] [--quiet]\n"
     "Renders SCENE (man 5 lens-scene) through its lens with the Monte Carlo estimator of\n"
     "the supplement (Eq. 13): camera rays start on the pixel, take their direction from\n"
     "the line pupil, cross the lens by a polynomial system fitted for the effects the\n"
@@ -24,7 +25,11 @@ static const char *usage =
     "  --cache DIR        fitted systems (default $XDG_CACHE_HOME/sparselens)\n"
     "  --rear-sampling    draw directions over the rear element instead of the line pupil\n"
     "  --reference FILE   print the RMS error against this image (same size)\n"
-    "  --quiet            no decisions, progress or figures on stderr\n";
+    "  --estimator E      eq13 (default): the simplified weight of Eq. 13; full: Eq. 3 with\n"
+    "                     G-bar (Eq. 12) and p_A(s1) (Eq. 8) evaluated, |A| from the\n"
+    "                     system's Jacobian (the same image, slower: a check)\n"
+    "  --quiet            no decisions, progress or figures on stderr\n"
+    LENS_CLI_OPTIONS_HELP;
 
 typedef struct {
     int last;
@@ -47,7 +52,10 @@ int main(int argc, char **argv)
     render_options o = {0};
     int quiet = 0;
     const char *v;
+    lens_cli_options lopt;
+    lens_cli_options_init(&lopt);
     for (int i = 1; i < argc; i++) {
+        if (lens_cli_options_take(prog, argc, argv, &i, &lopt)) continue;
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) cli_help(usage);
         else if (cli_opt(prog, argc, argv, &i, "-o", &v)) o.exr = v;
         else if (cli_opt(prog, argc, argv, &i, "--png", &v)) o.png = v;
@@ -56,6 +64,11 @@ int main(int argc, char **argv)
             o.threads = (int)cli_count(prog, "--threads", v, 1, 1024);
         else if (cli_opt(prog, argc, argv, &i, "--cache", &v)) o.cache_dir = v;
         else if (cli_opt(prog, argc, argv, &i, "--reference", &v)) o.reference = v;
+        else if (cli_opt(prog, argc, argv, &i, "--estimator", &v)) {
+            if (!strcmp(v, "full")) o.estimator = RENDER_ESTIMATOR_FULL;
+            else if (!strcmp(v, "eq13")) o.estimator = RENDER_ESTIMATOR_EQ13;
+            else diag_die(prog, "--estimator: '%s' is not eq13 or full", v);
+        }
         else if (!strcmp(argv[i], "--exact")) o.exact = 1;
         else if (!strcmp(argv[i], "--rear-sampling")) o.rear_sampling = 1;
         else if (!strcmp(argv[i], "--quiet")) quiet = 1;
@@ -71,9 +84,12 @@ int main(int argc, char **argv)
         o.progress = progress;
         o.progress_ctx = &ps;
     }
+    o.load = lens_cli_options_get(&lopt);
     render_stats st;
     lens_err err;
-    if (render_run(&o, &st, &err)) {
+    int rc = render_run(&o, &st, &err);
+    lens_cli_options_free(&lopt);
+    if (rc) {
         diag_print(prog, &err);
         return 1;
     }

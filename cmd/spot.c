@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "imaging_cli.h"
 #include "lens_cli_options.h"
 #include "spot_run.h"
 
@@ -30,62 +31,40 @@ static const char *const usage =
     LENS_CLI_OPTIONS_HELP
     "  --help\n";
 
+/* lens-spot's own flags, beside the shared ones of imaging_cli.h. */
+typedef struct {
+    const char *pupil, *rays, *seed, *exr;
+} spot_flags;
+
+static int spot_flag(const char *p, int argc, char **argv, int *i, void *ctx)
+{
+    spot_flags *f = ctx;
+    return cli_opt(p, argc, argv, i, "--pupil", &f->pupil) ||
+           cli_opt(p, argc, argv, i, "--rays", &f->rays) ||
+           cli_opt(p, argc, argv, i, "--seed", &f->seed) ||
+           cli_opt(p, argc, argv, i, "--exr", &f->exr);
+}
+
 int main(int argc, char **argv)
 {
-    const char *input = NULL, *fields_s = NULL, *dist_s = NULL, *wl_s = "F,d,C", *focus_s = "file",
-               *pupil_s = "hexapolar", *rays_s = "400", *seed_s = "1", *compare = NULL,
-               *lens_path = NULL, *png = NULL, *exr = NULL;
-    lens_cli_options lopt;
-    lens_cli_options_init(&lopt);
-    for (int i = 1; i < argc; i++) {
-        if (lens_cli_options_take(prog, argc, argv, &i, &lopt))
-            continue;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0)
-            cli_help(usage);
-        if (cli_opt(prog, argc, argv, &i, "--fields", &fields_s) ||
-            cli_opt(prog, argc, argv, &i, "--object-distance", &dist_s) ||
-            cli_opt(prog, argc, argv, &i, "--wavelengths", &wl_s) ||
-            cli_opt(prog, argc, argv, &i, "--focus", &focus_s) ||
-            cli_opt(prog, argc, argv, &i, "--pupil", &pupil_s) ||
-            cli_opt(prog, argc, argv, &i, "--rays", &rays_s) ||
-            cli_opt(prog, argc, argv, &i, "--seed", &seed_s) ||
-            cli_opt(prog, argc, argv, &i, "--compare", &compare) ||
-            cli_opt(prog, argc, argv, &i, "--lens", &lens_path) ||
-            cli_opt(prog, argc, argv, &i, "--png", &png) ||
-            cli_opt(prog, argc, argv, &i, "--exr", &exr))
-            continue;
-        if (argv[i][0] == '-' && argv[i][1] != '\0')
-            diag_die(prog, "unknown option '%s' (see --help)", argv[i]);
-        if (input)
-            diag_die(prog, "one lens or system expected, got '%s' and '%s'", input, argv[i]);
-        input = argv[i];
-    }
-    if (!input)
-        diag_die(prog, "no lens given (see --help)");
+    spot_flags sf = {"hexapolar", "400", "1", NULL};
+    imaging_cli a = {.wavelengths = "F,d,C"};
+    imaging_cli_parse(prog, usage, argc, argv, &a, spot_flag, &sf);
+    const char *exr = sf.exr, *png = a.png, *fields_s = a.fields, *focus_s = a.focus;
+    const double *lambda = a.lambda;
+    int nl = a.nl;
+    double dist = a.object_distance;
 
-    spot_request rq = {.seed = 1};
+    spot_request rq = {.seed = 1, .focus = a.focus_mode};
     lens_err err;
-    double lambda[IMAGING_MAX_WAVELENGTHS], field[IMAGING_MAX_FIELDS];
-    int nl = wavelengths_parse(wl_s, lambda, IMAGING_MAX_WAVELENGTHS, &err);
-    if (nl < 0)
-        diag_die(prog, "--wavelengths: %s", err.msg);
-    if (focus_mode_parse(focus_s, &rq.focus) != 0)
-        diag_die(prog, "--focus: '%s' is not file, paraxial or best", focus_s);
-    if (pupil_pattern_parse(pupil_s, &rq.pattern) != 0)
-        diag_die(prog, "--pupil: '%s' is not hexapolar, grid or random", pupil_s);
-    rq.rays = (size_t)cli_count(prog, "--rays", rays_s, 1, 10000000);
-    rq.seed = (unsigned long long)cli_count(prog, "--seed", seed_s, 0, 1L << 52);
-    double dist = dist_s ? cli_positive(prog, "--object-distance", dist_s) : INFINITY;
+    double field[IMAGING_MAX_FIELDS];
+    if (pupil_pattern_parse(sf.pupil, &rq.pattern) != 0)
+        diag_die(prog, "--pupil: '%s' is not hexapolar, grid or random", sf.pupil);
+    rq.rays = (size_t)cli_count(prog, "--rays", sf.rays, 1, 10000000);
+    rq.seed = (unsigned long long)cli_count(prog, "--seed", sf.seed, 0, 1L << 52);
 
     imaging_models models;
-    int load_rc = imaging_models_load(input, compare, lens_path, lens_cli_options_get(&lopt),
-                                      &models, &err);
-    lens_cli_options_free(&lopt);
-    if (load_rc != 0) {
-        diag_print(prog, &err);
-        return 1;
-    }
-    rq.nmodels = imaging_models_setup(&models, dist, rq.im, rq.model_names);
+    rq.nmodels = imaging_cli_load(prog, &a, &models, rq.im, rq.model_names);
     rq.lambda = lambda, rq.nl = nl, rq.primary = nl / 2;
     int nf = fields_s ? numbers_parse(fields_s, "field", field, IMAGING_MAX_FIELDS, &err)
                       : imaging_default_fields(&rq.im[0], lambda, nl, field, &err);
@@ -105,7 +84,7 @@ int main(int argc, char **argv)
         printf("# sensor plane moved %.9g mm along the axis (--focus %s)\n", rep.sensor_shift, focus_s);
 
     char title[256];
-    const char *base = strrchr(input, '/') ? strrchr(input, '/') + 1 : input;
+    const char *base = imaging_cli_basename(&a);
     snprintf(title, sizeof title, "%s  spot diagram  %s", models.lens.name[0] ? models.lens.name : base,
              isfinite(dist) ? "object at finite distance" : "object at infinity");
     spot_figure fig = {.nmodels = rq.nmodels, .nfields = nf, .nl = nl, .model_names = rq.model_names,

@@ -224,11 +224,9 @@ int main(int argc, char **argv)
     lens_cli_options lopt;
     lens_cli_options_init(&lopt);
     for (int i = 1; i < argc; i++) {
-        if (lens_cli_options_take(prog, argc, argv, &i, &lopt))
+        if (lens_cli_common_take(prog, usage, argc, argv, &i, &lopt))
             continue;
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h"))
-            cli_help(usage);
-        else if (cli_opt(prog, argc, argv, &i, "-n", &v))
+        if (cli_opt(prog, argc, argv, &i, "-n", &v))
             a.count = cli_count(prog, "-n", v, 1, 1000000000L);
         else if (cli_opt(prog, argc, argv, &i, "--seed", &v))
             a.seed = (unsigned long)cli_count(prog, "--seed", v, 0, 4000000000000000L);

@@ -50,11 +50,7 @@ int distort_run(const distort_request *rq, distort_report *rep, lens_err *err)
     for (int m = 0; m < nm; m++)
         if (distort_curve(&im[m], rq->lambda, rq->field, nf, rq->illum_rays, rep->rows + m * nf, err) !=
             0) {
-            if (m > 0) {
-                char msg[sizeof err->msg];
-                snprintf(msg, sizeof msg, "%s", err->msg);
-                lens_errf(err, NULL, 0, "%s: %s", rq->model_names[m], msg);
-            }
+            run_error_model(err, m, rq->model_names[m]);
             goto fail;
         }
     rep->mapping = PROJ_RECTILINEAR;

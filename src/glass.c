@@ -55,6 +55,27 @@ glass_t glass_constant(double nd)
     return g;
 }
 
+int glass_check_ndvd(double nd, double vd, const char *what, const char *file, long line,
+                     lens_err *err)
+{
+    if (!isfinite(nd) || nd < 1) {
+        lens_errf(err, file, line, "%s: n_d %g %s", what, nd,
+                  isfinite(nd) ? "is below 1 (indices are relative to air)" : "is not a number");
+        return -1;
+    }
+    if (nd > GLASS_ND_MAX) {
+        lens_errf(err, file, line, "%s: n_d %g is above %g, which no optical glass reaches", what,
+                  nd, GLASS_ND_MAX);
+        return -1;
+    }
+    if (!isnan(vd) && !(vd > 0 && isfinite(vd))) {
+        lens_errf(err, file, line, "%s: Abbe number V_d %g must be positive and finite", what,
+                  vd);
+        return -1;
+    }
+    return 0;
+}
+
 #define G_LINE 0.4358343 /* mercury g line, um */
 #define T_LINE 1.0139722 /* mercury t line, um */
 #define PGF_A 0.6438

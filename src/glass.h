@@ -47,6 +47,18 @@ glass_t glass_air(void);
 glass_t glass_constant(double nd);
 glass_t glass_from_ndvd(double nd, double vd);
 
+/* The largest n_d a glass given by numbers may have. The densest optical glasses and
+ * crystals reach about 2.4 at the d line (diamond 2.42); 3 leaves room and still catches
+ * a typo, a unit mix-up or a fuzzed number before it becomes a lens. */
+#define GLASS_ND_MAX 3.0
+
+/* Every reader's check of a glass given as numbers (nd/Vd, a bare nd, a CODE V code, a
+ * Zemax model glass): 1 <= n_d <= GLASS_ND_MAX, and, unless vd is NAN (a bare index, no
+ * dispersion), 0 < V_d < inf. 0 when usable; else -1 with err = "file:line: WHAT: n_d
+ * 0.6 is below 1" (what names the material as the file writes it). */
+int glass_check_ndvd(double nd, double vd, const char *what, const char *file, long line,
+                     lens_err *err);
+
 typedef struct glass_catalog glass_catalog;
 
 /* Loads a catalog (the project's .catalog text format, or an AGF file). A catalog

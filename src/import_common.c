@@ -142,6 +142,60 @@ int import_read_file(const char *path, char **data, size_t *len, lens_err *err)
     return rc;
 }
 
+char *import_begin(const char *data, size_t len, const char *path, const char *program,
+                   lens_t *lens, import_system *sys, lens_err *err)
+{
+    lens_init(lens);
+    memset(sys, 0, sizeof *sys);
+    sys->path = path;
+    sys->lens = lens;
+    sys->unit = 1;
+    sys->epd = sys->fno = NAN;
+    snprintf(lens->path, sizeof lens->path, "%s", path);
+    const char *base = strrchr(path, '/');
+    snprintf(lens->source, sizeof lens->source, "%s file %s", program, base ? base + 1 : path);
+    char *text = import_decode(data, len);
+    if (!text)
+        lens_errf(err, path, 0, "out of memory");
+    return text;
+}
+
+int import_read_parse(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
+                      lens_err *err, import_parser parse)
+{
+    char *data;
+    size_t len;
+    lens_init(lens);
+    if (import_read_stream(f, path, &data, &len, err) != 0)
+        return -1;
+    int rc = parse(data, len, path, opt, lens, err);
+    free(data);
+    return rc;
+}
+
+int import_grow(void **array, size_t *cap, size_t n, size_t size)
+{
+    if (n < *cap)
+        return 0;
+    size_t nc = *cap ? 2 * *cap : 16;
+    void *a = realloc(*array, nc * size);
+    if (!a)
+        return -1;
+    *array = a;
+    *cap = nc;
+    return 0;
+}
+
+int import_any_nonzero(char **tok, int n, int from)
+{
+    for (int i = from; i < n; i++) {
+        double v;
+        if (parse_double(tok[i], &v) == 0 && v != 0)
+            return 1;
+    }
+    return 0;
+}
+
 char *import_next_line(import_lines *it)
 {
     if (!it->p || !*it->p)
@@ -291,14 +345,13 @@ static const glass_t *find_loose(const glass_catalog *cat, const char *name)
 int import_glass_model(lens_surface *s, double nd, double vd, const char *file, long line,
                        lens_err *err)
 {
-    if (!isfinite(vd))
-        vd = 0; /* not given: a bare index */
-    if (!isfinite(nd) || nd < 1 || vd < 0) {
-        lens_errf(err, file, line, "model glass n_d %g, V_d %g: n_d must be at least 1 and V_d "
-                                   "positive (or 0 for none)", nd, vd);
+    if (!isfinite(vd) || vd == 0)
+        vd = NAN; /* not given, or 0: a bare index */
+    char what[64];
+    snprintf(what, sizeof what, "model glass %g/%g", nd, isnan(vd) ? 0 : vd);
+    if (glass_check_ndvd(nd, vd, what, file, line, err) != 0)
         return -1;
-    }
-    if (vd > 0) {
+    if (!isnan(vd)) {
         s->medium = glass_from_ndvd(nd, vd);
         snprintf(s->material, sizeof s->material, "%.10g/%.10g", nd, vd);
     } else {

@@ -21,6 +21,19 @@ char *import_decode(const char *data, size_t len);
 int import_read_file(const char *path, char **data, size_t *len, lens_err *err);
 int import_read_stream(FILE *f, const char *path, char **data, size_t *len, lens_err *err);
 
+/* A lens_read_* over a lens_parse_*: reads the whole stream f, then parses it. */
+typedef int (*import_parser)(const char *data, size_t len, const char *path,
+                             const lens_load_options *opt, lens_t *lens, lens_err *err);
+int import_read_parse(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
+                      lens_err *err, import_parser parse);
+
+/* Grows an array of *cap elements of size bytes so that it holds n + 1 (doubling, from
+ * 16). 0, or -1 when out of memory (the array is kept). */
+int import_grow(void **array, size_t *cap, size_t n, size_t size);
+
+/* True when any of tok[from..n) is a non-zero number (a tilt, a decentre, a factor). */
+int import_any_nonzero(char **tok, int n, int from);
+
 /* Next line of a decoded buffer, split in place (\n, \r\n or \r); NULL at the end. */
 typedef struct {
     char *p;
@@ -46,6 +59,24 @@ typedef struct {
 void import_skip(import_skips *sk, const char *label);
 /* Appends "skipped: a (2), b" to lens->notes (nothing when there is nothing). */
 void import_skips_note(const import_skips *sk, lens_t *lens);
+
+/* What both design-file parsers keep about the whole system while they read. */
+typedef struct {
+    const char *path;  /* for messages */
+    lens_t *lens;      /* being built */
+    import_skips skips;
+    double unit;       /* mm per length unit of the file */
+    double epd;        /* entrance pupil diameter, file units; NAN if not given */
+    double fno;        /* f-number; NAN if not given */
+} import_system;
+
+/* The start of every design-file parser: *lens emptied, lens->path = path, lens->source =
+ * "PROGRAM file BASENAME", *sys set for it (mm, no aperture yet), and data decoded
+ * (import_decode) into the returned text, which the caller frees. NULL (err set) when out
+ * of memory. */
+char *import_begin(const char *data, size_t len, const char *path, const char *program,
+                   lens_t *lens, import_system *sys, lens_err *err);
+
 
 /* Appends "; "-separated text to lens->notes, ending in "..." if it does not fit. */
 void import_note(lens_t *lens, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -96,7 +127,7 @@ int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double
                         const char *file, long line, lens_surface *s, lens_err *err);
 
 /* A model glass from n_d and V_d (vd 0 or not finite: a bare index) into s->medium and
- * s->material; -1 (err at file:line) when n_d < 1 or V_d < 0. */
+ * s->material; -1 (err at file:line) when glass_check_ndvd refuses them. */
 int import_glass_model(lens_surface *s, double nd, double vd, const char *file, long line,
                        lens_err *err);
 

@@ -92,12 +92,9 @@ static int fx_surface(char *text, lens_t *lens, fx_state *st, const char *path, 
                   "expected: radius thickness material [n_d V_d] housing-radius (%d fields)", nt);
         return -1;
     }
-    lens_surface *s = lens_add_surface(lens);
-    if (!s) {
-        lens_errf(err, path, line, "out of memory");
+    lens_surface *s = lens_add_surface_at(lens, path, line, err);
+    if (!s)
         return -1;
-    }
-    s->line = line;
     size_t idx = lens->nsurf;
     if (parse_double(tok[0], &s->radius) != 0 || s->radius == 0) {
         lens_errf(err, path, line, "radius '%s' is not a non-zero number", tok[0]);
@@ -138,11 +135,10 @@ static int fx_surface(char *text, lens_t *lens, fx_state *st, const char *path, 
                       m);
             return -1;
         }
-        if (!(nd >= 1) || !(vd > 0)) {
-            lens_errf(err, path, line, "glass '%s': n_d %g must be >= 1 and V_d %g positive", m,
-                      nd, vd);
+        char what[64];
+        snprintf(what, sizeof what, "glass '%.40s'", m);
+        if (glass_check_ndvd(nd, vd, what, path, line, err) != 0)
             return -1;
-        }
         const glass_t *g = NULL;
         const char *searched;
         int rc = strcasecmp(m, "abbe") == 0 ? 1 : material_lookup(&st->mat, m, &g, &searched, err);

@@ -52,23 +52,19 @@ int lens_read_pbrt(FILE *f, const char *path, const lens_load_options *opt, lens
                 lens_errf(err, path, line, "'%s' is not a finite number", tok[i]);
                 goto out;
             }
-        lens_surface *s = lens_add_surface(lens);
-        if (!s) {
-            lens_errf(err, path, line, "out of memory");
+        lens_surface *s = lens_add_surface_at(lens, path, line, err);
+        if (!s)
             goto out;
-        }
-        s->line = line;
         s->radius = v[0] == 0 ? INFINITY : v[0];
         s->is_stop = v[0] == 0;
         s->thickness = v[1];
         if (v[2] == 0 || v[2] == 1) {
             s->medium = glass_air();
             strcpy(s->material, s->is_stop ? "stop" : "air");
-        } else if (v[2] > 1) {
+        } else if (glass_check_ndvd(v[2], NAN, "index", path, line, err) == 0) {
             s->medium = glass_constant(v[2]);
             snprintf(s->material, sizeof s->material, "%s", tok[2]);
         } else {
-            lens_errf(err, path, line, "index %g is below 1", v[2]);
             goto out;
         }
         if (!(v[3] > 0)) {

@@ -34,14 +34,10 @@ typedef struct {
 } qsurf;
 
 typedef struct {
-    const char *path;
-    lens_t *lens;
-    import_skips skips;
+    import_system sys; /* path, lens, skips, unit, epd, fno */
     qsurf *s;
     size_t ns, cap;
     int curvature_mode;
-    double unit;
-    double epd, fno;
     double wl[24];
     int nwl, ref;
     double yan[24];
@@ -67,27 +63,11 @@ static void refuse(qsurf *q, long line, const char *why)
     }
 }
 
-static int any_nonzero(char **tok, int n, int from)
-{
-    for (int i = from; i < n; i++) {
-        double v;
-        if (parse_double(tok[i], &v) == 0 && v != 0)
-            return 1;
-    }
-    return 0;
-}
-
 static qsurf *new_surface(seq_state *st, int kind, long line, lens_err *err)
 {
-    if (st->ns == st->cap) {
-        size_t nc = st->cap ? 2 * st->cap : 16;
-        qsurf *ns = realloc(st->s, nc * sizeof *ns);
-        if (!ns) {
-            lens_errf(err, st->path, line, "out of memory");
-            return NULL;
-        }
-        st->s = ns;
-        st->cap = nc;
+    if (import_grow((void **)&st->s, &st->cap, st->ns, sizeof *st->s) != 0) {
+        lens_errf(err, st->sys.path, line, "out of memory");
+        return NULL;
     }
     qsurf *q = &st->s[st->ns++];
     memset(q, 0, sizeof *q);
@@ -102,7 +82,7 @@ static int define_surface(seq_state *st, qsurf *q, char **tok, int n, long line,
     double v = 0;
     if (n > 1) {
         if (parse_double(tok[1], &v) != 0) {
-            lens_errf(err, st->path, line, "%s: expected a radius, found '%s'", tok[0], tok[1]);
+            lens_errf(err, st->sys.path, line, "%s: expected a radius, found '%s'", tok[0], tok[1]);
             return -1;
         }
         q->given_radius = !st->curvature_mode;
@@ -113,7 +93,7 @@ static int define_surface(seq_state *st, qsurf *q, char **tok, int n, long line,
     }
     if (n > 2) {
         if (parse_double(tok[2], &v) != 0) {
-            lens_errf(err, st->path, line, "%s: expected a thickness, found '%s'", tok[0], tok[2]);
+            lens_errf(err, st->sys.path, line, "%s: expected a thickness, found '%s'", tok[0], tok[2]);
             return -1;
         }
         q->thick = v;
@@ -155,21 +135,21 @@ static int private_glass(seq_state *st, char **tok, int n, long line, lens_err *
         return 0;
     }
     if (st->nprv == 32) {
-        import_skip(&st->skips, "private glasses past 32");
+        import_skip(&st->sys.skips, "private glasses past 32");
         return 0;
     }
     double idx[8];
     int ni = 0;
     for (int i = 1; i < n && ni < 8; i++) {
         if (parse_double(tok[i], &idx[ni]) != 0) {
-            lens_errf(err, st->path, line, "private glass %s: index '%s' is not a number",
+            lens_errf(err, st->sys.path, line, "private glass %s: index '%s' is not a number",
                       tok[0], tok[i]);
             return -1;
         }
         ni++;
     }
     if (ni != st->npwl) {
-        lens_errf(err, st->path, line,
+        lens_errf(err, st->sys.path, line,
                   "private glass %s: %d indices for %d PWL wavelengths", tok[0], ni, st->npwl);
         return -1;
     }
@@ -203,7 +183,7 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
         (import_eq(k, "STO") && n > 1)) {
         int kind = import_eq(k, "SO") ? 'O' : import_eq(k, "SI") ? 'I' : 'S';
         if (kind == 'O' && st->ns) {
-            lens_errf(err, st->path, line, "SO (the object surface) must come first");
+            lens_errf(err, st->sys.path, line, "SO (the object surface) must come first");
             return -1;
         }
         if (kind != 'O' && st->ns == 0) {
@@ -213,7 +193,7 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
             o->thick = INFINITY;
         }
         if (st->ns && st->s[st->ns - 1].kind == 'I') {
-            lens_errf(err, st->path, line, "a surface after the image surface SI");
+            lens_errf(err, st->sys.path, line, "a surface after the image surface SI");
             return -1;
         }
         qsurf *q = new_surface(st, kind, line, err);
@@ -224,7 +204,7 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
     }
     if (import_eq(k, "STO")) {
         if (!cur || cur->kind != 'S') {
-            lens_errf(err, st->path, line, "STO before any lens surface");
+            lens_errf(err, st->sys.path, line, "STO before any lens surface");
             return -1;
         }
         cur->stop = 1;
@@ -233,7 +213,7 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
 #define NEED_NUM(i, dst)                                                                   \
     do {                                                                                   \
         if (n <= (i) || parse_double(tok[i], &(dst)) != 0) {                               \
-            lens_errf(err, st->path, line, "%s: expected a number, found '%s'", k,         \
+            lens_errf(err, st->sys.path, line, "%s: expected a number, found '%s'", k,         \
                       n > (i) ? tok[i] : "end of line");                                   \
             return -1;                                                                     \
         }                                                                                  \
@@ -241,7 +221,7 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
 #define NEED_SURF()                                                                        \
     do {                                                                                   \
         if (!cur) {                                                                        \
-            lens_errf(err, st->path, line, "%s before any surface", k);                   \
+            lens_errf(err, st->sys.path, line, "%s before any surface", k);                   \
             return -1;                                                                     \
         }                                                                                  \
     } while (0)
@@ -287,7 +267,7 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
             refuse(cur, line, "is a mirror (REFL); sparselens models refracting lenses only");
     } else if (import_eq(k, "ADE") || import_eq(k, "BDE") || import_eq(k, "CDE") ||
                import_eq(k, "XDE") || import_eq(k, "YDE") || import_eq(k, "ZDE")) {
-        if (any_nonzero(tok, n, 1))
+        if (import_any_nonzero(tok, n, 1))
             refuse(cur, line, "is tilted or decentred; sparselens models centred systems only");
     } else if (import_eq(k, "DAR") || import_eq(k, "BEN") || import_eq(k, "REV") ||
                import_eq(k, "RET") || import_eq(k, "DEC") || import_eq(k, "TILT")) {
@@ -314,25 +294,25 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
         st->curvature_mode = 1;
     } else if (import_eq(k, "TITLE") || import_eq(k, "TIT")) {
         if (n > 1)
-            snprintf(st->lens->name, sizeof st->lens->name, "%s", tok[1]);
+            snprintf(st->sys.lens->name, sizeof st->sys.lens->name, "%s", tok[1]);
     } else if (import_eq(k, "DIM")) {
         const char *u = n > 1 ? tok[1] : "M";
         if (import_eq(u, "M"))
-            st->unit = 1;
+            st->sys.unit = 1;
         else if (import_eq(u, "C"))
-            st->unit = 10;
+            st->sys.unit = 10;
         else if (import_eq(u, "I"))
-            st->unit = 25.4;
+            st->sys.unit = 25.4;
         else {
-            lens_errf(err, st->path, line, "DIM %s: unknown unit (M, C or I)", u);
+            lens_errf(err, st->sys.path, line, "DIM %s: unknown unit (M, C or I)", u);
             return -1;
         }
     } else if (import_eq(k, "EPD")) {
-        NEED_NUM(1, st->epd);
+        NEED_NUM(1, st->sys.epd);
     } else if (import_eq(k, "FNO")) {
-        NEED_NUM(1, st->fno);
+        NEED_NUM(1, st->sys.fno);
     } else if (import_eq(k, "NAO") || import_eq(k, "NA")) {
-        import_skip(&st->skips, "aperture given as NA");
+        import_skip(&st->sys.skips, "aperture given as NA");
     } else if (import_eq(k, "WL")) {
         for (int i = 1; i < n && st->nwl < 24; i++)
             if (parse_double(tok[i], &v) == 0)
@@ -352,27 +332,27 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
                 st->yan[st->nyan++] = v;
     } else if (import_eq(k, "XAN") || import_eq(k, "XOB") || import_eq(k, "XIM") ||
                import_eq(k, "XRI")) {
-        if (any_nonzero(tok, n, 1))
-            import_skip(&st->skips, "x fields");
+        if (import_any_nonzero(tok, n, 1))
+            import_skip(&st->sys.skips, "x fields");
     } else if (import_eq(k, "VUX") || import_eq(k, "VLX") || import_eq(k, "VUY") ||
                import_eq(k, "VLY")) {
-        if (any_nonzero(tok, n, 1))
-            import_skip(&st->skips, "vignetting factors");
+        if (import_any_nonzero(tok, n, 1))
+            import_skip(&st->sys.skips, "vignetting factors");
     } else if (import_eq(k, "PIM")) {
-        import_skip(&st->skips, "paraxial image solve (thickness as written)");
+        import_skip(&st->sys.skips, "paraxial image solve (thickness as written)");
     } else if (import_eq(k, "PRV")) {
         st->in_prv = 1;
         st->npwl = 0;
     } else if (import_eq(k, "ZOO") || import_eq(k, "POS")) {
-        import_skip(&st->skips, "zoom positions");
+        import_skip(&st->sys.skips, "zoom positions");
     } else if (import_eq(k, "CIN") || import_eq(k, "MLT") || import_eq(k, "COA")) {
-        import_skip(&st->skips, "coatings");
+        import_skip(&st->sys.skips, "coatings");
     } else if (import_eq(k, "TOL")) {
-        import_skip(&st->skips, "tolerances");
+        import_skip(&st->sys.skips, "tolerances");
     } else {
         char label[40];
         snprintf(label, sizeof label, "command %.20s", k);
-        import_skip(&st->skips, label);
+        import_skip(&st->sys.skips, label);
     }
     return 0;
 #undef NEED_NUM
@@ -437,7 +417,7 @@ static void notes(seq_state *st)
                 break;
             o += (size_t)w;
         }
-        lens_add_note(st->lens, "%s", buf);
+        lens_add_note(st->sys.lens, "%s", buf);
     }
     if (st->nwl > 0) {
         o = (size_t)snprintf(buf, sizeof buf, "wavelengths (um):");
@@ -448,7 +428,7 @@ static void notes(seq_state *st)
                 break;
             o += (size_t)w;
         }
-        lens_add_note(st->lens, "%s", buf);
+        lens_add_note(st->sys.lens, "%s", buf);
     }
 }
 
@@ -471,18 +451,18 @@ static void trace_heights(const lens_t *lens, const double *n, double y, double 
  * angle (the axial beam alone when the fields are not angles). */
 static int estimate_apertures(seq_state *st, const int *missing, lens_err *err)
 {
-    lens_t *lens = st->lens;
+    lens_t *lens = st->sys.lens;
     size_t ns = lens->nsurf;
     double *buf = malloc(4 * ns * sizeof *buf);
     if (!buf) {
-        lens_errf(err, st->path, 0, "out of memory");
+        lens_errf(err, st->sys.path, 0, "out of memory");
         return -1;
     }
     double *n = buf, *ym = buf + ns, *ya = buf + 2 * ns, *yb = buf + 3 * ns;
     for (size_t i = 0; i < ns; i++) {
         lens_err e;
         if (glass_index(&lens->surf[i].medium, GLASS_D_LINE, &n[i], &e) != 0) {
-            lens_errf(err, st->path, lens->surf[i].line, "%s", e.msg);
+            lens_errf(err, st->sys.path, lens->surf[i].line, "%s", e.msg);
             free(buf);
             return -1;
         }
@@ -496,14 +476,14 @@ static int estimate_apertures(seq_state *st, const int *missing, lens_err *err)
         before = n[i];
     }
     double efl = nu_last != 0 ? -1.0 / nu_last : NAN;
-    double epd = isfinite(st->epd) && st->epd > 0 ? st->epd * st->unit
-                 : isfinite(st->fno) && st->fno > 0 ? fabs(efl) / st->fno : NAN;
+    double epd = isfinite(st->sys.epd) && st->sys.epd > 0 ? st->sys.epd * st->sys.unit
+                 : isfinite(st->sys.fno) && st->sys.fno > 0 ? fabs(efl) / st->sys.fno : NAN;
     if (!(epd > 0) || !isfinite(epd)) {
         free(buf);
         int k = 0;
         for (size_t i = 0; i < ns; i++)
             k += missing[i];
-        lens_errf(err, st->path, 0,
+        lens_errf(err, st->sys.path, 0,
                   "%d surface%s without a clear aperture (CIR), and no EPD or FNO to compute "
                   "them from",
                   k, k > 1 ? "s" : "");
@@ -547,52 +527,50 @@ static int find_private(const seq_state *st, const char *name)
 
 static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
 {
-    lens_t *lens = st->lens;
+    lens_t *lens = st->sys.lens;
     for (size_t i = 0; i < st->ns; i++)
         if (st->s[i].refuse[0]) {
-            lens_errf(err, st->path, st->s[i].refuse_line, "surface %zu %s", i, st->s[i].refuse);
+            lens_errf(err, st->sys.path, st->s[i].refuse_line, "surface %zu %s", i, st->s[i].refuse);
             return -1;
         }
     size_t first = st->ns && st->s[0].kind == 'O' ? 1 : 0;
     size_t end = st->ns && st->s[st->ns - 1].kind == 'I' ? st->ns - 1 : st->ns;
     if (end <= first) {
-        lens_errf(err, st->path, 0, "no lens surfaces (S lines) in the file");
+        lens_errf(err, st->sys.path, 0, "no lens surfaces (S lines) in the file");
         return -1;
     }
     if (first == 1) {
         const qsurf *o = &st->s[0];
         if (o->glass[0] && !import_eq(o->glass, "AIR")) {
-            lens_errf(err, st->path, o->line,
+            lens_errf(err, st->sys.path, o->line,
                       "object space is %s, not air; sparselens models lenses in air", o->glass);
             return -1;
         }
         if (isfinite(o->thick) && fabs(o->thick) < SEQ_INFINITE_OBJECT)
             lens_add_note(lens, "object at %g mm in the file; read for an object at infinity",
-                        o->thick * st->unit);
+                        o->thick * st->sys.unit);
     }
     if (end < st->ns && (st->s[end].given_radius ? st->s[end].radius : st->s[end].curv) != 0)
-        import_skip(&st->skips, "curved image surface (flat sensor used)");
+        import_skip(&st->sys.skips, "curved image surface (flat sensor used)");
 
     import_glass_ctx gl;
-    import_glass_init(&gl, opt, st->path);
-    double u = st->unit;
+    import_glass_init(&gl, opt, st->sys.path);
+    double u = st->sys.unit;
     int have_stop = 0, missing_cir = 0;
     int *missing = calloc(end - first, sizeof *missing);
     if (!missing) {
         import_glass_free(&gl);
-        lens_errf(err, st->path, 0, "out of memory");
+        lens_errf(err, st->sys.path, 0, "out of memory");
         return -1;
     }
     for (size_t i = first; i < end; i++) {
         const qsurf *q = &st->s[i];
-        lens_surface *s = lens_add_surface(lens);
+        lens_surface *s = lens_add_surface_at(lens, st->sys.path, q->line, err);
         if (!s) {
             import_glass_free(&gl);
             free(missing);
-            lens_errf(err, st->path, 0, "out of memory");
             return -1;
         }
-        s->line = q->line;
         if (q->given_radius)
             s->radius = q->radius != 0 ? q->radius * u : INFINITY;
         else
@@ -612,7 +590,11 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
             s->medium = glass_air();
             strcpy(s->material, "air");
         } else if (fictitious(q->glass, &nd, &vd)) {
-            if (import_glass_model(s, nd, vd, st->path, q->glass_line, err) != 0) {
+            /* A code always carries V_d: 0 there is not "no dispersion" but a bad code. */
+            char what[64];
+            snprintf(what, sizeof what, "glass %.40s", q->glass);
+            if (glass_check_ndvd(nd, vd, what, st->sys.path, q->glass_line, err) != 0 ||
+                import_glass_model(s, nd, vd, st->sys.path, q->glass_line, err) != 0) {
                 import_glass_free(&gl);
                 free(missing);
                 return -1;
@@ -621,11 +603,11 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
             if (st->prv[pk].why[0]) {
                 import_glass_free(&gl);
                 free(missing);
-                lens_errf(err, st->path, q->glass_line, "private glass %s %s", q->glass,
+                lens_errf(err, st->sys.path, q->glass_line, "private glass %s %s", q->glass,
                           st->prv[pk].why);
                 return -1;
             }
-            if (import_glass_model(s, st->prv[pk].nd, st->prv[pk].vd, st->path, q->glass_line,
+            if (import_glass_model(s, st->prv[pk].nd, st->prv[pk].vd, st->sys.path, q->glass_line,
                                    err) != 0) {
                 import_glass_free(&gl);
                 free(missing);
@@ -633,7 +615,7 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
             }
             lens_add_note(lens, "private glass %s as %s%s", q->glass, s->material,
                           st->prv[pk].vd > 0 ? " (n_d/V_d model)" : " (no dispersion)");
-        } else if (import_glass_lookup(&gl, q->glass, NAN, NAN, st->path, q->glass_line, s,
+        } else if (import_glass_lookup(&gl, q->glass, NAN, NAN, st->sys.path, q->glass_line, s,
                                        err) != 0) {
             import_glass_free(&gl);
             free(missing);
@@ -655,28 +637,18 @@ static int build(seq_state *st, const lens_load_options *opt, lens_err *err)
     if (rc != 0)
         return -1;
     notes(st);
-    return import_finish(lens, &st->skips, st->fno, "FNO", st->epd * u, "EPD", !missing_stop_cir,
+    return import_finish(lens, &st->sys.skips, st->sys.fno, "FNO", st->sys.epd * u, "EPD", !missing_stop_cir,
                          err);
 }
 
 int lens_parse_seq(const char *data, size_t len, const char *path,
                    const lens_load_options *opt, lens_t *lens, lens_err *err)
 {
-    lens_init(lens);
-    char *text = import_decode(data, len);
-    if (!text) {
-        lens_errf(err, path, 0, "out of memory");
-        return -1;
-    }
     seq_state st;
     memset(&st, 0, sizeof st);
-    st.path = path;
-    st.lens = lens;
-    st.unit = 1;
-    st.epd = st.fno = NAN;
-    snprintf(lens->path, sizeof lens->path, "%s", path);
-    const char *base = strrchr(path, '/');
-    snprintf(lens->source, sizeof lens->source, "CODE V file %s", base ? base + 1 : path);
+    char *text = import_begin(data, len, path, "CODE V", lens, &st.sys, err);
+    if (!text)
+        return -1;
 
     import_lines it = {text, 0};
     char *line, *tok[SEQ_MAX_TOK];
@@ -746,12 +718,5 @@ int lens_parse_seq(const char *data, size_t len, const char *path,
 int lens_read_seq(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
                   lens_err *err)
 {
-    char *data;
-    size_t len;
-    lens_init(lens);
-    if (import_read_stream(f, path, &data, &len, err) != 0)
-        return -1;
-    int rc = lens_parse_seq(data, len, path, opt, lens, err);
-    free(data);
-    return rc;
+    return import_read_parse(f, path, opt, lens, err, lens_parse_seq);
 }

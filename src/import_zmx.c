@@ -36,14 +36,9 @@ typedef struct {
 } zsurf;
 
 typedef struct {
-    const char *path;
-    lens_t *lens;
-    import_skips skips;
+    import_system sys; /* path, lens, skips, unit, epd, fno */
     zsurf *s;
     size_t ns, cap;
-    double unit;       /* mm per lens unit */
-    double epd;        /* entrance pupil diameter, lens units; NAN if not given */
-    double fnum;
     int ftype, nfields, nwaves, pwav;
     double xfield[12], yfield[12];
     int nx, ny;
@@ -97,16 +92,6 @@ static void refuse(zsurf *z, long line, const char *fmt, const char *what)
     z->refuse_line = line;
 }
 
-static int any_nonzero(char **tok, int n, int from)
-{
-    for (int i = from; i < n; i++) {
-        double v;
-        if (parse_double(tok[i], &v) == 0 && v != 0)
-            return 1;
-    }
-    return 0;
-}
-
 static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, lens_err *err)
 {
     const char *k = tok[0];
@@ -114,7 +99,7 @@ static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, le
 #define NEED_NUM(i, dst)                                                                    \
     do {                                                                                    \
         if (n <= (i) || num(tok[i], &(dst)) != 0) {                                         \
-            lens_errf(err, st->path, line, "%s: expected a number, found '%s'", k,          \
+            lens_errf(err, st->sys.path, line, "%s: expected a number, found '%s'", k,          \
                       n > (i) ? tok[i] : "end of line");                                    \
             return -1;                                                                      \
         }                                                                                   \
@@ -131,7 +116,7 @@ static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, le
         /* CLAP min-radius max-radius ...: a circular clear aperture. */
         NEED_NUM(2, z->clap);
         if (n > 1 && parse_double(tok[1], &v) == 0 && v > 0)
-            import_skip(&st->skips, "annular aperture inner radius");
+            import_skip(&st->sys.skips, "annular aperture inner radius");
     } else if (import_eq(k, "CONI")) {
         NEED_NUM(1, z->coni);
     } else if (import_eq(k, "PARM")) {
@@ -146,7 +131,7 @@ static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, le
         z->stop = 1;
     } else if (import_eq(k, "GLAS")) {
         if (n < 2) {
-            lens_errf(err, st->path, line, "GLAS without a glass name");
+            lens_errf(err, st->sys.path, line, "GLAS without a glass name");
             return -1;
         }
         z->has_glas = 1;
@@ -163,24 +148,24 @@ static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, le
                    "is a mirror (a fold or catadioptric design); sparselens models refracting "
                    "lenses only");
     } else if (import_eq(k, "COAT")) {
-        import_skip(&st->skips, "coatings");
+        import_skip(&st->sys.skips, "coatings");
     } else if (import_eq(k, "IGNR")) {
-        if (any_nonzero(tok, n, 1))
+        if (import_any_nonzero(tok, n, 1))
             refuse(z, line, "%s", "is marked 'ignore this surface'; remove it in the design first");
     } else if (import_eq(k, "OBSC") || import_eq(k, "OBDC")) {
-        import_skip(&st->skips, "obscurations");
+        import_skip(&st->sys.skips, "obscurations");
     } else if (import_eq(k, "SQAP") || import_eq(k, "ELAP") || import_eq(k, "UDAP")) {
-        import_skip(&st->skips, "non-circular apertures (DIAM used)");
+        import_skip(&st->sys.skips, "non-circular apertures (DIAM used)");
     } else if (!strncmp(k, "DEC", 3) || !strncmp(k, "TILT", 4) || !strncmp(k, "SCB", 3)) {
         /* Tilt/decentre of a surface: harmless when all zero, refused otherwise. */
-        if (any_nonzero(tok, n, 1))
+        if (import_any_nonzero(tok, n, 1))
             refuse(z, line, "%s", "is tilted or decentred; sparselens models centred systems only");
     } else if (import_eq(k, "TOL") || !strncmp(k, "TOL", 3)) {
-        import_skip(&st->skips, "tolerance data");
+        import_skip(&st->sys.skips, "tolerance data");
     } else if (!silent_surface_key(k)) {
         char label[40];
         snprintf(label, sizeof label, "surface keyword %.20s", k);
-        import_skip(&st->skips, label);
+        import_skip(&st->sys.skips, label);
     }
     return 0;
 #undef NEED_NUM
@@ -192,7 +177,7 @@ static int system_key(zmx_state *st, char *raw, char **tok, int n, long line, le
     double v;
     if (import_eq(k, "MODE")) {
         if (n > 1 && !import_eq(tok[1], "SEQ")) {
-            lens_errf(err, st->path, line,
+            lens_errf(err, st->sys.path, line,
                       "MODE %s: a non-sequential file; sparselens reads sequential systems only",
                       tok[1]);
             return -1;
@@ -205,29 +190,29 @@ static int system_key(zmx_state *st, char *raw, char **tok, int n, long line, le
         p += 4; /* the keyword, in whatever case */
         while (*p == ' ' || *p == '\t')
             p++;
-        snprintf(st->lens->name, sizeof st->lens->name, "%s", p);
+        snprintf(st->sys.lens->name, sizeof st->sys.lens->name, "%s", p);
     } else if (import_eq(k, "UNIT")) {
         const char *u = n > 1 ? tok[1] : "MM";
         if (import_eq(u, "MM"))
-            st->unit = 1;
+            st->sys.unit = 1;
         else if (import_eq(u, "CM"))
-            st->unit = 10;
+            st->sys.unit = 10;
         else if (import_eq(u, "IN"))
-            st->unit = 25.4;
+            st->sys.unit = 25.4;
         else if (import_eq(u, "METER") || import_eq(u, "M"))
-            st->unit = 1000;
+            st->sys.unit = 1000;
         else {
-            lens_errf(err, st->path, line, "UNIT %s: unknown lens unit (MM, CM, IN or METER)", u);
+            lens_errf(err, st->sys.path, line, "UNIT %s: unknown lens unit (MM, CM, IN or METER)", u);
             return -1;
         }
     } else if (import_eq(k, "ENPD")) {
         if (n > 1 && parse_double(tok[1], &v) == 0)
-            st->epd = v;
+            st->sys.epd = v;
     } else if (import_eq(k, "FNUM")) {
         if (n > 1 && parse_double(tok[1], &v) == 0)
-            st->fnum = v;
+            st->sys.fno = v;
     } else if (import_eq(k, "OBNA") || import_eq(k, "FLOA")) {
-        import_skip(&st->skips, "aperture given as object NA or float by stop (stop DIAM used)");
+        import_skip(&st->sys.skips, "aperture given as object NA or float by stop (stop DIAM used)");
     } else if (import_eq(k, "FTYP")) {
         long a;
         if (n > 1 && parse_long(tok[1], &a) == 0)
@@ -277,20 +262,20 @@ static int system_key(zmx_state *st, char *raw, char **tok, int n, long line, le
         if (n > 1 && parse_long(tok[1], &m) == 0)
             st->mnum = (int)m;
     } else if (import_eq(k, "CONF") || import_eq(k, "CONG") || import_eq(k, "MOFF")) {
-        import_skip(&st->skips, "multi-configuration operands");
+        import_skip(&st->sys.skips, "multi-configuration operands");
     } else if (!strncmp(k, "TOL", 3)) {
-        import_skip(&st->skips, "tolerance operands");
+        import_skip(&st->sys.skips, "tolerance operands");
     } else if (!strncmp(k, "NSO", 3) || import_eq(k, "NSCO")) {
-        import_skip(&st->skips, "non-sequential objects");
+        import_skip(&st->sys.skips, "non-sequential objects");
     } else if (!strncmp(k, "MFE", 3) || import_eq(k, "MNCA") || import_eq(k, "OPER")) {
-        import_skip(&st->skips, "merit function");
+        import_skip(&st->sys.skips, "merit function");
     } else if (!strncmp(k, "VD", 2) || !strncmp(k, "VC", 2) || import_eq(k, "VANN")) {
-        if (any_nonzero(tok, n, 1))
-            import_skip(&st->skips, "field vignetting factors");
+        if (import_any_nonzero(tok, n, 1))
+            import_skip(&st->sys.skips, "field vignetting factors");
     } else if (!silent_system_key(k)) {
         char label[40];
         snprintf(label, sizeof label, "keyword %.20s", k);
-        import_skip(&st->skips, label);
+        import_skip(&st->sys.skips, label);
     }
     return 0;
 }
@@ -366,7 +351,7 @@ static void fields_and_waves_note(zmx_state *st)
                 break;
             o += (size_t)w;
         }
-        lens_add_note(st->lens, "%s", buf);
+        lens_add_note(st->sys.lens, "%s", buf);
     }
     int nw = st->nwaves > 0 && st->nwaves <= st->nwave_read ? st->nwaves : st->nwave_read;
     if (nw > 0) {
@@ -378,15 +363,15 @@ static void fields_and_waves_note(zmx_state *st)
                 break;
             o += (size_t)w;
         }
-        lens_add_note(st->lens, "%s", buf);
+        lens_add_note(st->sys.lens, "%s", buf);
     }
 }
 
 static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
 {
-    lens_t *lens = st->lens;
+    lens_t *lens = st->sys.lens;
     if (st->ns < 3) {
-        lens_errf(err, st->path, 0,
+        lens_errf(err, st->sys.path, 0,
                   "%zu surfaces: a .zmx lens needs an object, at least one lens surface and "
                   "an image surface",
                   st->ns);
@@ -395,35 +380,35 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
     for (size_t i = 0; i < st->ns; i++) {
         check_type(st, &st->s[i]);
         if (st->s[i].refuse[0]) {
-            lens_errf(err, st->path, st->s[i].refuse_line, "surface %d %s", st->s[i].number,
+            lens_errf(err, st->sys.path, st->s[i].refuse_line, "surface %d %s", st->s[i].number,
                       st->s[i].refuse);
             return -1;
         }
     }
     const zsurf *obj = &st->s[0], *img = &st->s[st->ns - 1];
     if (obj->has_glas && !import_eq(obj->glas, "AIR")) {
-        lens_errf(err, st->path, obj->glas_line,
+        lens_errf(err, st->sys.path, obj->glas_line,
                   "object space is %s, not air; sparselens models lenses in air", obj->glas);
         return -1;
     }
     if (isfinite(obj->disz) && obj->disz < 1e9)
         lens_add_note(lens, "object at %g mm in the file; read for an object at infinity",
-                    obj->disz * st->unit);
+                    obj->disz * st->sys.unit);
     if (img->curv != 0)
-        import_skip(&st->skips, "curved image surface (flat sensor used)");
+        import_skip(&st->sys.skips, "curved image surface (flat sensor used)");
     if (st->mnum > 1)
         lens_add_note(lens, "%d configurations in the file; the first is read", st->mnum);
 
     import_glass_ctx gl;
-    import_glass_init(&gl, opt, st->path);
+    import_glass_init(&gl, opt, st->sys.path);
     snprintf(gl.maker_catalogs, sizeof gl.maker_catalogs, "%s", st->gcat);
-    double u = st->unit;
+    double u = st->sys.unit;
     int air_before = 1, merged = 0, have_stop = 0, stop_clap = 0;
     for (size_t i = 1; i + 1 < st->ns; i++) {
         const zsurf *z = &st->s[i];
         if (!isfinite(z->disz)) {
             import_glass_free(&gl);
-            lens_errf(err, st->path, z->line, "surface %d: thickness must be finite", z->number);
+            lens_errf(err, st->sys.path, z->line, "surface %d: thickness must be finite", z->number);
             return -1;
         }
         if (is_dummy(z, air_before)) {
@@ -432,13 +417,11 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
             merged++;
             continue;
         }
-        lens_surface *s = lens_add_surface(lens);
+        lens_surface *s = lens_add_surface_at(lens, st->sys.path, z->line, err);
         if (!s) {
             import_glass_free(&gl);
-            lens_errf(err, st->path, 0, "out of memory");
             return -1;
         }
-        s->line = z->line;
         s->radius = import_radius(z->curv, u);
         s->thickness = z->disz * u;
         s->semi_diameter = (z->clap > 0 ? z->clap : z->diam) * u;
@@ -456,11 +439,11 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
             s->medium = glass_air();
             strcpy(s->material, "air");
         } else if (z->model) {
-            if (import_glass_model(s, z->nd, z->vd, st->path, z->glas_line, err) != 0) {
+            if (import_glass_model(s, z->nd, z->vd, st->sys.path, z->glas_line, err) != 0) {
                 import_glass_free(&gl);
                 return -1;
             }
-        } else if (import_glass_lookup(&gl, z->glas, z->nd, z->vd, st->path, z->glas_line, s,
+        } else if (import_glass_lookup(&gl, z->glas, z->nd, z->vd, st->sys.path, z->glas_line, s,
                                        err) != 0) {
             import_glass_free(&gl);
             return -1;
@@ -470,7 +453,7 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
     import_glass_note(&gl, lens);
     import_glass_free(&gl);
     if (lens->nsurf == 0) {
-        lens_errf(err, st->path, 0, "no lens surfaces between object and image");
+        lens_errf(err, st->sys.path, 0, "no lens surfaces between object and image");
         return -1;
     }
     if (!have_stop) {
@@ -481,27 +464,17 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
         lens_add_note(lens, "%d flat air-to-air dummy surface%s merged into the gaps", merged,
                     merged > 1 ? "s" : "");
     fields_and_waves_note(st);
-    return import_finish(lens, &st->skips, st->fnum, "FNUM", st->epd * u, "ENPD", stop_clap, err);
+    return import_finish(lens, &st->sys.skips, st->sys.fno, "FNUM", st->sys.epd * u, "ENPD", stop_clap, err);
 }
 
 int lens_parse_zmx(const char *data, size_t len, const char *path,
                    const lens_load_options *opt, lens_t *lens, lens_err *err)
 {
-    lens_init(lens);
-    char *text = import_decode(data, len);
-    if (!text) {
-        lens_errf(err, path, 0, "out of memory");
-        return -1;
-    }
     zmx_state st;
     memset(&st, 0, sizeof st);
-    st.path = path;
-    st.lens = lens;
-    st.unit = 1;
-    st.epd = st.fnum = NAN;
-    snprintf(lens->path, sizeof lens->path, "%s", path);
-    const char *base = strrchr(path, '/');
-    snprintf(lens->source, sizeof lens->source, "Zemax file %s", base ? base + 1 : path);
+    char *text = import_begin(data, len, path, "Zemax", lens, &st.sys, err);
+    if (!text)
+        return -1;
 
     import_lines it = {text, 0};
     char *line, *tok[ZMX_MAX_TOK], raw[256];
@@ -523,16 +496,10 @@ int lens_parse_zmx(const char *data, size_t len, const char *path,
                 rc = -1;
                 break;
             }
-            if (st.ns == st.cap) {
-                size_t nc = st.cap ? 2 * st.cap : 16;
-                zsurf *ns = realloc(st.s, nc * sizeof *ns);
-                if (!ns) {
-                    lens_errf(err, path, it.line, "out of memory");
-                    rc = -1;
-                    break;
-                }
-                st.s = ns;
-                st.cap = nc;
+            if (import_grow((void **)&st.s, &st.cap, st.ns, sizeof *st.s) != 0) {
+                lens_errf(err, path, it.line, "out of memory");
+                rc = -1;
+                break;
             }
             cur = &st.s[st.ns++];
             memset(cur, 0, sizeof *cur);
@@ -564,12 +531,5 @@ int lens_parse_zmx(const char *data, size_t len, const char *path,
 int lens_read_zmx(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
                   lens_err *err)
 {
-    char *data;
-    size_t len;
-    lens_init(lens);
-    if (import_read_stream(f, path, &data, &len, err) != 0)
-        return -1;
-    int rc = lens_parse_zmx(data, len, path, opt, lens, err);
-    free(data);
-    return rc;
+    return import_read_parse(f, path, opt, lens, err, lens_parse_zmx);
 }

@@ -34,6 +34,7 @@ typedef struct {
     char name[128];
     char source[512];
     char path[512];        /* file it was read from */
+    char format[8];        /* the reader lens_load used ("lens", "zmx", ...); "" if none */
     double focal;          /* nominal focal length from the header, mm; NAN if unknown */
     double fnumber;        /* nominal f-number from the header; NAN if unknown */
     double sensor_w, sensor_h; /* sensor size, mm; NAN if unknown */
@@ -47,12 +48,19 @@ typedef struct {
 typedef struct {
     const char *const *catalogs; /* extra glass catalogs (AGF or .catalog), NULL-terminated; may be NULL */
     int ndvd_fallback;           /* a missing glass given with nd/Vd falls back to the model, with a warning */
+    const char *format;          /* "lens", "fx", "pbrt", "zmx", "seq"; NULL or "auto": guess */
 } lens_load_options;
 
-/* Reads any supported prescription (.lens, pbrt .dat, .fx; others as importers add
- * them), chosen by extension, then content. 0 on success; on failure err holds
- * "FILE:LINE: what is wrong" and *lens is left empty. opt may be NULL. */
+/* Reads any supported prescription (.lens, pbrt .dat, .fx, Zemax .zmx, CODE V .seq) from
+ * path, or from stdin when path is "-". The format is opt->format when given, else the
+ * file's extension, else (an unknown extension, or stdin) the content. 0 on success; on
+ * failure err holds "FILE:LINE: what is wrong" and *lens is left empty. opt may be NULL. */
 int lens_load(const char *path, const lens_load_options *opt, lens_t *lens, lens_err *err);
+
+/* The format names lens_load knows, for messages ("lens, fx, pbrt, zmx, seq"), and whether
+ * name is one of them (or "auto", or NULL). */
+extern const char *const lens_formats;
+int lens_format_known(const char *name);
 
 /* Parses the project's own format from a stream (path is used in messages). */
 int lens_read_native(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
@@ -61,6 +69,11 @@ int lens_read_native(FILE *f, const char *path, const lens_load_options *opt, le
 /* Checks a freshly built lens (a stop, positive semi-diameters, finite numbers,
  * surfaces that do not cross within their apertures) and fills vertex_z. */
 int lens_finish(lens_t *lens, lens_err *err);
+
+/* The smallest axial gap between surfaces i and i+1 (the edge thickness of an element,
+ * or the air between two) over heights up to the smaller semi-diameter, and the height
+ * where it occurs; lens_finish refuses a lens where one is negative beyond rounding. */
+double lens_min_gap(const lens_t *lens, size_t i, double *at_h);
 
 /* Writes the lens in the project's format: header, then one surface per line.
  * Numbers are written with enough digits to read back exactly. */
@@ -71,6 +84,9 @@ int lens_copy(lens_t *dst, const lens_t *src);
 
 /* Appends a surface (importers); returns its pointer or NULL on allocation failure. */
 lens_surface *lens_add_surface(lens_t *lens);
+/* The same for readers: the surface gets source line `line`; on allocation failure err
+ * says "path:line: out of memory". */
+lens_surface *lens_add_surface_at(lens_t *lens, const char *path, long line, lens_err *err);
 void lens_init(lens_t *lens); /* empty lens, NAN metadata */
 
 double lens_total_track(const lens_t *lens); /* first vertex to sensor plane */

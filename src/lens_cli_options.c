@@ -67,6 +67,16 @@ int lens_cli_options_parse(lens_cli_options *o, int argc, char **argv, int *i, l
         o->opt.ndvd_fallback = strcmp(v, "ndvd") == 0;
         return 1;
     }
+    v = flag_value("--lens-format", argc, argv, i, &missing);
+    if (missing || (v && !lens_format_known(v))) {
+        lens_errf(err, NULL, 0, "--lens-format takes one of %s, or auto, not '%s'", lens_formats,
+                  v ? v : "nothing");
+        return -1;
+    }
+    if (v) {
+        o->opt.format = v;
+        return 1;
+    }
     return 0;
 }
 
@@ -81,6 +91,17 @@ int lens_cli_options_take(const char *prog, int argc, char **argv, int *i, lens_
     return r;
 }
 
+int lens_cli_common_take(const char *prog, const char *usage, int argc, char **argv, int *i,
+                         lens_cli_options *o)
+{
+    if (strcmp(argv[*i], "--help") == 0 || strcmp(argv[*i], "-h") == 0) {
+        lens_cli_options_free(o);
+        fputs(usage, stdout);
+        exit(0);
+    }
+    return lens_cli_options_take(prog, argc, argv, i, o);
+}
+
 const lens_load_options *lens_cli_options_get(const lens_cli_options *o)
 {
     return &o->opt;
@@ -90,10 +111,9 @@ void lens_cli_warn_notes(const char *prog, const lens_t *lens)
 {
     if (!lens->notes[0])
         return;
-    size_t n = strlen(lens->path);
-    if ((n >= 5 && strcasecmp(lens->path + n - 5, ".lens") == 0) || strcmp(lens->path, "-") == 0)
-        return; /* a converted lens (a .lens file, or one piped in) carries its notes as header
-                   lines: said once, at conversion */
+    if (strcmp(lens->format, "lens") == 0)
+        return; /* a converted lens (read in the native format, from a file or piped in)
+                   carries its notes as header lines: said once, at conversion */
     const char *p = lens->notes;
     while (*p) {
         size_t len = strcspn(p, "\n");

@@ -156,14 +156,10 @@ static int parse_material(const char *t, lens_surface *s, material_ctx *mat, con
             lens_errf(err, path, line, "material '%s': expected nd/Vd or nd as finite numbers", t);
             return -1;
         }
-        if (nd < 1) {
-            lens_errf(err, path, line, "material '%s': nd %g is below 1", t, nd);
+        char what[64];
+        snprintf(what, sizeof what, "material '%s'", t);
+        if (glass_check_ndvd(nd, slash ? vd : NAN, what, path, line, err) != 0)
             return -1;
-        }
-        if (slash && !(vd > 0)) {
-            lens_errf(err, path, line, "material '%s': Abbe number %g must be positive", t, vd);
-            return -1;
-        }
         s->medium = slash ? glass_from_ndvd(nd, vd) : glass_constant(nd);
         return 0;
     }
@@ -193,12 +189,9 @@ static int parse_surface(char **tok, int nt, lens_t *lens, material_ctx *mat, co
                   nt, nt == 1 ? "" : "s");
         return -1;
     }
-    lens_surface *s = lens_add_surface(lens);
-    if (!s) {
-        lens_errf(err, path, line, "out of memory");
+    lens_surface *s = lens_add_surface_at(lens, path, line, err);
+    if (!s)
         return -1;
-    }
-    s->line = line;
     if (parse_radius(tok[0], &s->radius) != 0) {
         lens_errf(err, path, line, "radius '%s' is not a number (inf for a flat surface)", tok[0]);
         return -1;

@@ -107,23 +107,46 @@ poly_system *poly_new(const char *lens_name, int ninputs, const char *const *inp
     return s;
 }
 
-static void free_part(poly_part *p, int nout)
+static void free_terms(poly_out_terms *t, int n)
 {
-    if (p->out)
-        for (int o = 0; o < nout; o++) {
-            free(p->out[o].exps);
-            free(p->out[o].coef);
-            free(p->out[o].slot);
-            free(p->out[o].fa);
-            free(p->out[o].fb);
+    if (t)
+        for (int o = 0; o < n; o++) {
+            free(t[o].exps);
+            free(t[o].coef);
+            free(t[o].slot);
         }
-    free(p->out);
-    free(p->slot_exps);
-    free(p->slot_a);
-    free(p->slot_b);
-    free(p->depth);
-    free(p->order);
-    free(p->stored);
+    free(t);
+}
+
+static void free_mono(poly_mono *m)
+{
+    free(m->exps);
+    free(m->a);
+    free(m->b);
+    free(m->depth);
+}
+
+static void free_plan(poly_plan *pl)
+{
+    free(pl->prod);
+    free(pl->order);
+    free(pl->start);
+    free(pl->nsingle);
+    free(pl->coef);
+    free(pl->fa);
+    free(pl->fb);
+    free(pl->src);
+    memset(pl, 0, sizeof *pl);
+}
+
+static void free_part(poly_part *p, int nin, int nout)
+{
+    free_terms(p->out, nout);
+    free_terms(p->dout, nout * nin);
+    free_mono(&p->mono);
+    free_mono(&p->dmono);
+    free_plan(&p->plan);
+    free_plan(&p->dplan);
 }
 
 void poly_free(poly_system *s)
@@ -131,7 +154,7 @@ void poly_free(poly_system *s)
     if (!s)
         return;
     for (int p = 0; p < s->nparts; p++)
-        free_part(&s->parts[p], s->nout);
+        free_part(&s->parts[p], s->nin, s->nout);
     free(s->parts);
     if (s->inputs)
         for (int i = 0; i < s->nin; i++)
@@ -204,56 +227,67 @@ void poly_set_domain(poly_system *s, int i, double lo, double hi)
     s->hi[i] = hi;
 }
 
-/* ---- parts and the slot plan ---- */
+/* ---- parts, monomial tables and plans ---- */
 
 /* Appends a slot holding monomial e computed as slot a * slot b. */
-static int append_slot(poly_part *p, int nin, const int *e, int a, int b)
+static int append_slot(poly_mono *m, int nin, const int *e, int a, int b)
 {
-    int need = p->nslots + 1;
-    if (need > p->slotcap) {
-        int nc = p->slotcap ? p->slotcap * 2 : 32;
-        int *ne = realloc(p->slot_exps, (size_t)nc * (size_t)nin * sizeof(int));
+    if (m->nslots + 1 > m->cap) {
+        int nc = m->cap ? m->cap * 2 : 32;
+        int *ne = realloc(m->exps, (size_t)nc * (size_t)nin * sizeof(int));
         if (!ne)
             return -1;
-        p->slot_exps = ne;
-        int *na = realloc(p->slot_a, (size_t)nc * sizeof(int));
+        m->exps = ne;
+        int *na = realloc(m->a, (size_t)nc * sizeof(int));
         if (!na)
             return -1;
-        p->slot_a = na;
-        int *nb = realloc(p->slot_b, (size_t)nc * sizeof(int));
+        m->a = na;
+        int *nb = realloc(m->b, (size_t)nc * sizeof(int));
         if (!nb)
             return -1;
-        p->slot_b = nb;
-        int *nd = realloc(p->depth, (size_t)nc * sizeof(int));
+        m->b = nb;
+        int *nd = realloc(m->depth, (size_t)nc * sizeof(int));
         if (!nd)
             return -1;
-        p->depth = nd;
-        int *no = realloc(p->order, (size_t)nc * sizeof(int));
-        if (!no)
-            return -1;
-        p->order = no;
-        p->slotcap = nc;
+        m->depth = nd;
+        m->cap = nc;
     }
-    int k = p->nslots++;
-    memcpy(p->slot_exps + (size_t)k * (size_t)nin, e, (size_t)nin * sizeof(int));
-    p->slot_a[k] = a;
-    p->slot_b[k] = b;
-    p->depth[k] = a < 0 ? 0 : 1 + (p->depth[a] > p->depth[b] ? p->depth[a] : p->depth[b]);
+    int k = m->nslots++;
+    memcpy(m->exps + (size_t)k * (size_t)nin, e, (size_t)nin * sizeof(int));
+    m->a[k] = a;
+    m->b[k] = b;
+    m->depth[k] = a < 0 ? 0 : 1 + (m->depth[a] > m->depth[b] ? m->depth[a] : m->depth[b]);
     return k;
 }
 
-static int find_slot(const poly_part *p, int nin, const int *e)
+/* Slot 0 the constant, slots 1..nin the scaled inputs. */
+static int init_mono(poly_mono *m, int nin)
 {
-    for (int k = 0; k < p->nslots; k++)
-        if (memcmp(p->slot_exps + (size_t)k * (size_t)nin, e, (size_t)nin * sizeof(int)) == 0)
+    int *e = calloc((size_t)nin, sizeof(int));
+    if (!e)
+        return -1;
+    int ok = append_slot(m, nin, e, -1, -1) == 0;
+    for (int i = 0; ok && i < nin; i++) {
+        e[i] = 1;
+        ok = append_slot(m, nin, e, -1, -1) == 1 + i;
+        e[i] = 0;
+    }
+    free(e);
+    return ok ? 0 : -1;
+}
+
+static int find_slot(const poly_mono *m, int nin, const int *e)
+{
+    for (int k = 0; k < m->nslots; k++)
+        if (memcmp(m->exps + (size_t)k * (size_t)nin, e, (size_t)nin * sizeof(int)) == 0)
             return k;
     return -1;
 }
 
 /* The slot holding monomial e, created (with the slots it is built from) if missing. */
-static int ensure_slot(poly_part *p, int nin, const int *e)
+static int ensure_slot(poly_mono *m, int nin, const int *e)
 {
-    int k = find_slot(p, nin, e);
+    int k = find_slot(m, nin, e);
     if (k >= 0)
         return k;
     int last = -1, nz = 0;
@@ -270,76 +304,139 @@ static int ensure_slot(poly_part *p, int nin, const int *e)
     int a, b;
     if (nz == 1) { /* s_i^k = s_i^(k-1) * s_i; k >= 2 here since slots 1..nin hold s_i */
         g[last] -= 1;
-        a = ensure_slot(p, nin, g);
+        a = ensure_slot(m, nin, g);
         memset(g, 0, (size_t)nin * sizeof(int));
         g[last] = 1;
-        b = ensure_slot(p, nin, g);
+        b = ensure_slot(m, nin, g);
     } else { /* (e without its last factor) * s_last^e_last */
         g[last] = 0;
-        a = ensure_slot(p, nin, g);
+        a = ensure_slot(m, nin, g);
         memset(g, 0, (size_t)nin * sizeof(int));
         g[last] = e[last];
-        b = ensure_slot(p, nin, g);
+        b = ensure_slot(m, nin, g);
     }
     if (g != f)
         free(g);
     if (a < 0 || b < 0)
         return -1;
-    return append_slot(p, nin, e, a, b);
+    return append_slot(m, nin, e, a, b);
 }
 
-/* The product slots sorted by depth (stable), so each depth's products are
- * independent; and the batch plan (poly_impl.h): which slots are stored, which terms
- * multiply their own monomial. */
-static int plan_part(poly_part *p, int nin, int nout)
+/* Appends a term (exponents e, or none for derivative sums) to a sum. */
+static int push_term(poly_out_terms *ot, int nin, const int *e, double coef, int slot)
 {
-    int maxd = 0, n = 0;
-    for (int k = 1 + nin; k < p->nslots; k++)
-        if (p->depth[k] > maxd)
-            maxd = p->depth[k];
-    for (int d = 1; d <= maxd; d++)
-        for (int k = 1 + nin; k < p->nslots; k++)
-            if (p->depth[k] == d)
-                p->order[n++] = k;
-    int *uses = calloc((size_t)p->nslots, sizeof(int)); /* terms using the slot */
-    int *factor = calloc((size_t)p->nslots, sizeof(int)); /* slots built from it */
-    int *st = realloc(p->stored, (size_t)p->nslots * sizeof(int));
-    if (!uses || !factor || !st) {
+    if (ot->nterms + 1 > ot->cap) {
+        int nc = ot->cap ? ot->cap * 2 : 16;
+        if (e) {
+            int *ne = realloc(ot->exps, (size_t)nc * (size_t)nin * sizeof(int));
+            if (!ne)
+                return -1;
+            ot->exps = ne;
+        }
+        double *nco = realloc(ot->coef, (size_t)nc * sizeof(double));
+        if (!nco)
+            return -1;
+        ot->coef = nco;
+        int *ns = realloc(ot->slot, (size_t)nc * sizeof(int));
+        if (!ns)
+            return -1;
+        ot->slot = ns;
+        ot->cap = nc;
+    }
+    int t = ot->nterms++;
+    if (e)
+        memcpy(ot->exps + (size_t)t * (size_t)nin, e, (size_t)nin * sizeof(int));
+    ot->coef[t] = coef;
+    ot->slot[t] = slot;
+    return 0;
+}
+
+/* The plan of poly_impl.h for nout sums over table m: which products are kept (and their
+ * compact numbers), each output's single terms, then its fused ones. */
+static int build_plan(poly_plan *pl, const poly_mono *m, int nin, int nout,
+                      const poly_out_terms *sums)
+{
+    const int ns = m->nslots;
+    int nt = 0;
+    for (int o = 0; o < nout; o++)
+        nt += sums[o].nterms;
+    poly_plan n = {0};
+    int *uses = calloc((size_t)ns, sizeof(int));   /* terms using the slot */
+    int *factor = calloc((size_t)ns, sizeof(int)); /* slots built from it */
+    int *cidx = malloc((size_t)ns * sizeof(int));  /* compact number, -1 if not kept */
+    n.prod = malloc(2 * (size_t)ns * sizeof(int));
+    n.order = malloc((size_t)ns * sizeof(int));
+    n.start = malloc((size_t)(nout + 1) * sizeof(int));
+    n.nsingle = malloc((size_t)nout * sizeof(int));
+    n.coef = malloc((size_t)(nt + 1) * sizeof(double));
+    n.fa = malloc((size_t)(nt + 1) * sizeof(int));
+    n.fb = malloc((size_t)(nt + 1) * sizeof(int));
+    n.src = malloc((size_t)(nt + 1) * sizeof(int));
+    if (!uses || !factor || !cidx || !n.prod || !n.order || !n.start || !n.nsingle ||
+        !n.coef || !n.fa || !n.fb || !n.src) {
         free(uses);
         free(factor);
-        if (st)
-            p->stored = st;
+        free(cidx);
+        free_plan(&n);
         return -1;
     }
-    p->stored = st;
+    int maxd = 0, no = 0;
+    for (int k = 1 + nin; k < ns; k++)
+        if (m->depth[k] > maxd)
+            maxd = m->depth[k];
+    for (int d = 1; d <= maxd; d++)
+        for (int k = 1 + nin; k < ns; k++)
+            if (m->depth[k] == d)
+                n.order[no++] = k;
     for (int o = 0; o < nout; o++)
-        for (int t = 0; t < p->out[o].nterms; t++)
-            uses[p->out[o].slot[t]]++;
-    for (int k = 1 + nin; k < p->nslots; k++) {
-        factor[p->slot_a[k]]++;
-        factor[p->slot_b[k]]++;
+        for (int t = 0; t < sums[o].nterms; t++)
+            uses[sums[o].slot[t]]++;
+    for (int k = 1 + nin; k < ns; k++) {
+        factor[m->a[k]]++;
+        factor[m->b[k]]++;
     }
-    p->nstored = 0;
-    for (int j = 0; j < n; j++) {
-        int k = p->order[j];
-        if (!(uses[k] == 1 && factor[k] == 0))
-            p->stored[p->nstored++] = k;
+    for (int k = 0; k <= nin && k < ns; k++)
+        cidx[k] = k;
+    n.nvals = 1 + nin;
+    for (int j = 0; j < no; j++) {
+        int k = n.order[j];
+        cidx[k] = -1;
+        if (uses[k] == 1 && factor[k] == 0)
+            continue; /* fused into its one term */
+        /* factors come first in depth order, and factors are always kept */
+        n.prod[2 * n.nprod] = cidx[m->a[k]];
+        n.prod[2 * n.nprod + 1] = cidx[m->b[k]];
+        n.nprod++;
+        cidx[k] = n.nvals++;
     }
+    n.nout = nout;
+    int q = 0;
     for (int o = 0; o < nout; o++) {
-        poly_out_terms *ot = &p->out[o];
-        for (int t = 0; t < ot->nterms; t++) {
-            int k = ot->slot[t];
-            if (k > nin && uses[k] == 1 && factor[k] == 0) {
-                ot->fa[t] = p->slot_a[k];
-                ot->fb[t] = p->slot_b[k];
-            } else {
-                ot->fa[t] = k;
-                ot->fb[t] = 0;
+        const poly_out_terms *ot = &sums[o];
+        n.start[o] = q;
+        for (int t = 0; t < ot->nterms; t++)
+            if (cidx[ot->slot[t]] >= 0) {
+                n.coef[q] = ot->coef[t];
+                n.fa[q] = cidx[ot->slot[t]];
+                n.fb[q] = 0;
+                n.src[q++] = t;
             }
-        }
+        n.nsingle[o] = q - n.start[o];
+        for (int t = 0; t < ot->nterms; t++)
+            if (cidx[ot->slot[t]] < 0) {
+                int k = ot->slot[t];
+                n.coef[q] = ot->coef[t];
+                n.fa[q] = cidx[m->a[k]];
+                n.fb[q] = cidx[m->b[k]];
+                n.src[q++] = t;
+            }
     }
+    n.start[nout] = q;
     free(uses);
     free(factor);
+    free(cidx);
+    free_plan(pl);
+    *pl = n;
     return 0;
 }
 
@@ -361,23 +458,12 @@ int poly_add_part(poly_system *s, double rmin, double rmax)
     p->rmin = rmin;
     p->rmax = rmax;
     p->out = calloc((size_t)s->nout, sizeof *p->out);
-    if (!p->out)
-        return -1;
-    /* slot 0: the constant; slots 1..nin: the scaled inputs */
-    int *e = calloc((size_t)s->nin, sizeof(int));
-    if (!e) {
-        free(p->out);
-        return -1;
-    }
-    int ok = append_slot(p, s->nin, e, -1, -1) == 0;
-    for (int i = 0; ok && i < s->nin; i++) {
-        e[i] = 1;
-        ok = append_slot(p, s->nin, e, -1, -1) == 1 + i;
-        e[i] = 0;
-    }
-    free(e);
-    if (!ok) {
-        free_part(p, s->nout);
+    p->dout = calloc((size_t)s->nout * (size_t)s->nin, sizeof *p->dout);
+    if (!p->out || !p->dout || init_mono(&p->mono, s->nin) != 0 ||
+        init_mono(&p->dmono, s->nin) != 0 ||
+        build_plan(&p->plan, &p->mono, s->nin, s->nout, p->out) != 0 ||
+        build_plan(&p->dplan, &p->dmono, s->nin, s->nout * s->nin, p->dout) != 0) {
+        free_part(p, s->nin, s->nout);
         return -1;
     }
     s->nparts++;
@@ -400,45 +486,42 @@ int poly_add_term(poly_system *s, int part, int output, const int *exps, double 
         return -1;
     poly_part *p = &s->parts[part];
     poly_out_terms *ot = &p->out[output];
-    size_t n = (size_t)s->nin;
+    const int nin = s->nin;
+    size_t n = (size_t)nin;
     for (int t = 0; t < ot->nterms; t++)
         if (memcmp(ot->exps + (size_t)t * n, exps, n * sizeof(int)) == 0)
             return -1;
-    int slot = ensure_slot(p, s->nin, exps);
-    if (slot < 0)
+    int slot = ensure_slot(&p->mono, nin, exps);
+    if (slot < 0 || push_term(ot, nin, exps, coef, slot) != 0)
         return -1;
-    if (ot->nterms + 1 > ot->cap) {
-        int nc = ot->cap ? ot->cap * 2 : 16;
-        int *ne = realloc(ot->exps, (size_t)nc * n * sizeof(int));
-        if (!ne)
-            return -1;
-        ot->exps = ne;
-        double *nco = realloc(ot->coef, (size_t)nc * sizeof(double));
-        if (!nco)
-            return -1;
-        ot->coef = nco;
-        int *ns = realloc(ot->slot, (size_t)nc * sizeof(int));
-        if (!ns)
-            return -1;
-        ot->slot = ns;
-        int *nfa = realloc(ot->fa, (size_t)nc * sizeof(int));
-        if (!nfa)
-            return -1;
-        ot->fa = nfa;
-        int *nfb = realloc(ot->fb, (size_t)nc * sizeof(int));
-        if (!nfb)
-            return -1;
-        ot->fb = nfb;
-        ot->cap = nc;
+    /* d/ds_i (c s^e) = (c e_i) s^(e - 1_i); c e_i is exact for the small e_i allowed
+     * unless it overflows, which the Jacobian then reports as inf */
+    int g[64];
+    int *e = nin <= 64 ? g : malloc(n * sizeof(int));
+    int ok = e != NULL;
+    int added[64] = {0};
+    for (int i = 0; ok && i < nin; i++) {
+        if (exps[i] == 0)
+            continue;
+        memcpy(e, exps, n * sizeof(int));
+        e[i]--;
+        int ds = ensure_slot(&p->dmono, nin, e);
+        ok = ds >= 0 && push_term(&p->dout[output * nin + i], nin, NULL, coef * exps[i], ds) == 0;
+        if (ok && i < 64)
+            added[i] = 1;
     }
-    int t = ot->nterms++;
-    memcpy(ot->exps + (size_t)t * n, exps, n * sizeof(int));
-    ot->coef[t] = coef;
-    ot->slot[t] = slot;
+    if (e != g)
+        free(e);
     /* Replanned on every term: cheap at the sizes fits have, and the system is ready
      * to evaluate at any point of building. */
-    if (plan_part(p, s->nin, s->nout) != 0) {
+    if (!ok || build_plan(&p->plan, &p->mono, nin, s->nout, p->out) != 0 ||
+        build_plan(&p->dplan, &p->dmono, nin, s->nout * nin, p->dout) != 0) {
         ot->nterms--;
+        for (int i = 0; i < nin && i < 64; i++)
+            if (added[i])
+                p->dout[output * nin + i].nterms--;
+        build_plan(&p->plan, &p->mono, nin, s->nout, p->out);
+        build_plan(&p->dplan, &p->dmono, nin, s->nout * nin, p->dout);
         return -1;
     }
     poly_frame_on_term(s, part, output, exps, coef);
@@ -567,7 +650,7 @@ int poly_max_degree(const poly_system *s, int output)
 
 int poly_nmonomials(const poly_system *s, int part)
 {
-    return s->parts[part].nslots - 1 - s->nin;
+    return s->parts[part].mono.nslots - 1 - s->nin;
 }
 
 int poly_part_for_radius(const poly_system *s, double r)

@@ -24,7 +24,8 @@ int poly_input_index(const poly_system *sys, const char *name);  /* -1 if absent
 int poly_output_index(const poly_system *sys, const char *name); /* -1 if absent */
 
 /* Evaluation never changes the system: any number of threads may evaluate one system
- * at once. All three functions give bit-identical outputs (and the emitted C too).
+ * at once. All these functions give bit-identical outputs (and the emitted C too), on
+ * any x86-64 instruction set (no FMA contraction anywhere).
  * Evaluates all outputs at in[ninputs] (the system's input order, unscaled units).
  * Returns 1 if the system says the ray passes the lens, 0 if not (out still filled). */
 int poly_eval(const poly_system *sys, const double *in, double *out);
@@ -35,6 +36,10 @@ int poly_eval_jacobian(const poly_system *sys, const double *in, double *out, do
  * use it wherever rays come in bulk. */
 void poly_eval_batch(const poly_system *sys, size_t count, const double *in, double *out,
                      unsigned char *pass);
+/* The Jacobian of count rays (the same values as poly_eval_jacobian): jac is count x
+ * (noutputs x ninputs), row r holding d out_o / d in_i at [o * ninputs + i]. */
+void poly_eval_jacobian_batch(const poly_system *sys, size_t count, const double *in,
+                              double *jac);
 /* Evaluates part `part` whatever the radius of in (to compare parts at a boundary);
  * returns the pass flag as poly_eval does. */
 int poly_eval_part(const poly_system *sys, int part, const double *in, double *out);
@@ -133,8 +138,12 @@ int poly_read_stream(FILE *f, const char *name, poly_system **sys, lens_err *err
 /* Writes a C function
  *   int func_name(const double in[ninputs], double out[noutputs])
  * that evaluates sys exactly as poly_eval does (same scaling, part selection, products
- * and summation order) and returns the same pass flag. Compiles as C99 on its own
- * (includes <math.h>). Returns 0, or -1 on a bad name or write error. */
+ * and summation order) and returns the same pass flag, and
+ *   void func_name_batch(size_t n, const double *in, double *out, unsigned char *pass)
+ * with the same values for n rays (rows), written as loops over blocks of 8 rays that
+ * compilers vectorise (one-part systems; several parts go ray by ray). Compiles as C99
+ * on its own (includes <math.h>, <stddef.h>). Returns 0, or -1 on a bad name or write
+ * error. */
 int poly_emit_c(FILE *f, const poly_system *sys, const char *func_name);
 
 #endif

@@ -1,16 +1,20 @@
 /* Evaluation of polynomial systems: one ray, batches, and the Jacobian (the core in the
  * system's frame; poly_frame.c wraps it into the public functions).
- * All paths compute the same products in the same order (poly_impl.h), so scalar and
- * batch results are bit-identical. */
+ * Every path runs the plan of poly_impl.h with the same products and the same order of
+ * additions, so scalar and batch results are bit-identical. */
 #include "poly_impl.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Rays per block in the batch path: the slot values of a block live side by side so
- * every product and every term is a short loop the compiler turns into vector code. */
-#define BLK 8
+/* Rays per block in the batch path. The values of a block's rays for one monomial lie
+ * side by side, so every product and every term is one operation on BLK lanes, which
+ * the compiler splits into as many hardware vectors as the clone has (2 on AVX-512). A
+ * block's values must stay in the L1 cache: 16 rays x 8 bytes x ~140 kept values of a
+ * 5 x 40 term system is 18 KiB. Larger blocks measured slower, smaller ones pay the
+ * per-term index and coefficient loads on fewer rays. */
+#define BLK 16
 /* Rays whose parts are sorted out together in the batch path (bounds the index buffer). */
 #define CHUNK 2048
 
@@ -33,247 +37,213 @@ static void fill_nan(double *out, int n)
         out[o] = NAN;
 }
 
-/* Slot values of one ray into v[nslots] (the stored ones: the batch plan's). */
-static void slots_one(const poly_system *s, const poly_part *p, const double *in, double *v)
+/* The plan's values for one ray into v[nvals]. */
+static void values_one(const poly_system *s, const poly_plan *pl, const double *in, double *v)
 {
     v[0] = 1;
-    for (int i = 0; i < s->nin; i++)
-        v[1 + i] = (in[i] - s->offset[i]) / s->scale[i];
-    const int *sa = p->slot_a, *sb = p->slot_b, *ord = p->stored;
-    for (int j = 0; j < p->nstored; j++) {
-        int k = ord[j];
-        v[k] = v[sa[k]] * v[sb[k]];
+    for (int i = 0; i < s->nin; i++) {
+        v[1 + i] = in[i];
+        poly_scale_column(s, i, &v[1 + i], 1);
     }
+    const int *pr = pl->prod;
+    double *d = v + 1 + s->nin;
+    for (int j = 0; j < pl->nprod; j++)
+        d[j] = v[pr[2 * j]] * v[pr[2 * j + 1]];
 }
 
-/* The same sums as the batch path, term t into partial sum t % 4. */
-static void dots_one(const poly_system *s, const poly_part *p, const double *v, double *out)
+/* The plan's sums for one ray (the same additions as the batch kernel's). */
+static void sums_one(const poly_plan *pl, const double *v, double *out)
 {
-    for (int o = 0; o < s->nout; o++) {
-        const poly_out_terms *ot = &p->out[o];
-        const double *c = ot->coef;
-        const int *fa = ot->fa, *fb = ot->fb;
+    for (int o = 0; o < pl->nout; o++) {
+        const int t0 = pl->start[o], ns = pl->nsingle[o], nf = pl->start[o + 1] - t0 - ns;
+        const double *c = pl->coef + t0;
+        const int *fa = pl->fa + t0;
         double a0 = 0, a1 = 0, a2 = 0, a3 = 0;
-        int t = 0, nt = ot->nterms;
-        for (; t + 4 <= nt; t += 4) {
+        int t = 0;
+        for (; t + 4 <= ns; t += 4) {
+            a0 += c[t] * v[fa[t]];
+            a1 += c[t + 1] * v[fa[t + 1]];
+            a2 += c[t + 2] * v[fa[t + 2]];
+            a3 += c[t + 3] * v[fa[t + 3]];
+        }
+        if (t < ns)
+            a0 += c[t] * v[fa[t]];
+        if (t + 1 < ns)
+            a1 += c[t + 1] * v[fa[t + 1]];
+        if (t + 2 < ns)
+            a2 += c[t + 2] * v[fa[t + 2]];
+        c += ns;
+        fa += ns;
+        const int *fb = pl->fb + t0 + ns;
+        for (t = 0; t + 4 <= nf; t += 4) {
             a0 += c[t] * (v[fa[t]] * v[fb[t]]);
             a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
             a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
             a3 += c[t + 3] * (v[fa[t + 3]] * v[fb[t + 3]]);
         }
-        if (t < nt)
+        if (t < nf)
             a0 += c[t] * (v[fa[t]] * v[fb[t]]);
-        if (t + 1 < nt)
+        if (t + 1 < nf)
             a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
-        if (t + 2 < nt)
+        if (t + 2 < nf)
             a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
         out[o] = (a0 + a1) + (a2 + a3);
     }
 }
 
-int poly_eval_part_core(const poly_system *s, int part, const double *in, double *out)
+/* Runs plan pl on one ray: out[pl->nout]. Returns -1 when out of memory. */
+static int run_one(const poly_system *s, const poly_plan *pl, const double *in, double *out)
 {
-    if (part < 0 || part >= s->nparts) {
-        fill_nan(out, s->nout);
-        return 0;
-    }
-    const poly_part *p = &s->parts[part];
     double buf[512];
-    double *v = p->nslots <= 512 ? buf : malloc((size_t)p->nslots * sizeof(double));
-    if (!v) {
-        fill_nan(out, s->nout);
-        return 0;
-    }
-    slots_one(s, p, in, v);
-    dots_one(s, p, v, out);
+    double *v = pl->nvals <= 512 ? buf : malloc((size_t)pl->nvals * sizeof(double));
+    if (!v)
+        return -1;
+    values_one(s, pl, in, v);
+    sums_one(pl, v, out);
     if (v != buf)
         free(v);
+    return 0;
+}
+
+int poly_eval_part_core(const poly_system *s, int part, const double *in, double *out)
+{
+    if (part < 0 || part >= s->nparts || run_one(s, &s->parts[part].plan, in, out) != 0) {
+        fill_nan(out, s->nout);
+        return 0;
+    }
     return passes(s, out);
 }
 
-/* A block of BLK rays in one vector (GCC/clang vector extension): on SSE it is split
- * into 2-wide operations, on AVX2 and AVX-512 machines the clones below use wider
- * ones. Only IEEE multiplies, adds and divides: every clone gives the same bits. */
-typedef double vblk __attribute__((vector_size(BLK * sizeof(double))));
-typedef long long vmask __attribute__((vector_size(BLK * sizeof(long long))));
+/* What a batch run computes: the outputs with the passage test, or the derivatives
+ * d out_o / d in_i of the derivative plan (chain rule applied). */
+enum { RUN_EVAL, RUN_JAC };
 
-/* The arithmetic of one block: v[1 + i] holds the raw inputs of BLK rays on entry;
- * res[nout] gets the outputs and *ok the passage test of passes() per lane (all bits
- * set: passes). Pure vector arithmetic without calls, so the wide clones return with
- * the upper register state cleared and never slow down the SSE code around them. */
-__attribute__((target_clones("avx512f", "avx2", "default"))) static void
-eval_block(const poly_system *s, const poly_part *p, vblk *v, vblk *res, vmask *ok)
+/* The batch kernel once per instruction set, each with the vector width of its
+ * registers and a block that keeps its partial sums in registers (AVX-512: 16 rays in
+ * 2 x 8 lanes, AVX2: 8 in 2 x 4, SSE: 4 in 2 x 2); batch() picks one per call. -O3 for
+ * these alone: it unrolls the gathers and scatters of the rows, about 8 % faster on
+ * the fisheye-ii system; it never contracts into FMA (ISO C mode), so the bits stay. */
+#define KERNEL_NAME run_blocks_avx512
+#define KERNEL_TARGET __attribute__((target("avx512f"), optimize("O3")))
+#define VW 8
+#define KBLK 16
+#include "poly_eval_kernel.h"
+#undef KERNEL_NAME
+#undef KERNEL_TARGET
+#undef VW
+#undef KBLK
+#define KERNEL_NAME run_blocks_avx2
+#define KERNEL_TARGET __attribute__((target("avx2"), optimize("O3")))
+#define VW 4
+#define KBLK 8
+#include "poly_eval_kernel.h"
+#undef KERNEL_NAME
+#undef KERNEL_TARGET
+#undef VW
+#undef KBLK
+#define KERNEL_NAME run_blocks_sse
+#define KERNEL_TARGET __attribute__((optimize("O3")))
+#define VW 2
+#define KBLK 4
+#include "poly_eval_kernel.h"
+#undef KERNEL_NAME
+#undef KERNEL_TARGET
+#undef VW
+#undef KBLK
+
+typedef void run_fn(const poly_system *, const poly_plan *, int, size_t, const size_t *, size_t,
+                    const double *, double *, unsigned char *, double *, double *, int *);
+
+/* The batch driver of poly_eval_batch and poly_eval_jacobian_batch: rays in runs of one
+ * part (each chunk counting-sorted by part when there are several). */
+static void batch(const poly_system *s, int what, size_t count, const double *in, double *out,
+                  unsigned char *pass)
 {
-    const int nin = s->nin, nout = s->nout;
-    for (int r = 0; r < BLK; r++)
-        v[0][r] = 1;
-    for (int i = 0; i < nin; i++)
-        v[1 + i] = (v[1 + i] - s->offset[i]) / s->scale[i];
-    const int *sa = p->slot_a, *sb = p->slot_b, *ord = p->stored;
-    for (int j = 0; j < p->nstored; j++) {
-        int k = ord[j];
-        v[k] = v[sa[k]] * v[sb[k]];
+    const int nw = what == RUN_JAC ? s->nout * s->nin : s->nout;
+    if (count == 0)
+        return;
+    int maxv = 0, maxo = nw;
+    size_t maxoff = 1;
+    for (int p = 0; p < s->nparts; p++) {
+        const poly_plan *pl = what == RUN_JAC ? &s->parts[p].dplan : &s->parts[p].plan;
+        size_t no = 2 * (size_t)pl->nprod + 2 * (size_t)pl->start[pl->nout];
+        if (pl->nvals > maxv)
+            maxv = pl->nvals;
+        if (no > maxoff)
+            maxoff = no;
     }
-    for (int o = 0; o < nout; o++) {
-        const poly_out_terms *ot = &p->out[o];
-        const double *c = ot->coef;
-        const int *fa = ot->fa, *fb = ot->fb;
-        vblk a0 = {0}, a1 = {0}, a2 = {0}, a3 = {0};
-        int t = 0, nt = ot->nterms;
-        for (; t + 4 <= nt; t += 4) {
-            a0 += c[t] * (v[fa[t]] * v[fb[t]]);
-            a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
-            a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
-            a3 += c[t + 3] * (v[fa[t + 3]] * v[fb[t + 3]]);
+    int *off = malloc(maxoff * sizeof(int));
+    run_fn *run = __builtin_cpu_supports("avx512f") ? run_blocks_avx512
+                  : __builtin_cpu_supports("avx2")  ? run_blocks_avx2
+                                                    : run_blocks_sse;
+    double *v = s->nparts ? aligned_alloc(64, (size_t)maxv * BLK * sizeof(double)) : NULL;
+    double *res = aligned_alloc(64, (size_t)maxo * BLK * sizeof(double));
+    size_t *idx = s->nparts > 1 ? malloc(CHUNK * sizeof(size_t)) : NULL;
+    int *part = s->nparts > 1 ? malloc(CHUNK * sizeof(int)) : NULL;
+    int *start = calloc((size_t)s->nparts + 1, sizeof(int));
+    int *cur = calloc((size_t)s->nparts + 1, sizeof(int));
+    if (!v || !res || !off || !start || !cur || (s->nparts > 1 && (!idx || !part))) {
+        /* no parts, or out of memory: the rays do not pass */
+        for (size_t r = 0; r < count; r++) {
+            fill_nan(out + r * (size_t)nw, nw);
+            if (pass)
+                pass[r] = 0;
         }
-        if (t < nt)
-            a0 += c[t] * (v[fa[t]] * v[fb[t]]);
-        if (t + 1 < nt)
-            a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
-        if (t + 2 < nt)
-            a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
-        res[o] = (a0 + a1) + (a2 + a3);
+    } else if (s->nparts == 1) {
+        const poly_plan *pl = what == RUN_JAC ? &s->parts[0].dplan : &s->parts[0].plan;
+        run(s, pl, what, count, NULL, 0, in, out, pass, v, res, off);
+    } else {
+        for (size_t c0 = 0; c0 < count; c0 += CHUNK) {
+            size_t n = count - c0 < CHUNK ? count - c0 : CHUNK;
+            memset(start, 0, ((size_t)s->nparts + 1) * sizeof(int));
+            for (size_t r = 0; r < n; r++) {
+                part[r] = poly_select_part(s, in + (c0 + r) * (size_t)s->nin);
+                start[part[r] + 1]++;
+            }
+            for (int q = 0; q < s->nparts; q++)
+                start[q + 1] += start[q];
+            memcpy(cur, start, (size_t)s->nparts * sizeof(int));
+            for (size_t r = 0; r < n; r++)
+                idx[cur[part[r]]++] = c0 + r;
+            for (int q = 0; q < s->nparts; q++) {
+                const poly_plan *pl = what == RUN_JAC ? &s->parts[q].dplan : &s->parts[q].plan;
+                if (start[q + 1] > start[q])
+                    run(s, pl, what, (size_t)(start[q + 1] - start[q]), idx + start[q],
+                               0, in, out, pass, v, res, off);
+            }
+        }
     }
-    vmask m = res[0] == res[0]; /* all lanes set */
-    for (int o = 0; o < nout; o++)
-        m &= (res[o] - res[o]) == 0; /* finite: inf - inf and nan give nan */
-    for (int c = 0; c < s->ncircles; c++) {
-        const vblk a = res[s->circles[c].a], b = res[s->circles[c].b];
-        const double r = s->circles[c].radius;
-        m &= a * a + b * b <= r * r;
-    }
-    *ok = m;
-}
-
-/* n <= BLK rays, rows idx[r] of in. Unused lanes repeat the first ray so no lane
- * computes on garbage. */
-static void run_block(const poly_system *s, const poly_part *p, int n, const size_t *idx,
-                      const double *in, double *out, unsigned char *pass, vblk *v, vblk *res)
-{
-    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout;
-    for (size_t i = 0; i < nin; i++)
-        for (int r = 0; r < BLK; r++)
-            v[1 + i][r] = in[idx[r < n ? r : 0] * nin + i];
-    vmask ok;
-    eval_block(s, p, v, res, &ok);
-    for (int r = 0; r < n; r++) {
-        double *o = out + idx[r] * nout;
-        for (size_t k = 0; k < nout; k++)
-            o[k] = res[k][r];
-        if (pass)
-            pass[idx[r]] = ok[r] != 0;
-    }
+    free(v);
+    free(res);
+    free(off);
+    free(idx);
+    free(part);
+    free(start);
+    free(cur);
 }
 
 void poly_eval_batch_core(const poly_system *s, size_t count, const double *in, double *out,
                           unsigned char *pass)
 {
-    if (count == 0)
-        return;
-    int maxslots = 0;
-    for (int p = 0; p < s->nparts; p++)
-        if (s->parts[p].nslots > maxslots)
-            maxslots = s->parts[p].nslots;
-    vblk *v = s->nparts ? aligned_alloc(sizeof(vblk), (size_t)maxslots * sizeof(vblk)) : NULL;
-    vblk *res = aligned_alloc(sizeof(vblk), (size_t)s->nout * sizeof(vblk));
-    size_t *idx = s->nparts > 1 ? malloc(CHUNK * sizeof(size_t)) : NULL;
-    if (!v || !res || (s->nparts > 1 && !idx)) {
-        /* no parts, or out of memory: the rays do not pass */
-        for (size_t r = 0; r < count; r++) {
-            fill_nan(out + r * (size_t)s->nout, s->nout);
-            if (pass)
-                pass[r] = 0;
-        }
-        free(v);
-        free(res);
-        free(idx);
-        return;
-    }
-    if (s->nparts == 1) {
-        size_t id[BLK];
-        for (size_t r0 = 0; r0 < count; r0 += BLK) {
-            int n = count - r0 < BLK ? (int)(count - r0) : BLK;
-            for (int r = 0; r < BLK; r++)
-                id[r] = r0 + (size_t)(r < n ? r : 0);
-            run_block(s, &s->parts[0], n, id, in, out, pass, v, res);
-        }
-    } else {
-        /* Sort each chunk's rays by part (a counting sort), then run blocks per part. */
-        int *part = malloc(CHUNK * sizeof(int));
-        int *start = calloc((size_t)s->nparts + 1, sizeof(int));
-        int *cur = malloc((size_t)s->nparts * sizeof(int));
-        if (part && start && cur) {
-            for (size_t c0 = 0; c0 < count; c0 += CHUNK) {
-                size_t n = count - c0 < CHUNK ? count - c0 : CHUNK;
-                memset(start, 0, ((size_t)s->nparts + 1) * sizeof(int));
-                for (size_t r = 0; r < n; r++) {
-                    part[r] = poly_select_part(s, in + (c0 + r) * (size_t)s->nin);
-                    start[part[r] + 1]++;
-                }
-                for (int q = 0; q < s->nparts; q++)
-                    start[q + 1] += start[q];
-                memcpy(cur, start, (size_t)s->nparts * sizeof(int));
-                for (size_t r = 0; r < n; r++)
-                    idx[cur[part[r]]++] = c0 + r;
-                for (int q = 0; q < s->nparts; q++)
-                    for (int b = start[q]; b < start[q + 1]; b += BLK) {
-                        int m = start[q + 1] - b < BLK ? start[q + 1] - b : BLK;
-                        run_block(s, &s->parts[q], m, idx + b, in, out, pass, v, res);
-                    }
-            }
-        }
-        free(part);
-        free(start);
-        free(cur);
-    }
-    free(v);
-    free(res);
-    free(idx);
+    batch(s, RUN_EVAL, count, in, out, pass);
+}
+
+void poly_eval_jacobian_batch_core(const poly_system *s, size_t count, const double *in,
+                              double *jac)
+{
+    batch(s, RUN_JAC, count, in, jac, NULL);
 }
 
 int poly_eval_jacobian_core(const poly_system *s, const double *in, double *out, double *jac)
 {
     const int nin = s->nin, nout = s->nout;
     int pass = poly_eval_part_core(s, s->nparts ? poly_select_part(s, in) : -1, in, out);
-    if (s->nparts == 0) {
-        for (int k = 0; k < nin * nout; k++)
-            jac[k] = NAN;
+    if (s->nparts == 0 ||
+        run_one(s, &s->parts[poly_select_part(s, in)].dplan, in, jac) != 0) {
+        fill_nan(jac, nin * nout);
         return 0;
     }
-    const poly_part *p = &s->parts[poly_select_part(s, in)];
-    enum { NP = POLY_MAX_DEGREE + 1 };
-    double buf[16 * NP];
-    double *pw = nin <= 16 ? buf : malloc((size_t)nin * NP * sizeof(double));
-    if (!pw) {
-        for (int k = 0; k < nin * nout; k++)
-            jac[k] = NAN;
-        return 0;
-    }
-    for (int i = 0; i < nin; i++) {
-        double si = (in[i] - s->offset[i]) / s->scale[i];
-        pw[i * NP] = 1;
-        for (int k = 1; k < NP; k++)
-            pw[i * NP + k] = pw[i * NP + k - 1] * si;
-    }
-    for (int o = 0; o < nout; o++) {
-        const poly_out_terms *ot = &p->out[o];
-        for (int i = 0; i < nin; i++) {
-            double acc = 0;
-            for (int t = 0; t < ot->nterms; t++) {
-                const int *e = ot->exps + (size_t)t * (size_t)nin;
-                if (e[i] == 0)
-                    continue;
-                double d = ot->coef[t] * e[i] * pw[i * NP + e[i] - 1];
-                for (int j = 0; j < nin; j++)
-                    if (j != i)
-                        d *= pw[j * NP + e[j]];
-                acc += d;
-            }
-            /* chain rule through the scaling s_i = (in_i - offset_i) / scale_i */
-            jac[o * nin + i] = acc / s->scale[i];
-        }
-    }
-    if (pw != buf)
-        free(pw);
+    for (int k = 0; k < nin * nout; k++)
+        jac[k] = poly_scale_chain(s, k % nin, in[k % nin], jac[k]);
     return pass;
 }

@@ -374,6 +374,27 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
     free(op);
 }
 
+/* With a frame, ray by ray through poly_eval_jacobian (the same values). */
+void poly_eval_jacobian_batch(const poly_system *s, size_t count, const double *in, double *jac)
+{
+    if (!poly_frame_active(s)) {
+        poly_eval_jacobian_batch_core(s, count, in, jac);
+        return;
+    }
+    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout;
+    double buf[64];
+    double *o = nout <= 64 ? buf : malloc(nout * sizeof *o);
+    for (size_t r = 0; r < count; r++) {
+        if (o)
+            poly_eval_jacobian(s, in + r * nin, o, jac + r * nin * nout);
+        else
+            for (size_t k = 0; k < nin * nout; k++)
+                jac[r * nin * nout + k] = NAN;
+    }
+    if (o != buf)
+        free(o);
+}
+
 /* Chain rule: jac = d out / d in from the core's d out' / d t. With the frame, t
  * depends on in through the rotation (c and s vary with x and y) and on the
  * transforms; the outputs through the rotation back. On the axis (r = 0) the angle is

@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <omp.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,16 +30,21 @@ struct pupil_sampler {
     pupil_set *sets;
 };
 
+/* Whom build_set asks which directions pass: the exact lens (lens_probe, the packet
+ * tracer at the probe wavelengths) or a caller's function (pupil_sampler_build_probe). */
 typedef struct {
-    const lens_t *lens;
+    const lens_t *lens; /* NULL for a caller's probe: then fn, ctx, rear_dist, rear_radius */
     int nl;
     double *n[MAX_LAMBDAS];
+    pupil_probe_fn fn;
+    void *ctx;
+    double rear_dist, rear_radius;
 } prober;
 
 /* Marks pass[k] = 1 for the sensor rays (x, 0, u[k], v[k]), k < m, that pass at any of
  * the probe wavelengths. Rays go through the packet tracer TRACE_LANES at a time. */
-static void probe(const prober *p, double x, int m, const double *u, const double *v,
-                  unsigned char *pass)
+static void lens_probe(const prober *p, double x, int m, const double *u, const double *v,
+                       unsigned char *pass)
 {
     for (int k0 = 0; k0 < m; k0 += TRACE_LANES) {
         int cnt = m - k0 < TRACE_LANES ? m - k0 : TRACE_LANES;
@@ -65,6 +71,15 @@ static void probe(const prober *p, double x, int m, const double *u, const doubl
     }
 }
 
+static void probe(const prober *p, double x, int m, const double *u, const double *v,
+                  unsigned char *pass)
+{
+    if (p->lens)
+        lens_probe(p, x, m, u, v, pass);
+    else
+        p->fn(p->ctx, x, m, u, v, pass);
+}
+
 /* Probes the cell centres of a g x g grid at origin (u0, v0), cell (du, dv). */
 static void probe_grid(const prober *p, double x, int g, double u0, double v0, double du,
                        double dv, unsigned char *pass)
@@ -82,21 +97,29 @@ static void probe_grid(const prober *p, double x, int g, double u0, double v0, d
 
 /* A box in (u, v) that holds every passing direction from (r, 0): a passing ray crosses
  * the rear surface inside its semi-diameter, between the nearest and farthest z that
- * surface reaches there. */
-static void outer_box(const lens_t *lens, double r, double box[4])
+ * surface reaches there (a caller's probe: the plane at rear_dist, within rear_radius). */
+static void outer_box(const prober *p, double r, double box[4])
 {
-    size_t k = lens->nsurf - 1;
-    const lens_surface *s = &lens->surf[k];
-    double sd = s->semi_diameter, T = lens_total_track(lens);
-    double zmin = INFINITY, zmax = -INFINITY;
-    for (int i = 0; i <= 32; i++) {
-        double h = sd * i / 32.0, z = lens->vertex_z[k] + lens_sag(s, h * h);
-        zmin = fmin(zmin, z);
-        zmax = fmax(zmax, z);
+    double sd, dmin, dmax;
+    if (p->lens) {
+        const lens_t *lens = p->lens;
+        size_t k = lens->nsurf - 1;
+        const lens_surface *s = &lens->surf[k];
+        double T = lens_total_track(lens);
+        double zmin = INFINITY, zmax = -INFINITY;
+        sd = s->semi_diameter;
+        for (int i = 0; i <= 32; i++) {
+            double h = sd * i / 32.0, z = lens->vertex_z[k] + lens_sag(s, h * h);
+            zmin = fmin(zmin, z);
+            zmax = fmax(zmax, z);
+        }
+        /* D = distance from the sensor to the crossing; guard a rear surface that nearly
+         * touches the sensor. */
+        dmin = fmax(T - zmax, 1e-3), dmax = fmax(T - zmin, 1e-3);
+    } else {
+        sd = p->rear_radius;
+        dmin = dmax = p->rear_dist;
     }
-    /* D = distance from the sensor to the crossing; guard a rear surface that nearly
-     * touches the sensor. */
-    double dmin = fmax(T - zmax, 1e-3), dmax = fmax(T - zmin, 1e-3);
     box[0] = fmin((-sd - r) / dmin, (-sd - r) / dmax);
     box[1] = fmax((sd - r) / dmin, (sd - r) / dmax);
     box[2] = -sd / dmin;
@@ -106,7 +129,7 @@ static void outer_box(const lens_t *lens, double r, double box[4])
 static int build_set(const prober *p, double r, int g, pupil_set *set)
 {
     double box[4];
-    outer_box(p->lens, r, box);
+    outer_box(p, r, box);
     /* Coarse probe over the whole box for the extent of the passing set. */
     double cu = (box[1] - box[0]) / COARSE, cv = (box[3] - box[2]) / COARSE;
     int imin = COARSE, imax = -1, jmin = COARSE, jmax = -1;
@@ -166,38 +189,28 @@ void pupil_sampler_free(pupil_sampler *ps)
     free(ps);
 }
 
-pupil_sampler *pupil_sampler_build(const lens_t *lens, const pupil_sampler_options *opt,
-                                   lens_err *err)
+static int check_options(const pupil_sampler_options *opt, lens_err *err)
 {
     if (!(opt->sensor_radius > 0) || !isfinite(opt->sensor_radius)) {
         lens_errf(err, NULL, 0, "pupil sampler: sensor radius must be positive");
-        return NULL;
+        return -1;
     }
     if (!(opt->lambda_min > 0) || !(opt->lambda_max >= opt->lambda_min)) {
         lens_errf(err, NULL, 0, "pupil sampler: bad wavelength range %g..%g", opt->lambda_min,
                   opt->lambda_max);
-        return NULL;
+        return -1;
     }
-    prober p = {lens, 0, {NULL}};
-    double lam[MAX_LAMBDAS];
-    for (int l = 0; l < MAX_LAMBDAS; l++)
-        lam[l] = opt->lambda_min + (opt->lambda_max - opt->lambda_min) * l / (MAX_LAMBDAS - 1);
-    p.nl = opt->lambda_max > opt->lambda_min ? MAX_LAMBDAS : 1;
+    return 0;
+}
+
+/* The tabulated sets, one per radius, in parallel. */
+static pupil_sampler *build_sets(const prober *p, const pupil_sampler_options *opt,
+                                 lens_err *err)
+{
     pupil_sampler *ps = calloc(1, sizeof *ps);
     if (!ps) {
         lens_errf(err, NULL, 0, "out of memory");
         return NULL;
-    }
-    for (int l = 0; l < p.nl; l++) {
-        p.n[l] = malloc(lens->nsurf * sizeof *p.n[l]);
-        if (!p.n[l] || lens_indices(lens, lam[l], p.n[l], err)) {
-            if (!p.n[l])
-                lens_errf(err, NULL, 0, "out of memory");
-            for (int m = 0; m <= l; m++)
-                free(p.n[m]);
-            free(ps);
-            return NULL;
-        }
     }
     ps->nr = opt->radii > 1 ? opt->radii : 64;
     ps->rmax = opt->sensor_radius;
@@ -208,12 +221,124 @@ pupil_sampler *pupil_sampler_build(const lens_t *lens, const pupil_sampler_optio
         int nth = opt->threads;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nth > 0 ? nth : omp_get_max_threads()) reduction(| : failed)
         for (int i = 0; i < ps->nr; i++)
-            failed |= build_set(&p, ps->rmax * i / (ps->nr - 1), g, &ps->sets[i]) != 0;
+            failed |= build_set(p, ps->rmax * i / (ps->nr - 1), g, &ps->sets[i]) != 0;
     }
-    for (int l = 0; l < p.nl; l++)
-        free(p.n[l]);
     if (failed) {
         lens_errf(err, NULL, 0, "out of memory");
+        pupil_sampler_free(ps);
+        return NULL;
+    }
+    return ps;
+}
+
+pupil_sampler *pupil_sampler_build(const lens_t *lens, const pupil_sampler_options *opt,
+                                   lens_err *err)
+{
+    if (check_options(opt, err))
+        return NULL;
+    prober p = {.lens = lens};
+    double lam[MAX_LAMBDAS];
+    for (int l = 0; l < MAX_LAMBDAS; l++)
+        lam[l] = opt->lambda_min + (opt->lambda_max - opt->lambda_min) * l / (MAX_LAMBDAS - 1);
+    p.nl = opt->lambda_max > opt->lambda_min ? MAX_LAMBDAS : 1;
+    pupil_sampler *ps = NULL;
+    int l = 0, bad = 0;
+    for (; l < p.nl && !bad; l++) {
+        p.n[l] = malloc(lens->nsurf * sizeof *p.n[l]);
+        if (!p.n[l])
+            lens_errf(err, NULL, 0, "out of memory");
+        bad = !p.n[l] || lens_indices(lens, lam[l], p.n[l], err);
+    }
+    if (!bad)
+        ps = build_sets(&p, opt, err);
+    for (int m = 0; m < l; m++)
+        free(p.n[m]);
+    return ps;
+}
+
+pupil_sampler *pupil_sampler_build_probe(pupil_probe_fn fn, void *ctx, double rear_dist,
+                                         double rear_radius, const pupil_sampler_options *opt,
+                                         lens_err *err)
+{
+    if (check_options(opt, err))
+        return NULL;
+    if (!fn || !(rear_dist > 0) || !(rear_radius > 0)) {
+        lens_errf(err, NULL, 0, "pupil sampler: no probe, or a bad rear plane (%g mm, radius %g mm)",
+                  rear_dist, rear_radius);
+        return NULL;
+    }
+    prober p = {.fn = fn, .ctx = ctx, .rear_dist = rear_dist, .rear_radius = rear_radius};
+    return build_sets(&p, opt, err);
+}
+
+/* The cache file: a magic line, then per set its grid and its occupancy as a bitmap
+ * (the cells are listed in index order, so the list is rebuilt as build_set made it),
+ * binary in the machine's byte order (a cache, read back on the machine that wrote it). */
+static const char cache_magic[16] = "pupil_sampler 2";
+
+int pupil_sampler_write(FILE *f, const pupil_sampler *ps)
+{
+    int ok = fwrite(cache_magic, sizeof cache_magic, 1, f) == 1 &&
+             fwrite(&ps->nr, sizeof ps->nr, 1, f) == 1 && fwrite(&ps->rmax, sizeof ps->rmax, 1, f) == 1;
+    for (int i = 0; ok && i < ps->nr; i++) {
+        const pupil_set *s = &ps->sets[i];
+        double w[4] = {s->u0, s->v0, s->du, s->dv};
+        int gc[2] = {s->g, s->count};
+        ok = fwrite(w, sizeof w, 1, f) == 1 && fwrite(gc, sizeof gc, 1, f) == 1;
+        if (!ok || !s->count)
+            continue;
+        size_t nb = ((size_t)s->g * s->g + 7) / 8;
+        unsigned char *bits = calloc(nb, 1);
+        if (!bits)
+            return -1;
+        for (int k = 0; k < s->count; k++)
+            bits[s->cells[k] / 8] |= (unsigned char)(1u << (s->cells[k] % 8));
+        ok = fwrite(bits, 1, nb, f) == nb;
+        free(bits);
+    }
+    return ok ? 0 : -1;
+}
+
+pupil_sampler *pupil_sampler_read(FILE *f, lens_err *err)
+{
+    char magic[sizeof cache_magic];
+    pupil_sampler *ps = calloc(1, sizeof *ps);
+    int ok = ps && fread(magic, sizeof magic, 1, f) == 1 && !memcmp(magic, cache_magic, sizeof magic) &&
+             fread(&ps->nr, sizeof ps->nr, 1, f) == 1 && fread(&ps->rmax, sizeof ps->rmax, 1, f) == 1 &&
+             ps->nr > 1 && ps->nr <= 1 << 16 && ps->rmax > 0 && isfinite(ps->rmax);
+    if (ok && !(ps->sets = calloc((size_t)ps->nr, sizeof *ps->sets)))
+        ok = 0;
+    for (int i = 0; ok && i < ps->nr; i++) {
+        pupil_set *s = &ps->sets[i];
+        double w[4];
+        int gc[2];
+        ok = fread(w, sizeof w, 1, f) == 1 && fread(gc, sizeof gc, 1, f) == 1 && gc[0] > 0 &&
+             gc[0] <= 4096 && gc[1] >= 0 && gc[1] <= gc[0] * gc[0] && w[2] > 0 && w[3] > 0 &&
+             isfinite(w[0]) && isfinite(w[1]) && isfinite(w[2]) && isfinite(w[3]);
+        if (!ok)
+            break;
+        s->u0 = w[0], s->v0 = w[1], s->du = w[2], s->dv = w[3], s->g = gc[0];
+        if (gc[1] == 0)
+            continue;
+        size_t n = (size_t)s->g * s->g, nb = (n + 7) / 8;
+        unsigned char *bits = malloc(nb);
+        s->occ = calloc(n, 1);
+        s->cells = malloc((size_t)gc[1] * sizeof *s->cells);
+        ok = bits && s->occ && s->cells && fread(bits, 1, nb, f) == nb;
+        for (size_t c = 0; ok && c < n; c++)
+            if (bits[c / 8] >> (c % 8) & 1) {
+                ok = s->count < gc[1];
+                if (ok) {
+                    s->occ[c] = 1;
+                    s->cells[s->count++] = (int)c;
+                }
+            }
+        ok = ok && s->count == gc[1];
+        free(bits);
+        s->area = s->count * s->du * s->dv;
+    }
+    if (!ok) {
+        lens_errf(err, NULL, 0, "pupil sampler: not a cached sampler, or a damaged one");
         pupil_sampler_free(ps);
         return NULL;
     }

@@ -15,6 +15,8 @@
  * Use: build once per lens, wavelength range and sensor radius; then, from any thread,
  * sample(x, y, two uniform numbers) -> (u, v, pdf). The pdf is with respect to du dv
  * and is also available for any (u, v) through pupil_sampler_pdf (0 outside). */
+#include <stdio.h>
+
 #include "diag.h"
 #include "lens.h"
 
@@ -31,6 +33,23 @@ typedef struct pupil_sampler pupil_sampler;
 pupil_sampler *pupil_sampler_build(const lens_t *lens, const pupil_sampler_options *opt,
                                    lens_err *err);
 void pupil_sampler_free(pupil_sampler *ps);
+
+/* The same sampler for a lens known only as a function (an analytic lens in a test, a
+ * lens map): fn marks pass[k] = 1 for each sensor ray (r, 0, u[k], v[k]), k < m, that
+ * passes at some wavelength the caller cares about (pass[] starts zeroed, and fn must be
+ * safe to call from several threads). Every passing ray must cross the plane rear_dist
+ * in front of the sensor within rear_radius of the axis (widen it for a curved rear
+ * element). opt's wavelengths are checked but only fn uses wavelengths. */
+typedef void (*pupil_probe_fn)(void *ctx, double r, int m, const double *u, const double *v,
+                               unsigned char *pass);
+pupil_sampler *pupil_sampler_build_probe(pupil_probe_fn fn, void *ctx, double rear_dist,
+                                         double rear_radius, const pupil_sampler_options *opt,
+                                         lens_err *err);
+
+/* A built sampler to a file and back (a cache: binary, this machine's byte order), so
+ * that a renderer need not probe the same lens again. 0 / NULL with err on failure. */
+int pupil_sampler_write(FILE *f, const pupil_sampler *ps);
+pupil_sampler *pupil_sampler_read(FILE *f, lens_err *err);
 
 /* Maps two uniform numbers in [0, 1) to a direction at sensor point (x, y). Returns 0,
  * or -1 when no direction passes from there (or |(x, y)| > sensor_radius): then

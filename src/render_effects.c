@@ -131,7 +131,9 @@ static uint64_t fnv(uint64_t h, const void *data, size_t len)
     return h;
 }
 
-void render_effects_key(const lens_t *lens, const render_effects *e, char key[17])
+/* The lens as written, and its indices at three wavelengths: a glass name resolved in
+ * another catalog (--glass-catalog) must not find a system fitted to the first one. */
+static uint64_t lens_hash(const lens_t *lens)
 {
     uint64_t h = 0xcbf29ce484222325ull;
     char *buf = NULL;
@@ -143,6 +145,18 @@ void render_effects_key(const lens_t *lens, const render_effects *e, char key[17
         h = fnv(h, buf, len);
     }
     free(buf);
+    const double lam[3] = {0.45, GLASS_D_LINE, 0.65};
+    for (size_t i = 0; i < lens->nsurf; i++)
+        for (int k = 0; k < 3; k++) {
+            double n = glass_index_unchecked(&lens->surf[i].medium, lam[k]);
+            h = fnv(h, &n, sizeof n);
+        }
+    return h;
+}
+
+void render_effects_key(const lens_t *lens, const render_effects *e, char key[17])
+{
+    uint64_t h = lens_hash(lens);
     char eff[160];
     int n = snprintf(eff, sizeof eff, "v2 disp %d eta %d vig %d r %.6g tol %.6g D %.6g",
                      e->dispersion, e->transmittance, e->vignetting, e->domain_radius,
@@ -208,6 +222,47 @@ static poly_system *obtain(const lens_t *lens, const render_effects *e, const ch
         }
     }
     return sys;
+}
+
+int render_effects_sampler(const lens_t *lens, double lambda_min, double lambda_max,
+                           double rmax, const char *dir, int threads, FILE *log,
+                           render_sampler *smp, lens_err *err)
+{
+    uint64_t h = lens_hash(lens);
+    char tag[160], path[1200] = "";
+    int n = snprintf(tag, sizeof tag, "pupil v1 %.17g %.17g %.17g", lambda_min, lambda_max, rmax);
+    h = fnv(h, tag, (size_t)n);
+    memset(smp, 0, sizeof *smp);
+    smp->kind = RENDER_SAMPLE_PUPIL;
+    if (dir && *dir) {
+        snprintf(path, sizeof path, "%s/%016llx.pupil", dir, (unsigned long long)h);
+        FILE *f = fopen(path, "rb");
+        if (f) {
+            lens_err e2;
+            smp->ps = pupil_sampler_read(f, &e2);
+            fclose(f);
+            if (smp->ps) {
+                if (log) fprintf(log, "line pupil: cached %s\n", path);
+                return 0;
+            }
+            if (log) fprintf(log, "cache: ignoring unreadable %s (%s)\n", path, e2.msg);
+        }
+    }
+    double t0 = omp_get_wtime();
+    if (render_sampler_lens(smp, lens, lambda_min, lambda_max, rmax, threads, err)) return -1;
+    if (log) fprintf(log, "line pupil: built in %.2f s\n", omp_get_wtime() - t0);
+    if (*path && make_dirs(dir) == 0) {
+        lens_err e2;
+        outfile *of = outfile_open(path, &e2);
+        if (of && pupil_sampler_write(outfile_stream(of), smp->ps) == 0 &&
+            outfile_commit(of, &e2) == 0) {
+            if (log) fprintf(log, "cache: wrote %s\n", path);
+        } else {
+            if (of) outfile_abort(of);
+            if (log) fprintf(log, "cache: cannot write %s\n", path);
+        }
+    }
+    return 0;
 }
 
 /* Seconds per poly_eval of sys and of full over the same sensor rays: the fastest of

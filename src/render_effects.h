@@ -8,6 +8,7 @@
 #include "diag.h"
 #include "lens.h"
 #include "poly.h"
+#include "render.h"
 #include "scene.h"
 
 typedef struct {
@@ -47,6 +48,13 @@ poly_system *render_effects_system(const lens_t *lens, const render_effects *e,
  * exactly to the outer pupil and to the stop; *seconds gets the time taken. */
 poly_system *render_fit(const lens_t *lens, const render_effects *e, int threads,
                         double *seconds, lens_err *err);
+
+/* The line pupil (render_sampler_lens) for lens over sensor radii [0, rmax] at the
+ * wavelengths [lambda_min, lambda_max]: read from cache_dir/<key>.pupil, keyed by the lens
+ * as written and those three numbers, else built and written there. */
+int render_effects_sampler(const lens_t *lens, double lambda_min, double lambda_max,
+                           double rmax, const char *cache_dir, int threads, FILE *log,
+                           render_sampler *smp, lens_err *err);
 
 /* $XDG_CACHE_HOME/sparselens, or $HOME/.cache/sparselens; "" when neither is set. */
 void render_default_cache_dir(char *buf, size_t len);

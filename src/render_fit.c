@@ -22,7 +22,6 @@
 #include "trace.h"
 
 #define TRAIN_RAYS 6000 /* the supplement fits with 4000; a fifth is held out here */
-#define PUPIL_RINGS 32
 
 static double uniform(uint64_t *s)
 {
@@ -126,21 +125,19 @@ poly_system *render_fit(const lens_t *lens, const render_effects *e, int threads
 {
     double t0 = omp_get_wtime();
     poly_system *sys = NULL;
-    render_camera cam;
     render_sampler smp = {0};
-    render_lens_ctx *lc = render_lens_exact(lens, 2 * e->domain_radius, 2 * e->domain_radius,
-                                            &cam, err);
     size_t N = TRAIN_RAYS;
     double *in5 = malloc(N * 5 * sizeof *in5), *outer = malloc(N * 5 * sizeof *outer),
            *stop = malloc(N * 5 * sizeof *stop), *X = malloc(N * 5 * sizeof *X),
            *Y = malloc(N * 16 * sizeof *Y);
     trace_result *res = malloc(N * sizeof *res);
-    if (!lc) goto done;
     if (!in5 || !outer || !stop || !X || !Y || !res) {
         lens_errf(err, lens->path, 0, "out of memory");
         goto done;
     }
-    if (render_sampler_pupil(&smp, &cam, GLASS_D_LINE, e->domain_radius, PUPIL_RINGS, err))
+    if (render_sampler_lens(&smp, lens, e->dispersion ? RENDER_LAMBDA_MIN : GLASS_D_LINE,
+                            e->dispersion ? RENDER_LAMBDA_MAX : GLASS_D_LINE, e->domain_radius,
+                            threads, err))
         goto done;
     uint64_t st = 0x5EED;
     size_t k = 0;
@@ -241,7 +238,6 @@ poly_system *render_fit(const lens_t *lens, const render_effects *e, int threads
 done:
     *seconds = omp_get_wtime() - t0;
     render_sampler_free(&smp);
-    render_lens_free(lc);
     free(in5);
     free(outer);
     free(stop);

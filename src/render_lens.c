@@ -33,6 +33,7 @@ static void fill_camera(render_camera *cam, render_lens_ctx *c, render_map_fn fn
     const lens_surface *rear = &lens->surf[lens->nsurf - 1];
     cam->rear_dist = rear->thickness;
     cam->rear_radius = rear->semi_diameter;
+    cam->lens = lens;
 }
 
 /* Indices at lambda: from the cache when it is one of the usual wavelengths. */
@@ -80,6 +81,57 @@ static int map_poly(void *ctx, const double in[5], double org[3], double dir[3],
     return 1;
 }
 
+/* Outer-pupil coordinates and their Jacobian, for the full estimator (render.h).
+ * Exact: central differences of the tracer (steps 1e-5 mm in x, y and 1e-6 in u, v:
+ * rounding and truncation both near 1e-10 relative); a step the lens blocks leaves the
+ * Jacobian unknown (-1). */
+static int exact_outer(const render_lens_ctx *c, const double *n, const double in[4], double o[4],
+                       double *eta)
+{
+    trace_result r = trace_sample(c->lens, n, TRACE_TO_OUTER, in, o);
+    *eta = r.transmittance;
+    return r.status == TRACE_PASSED;
+}
+
+static int outer_exact(void *ctx, const double in[5], double o[4], double jac[16], double *eta)
+{
+    const render_lens_ctx *c = ctx;
+    double scratch[c->nsurf];
+    const double *n = indices(c, in[4], scratch);
+    if (!exact_outer(c, n, in, o, eta)) return 0;
+    if (!jac) return 1;
+    for (int i = 0; i < 4; i++) {
+        double h = i < 2 ? 1e-5 : 1e-6, a[4], b[4], e;
+        double ip[4] = {in[0], in[1], in[2], in[3]}, im[4] = {in[0], in[1], in[2], in[3]};
+        ip[i] += h, im[i] -= h;
+        if (!exact_outer(c, n, ip, a, &e) || !exact_outer(c, n, im, b, &e)) {
+            for (int k = 0; k < 16; k++) jac[k] = NAN;
+            return 1;
+        }
+        for (int k = 0; k < 4; k++) jac[4 * k + i] = (a[k] - b[k]) / (2 * h);
+    }
+    return 1;
+}
+
+/* Polynomial: poly_eval_jacobian, whose outputs and pass flag are poly_eval's. */
+static int outer_poly(void *ctx, const double in[5], double o[4], double jac[16], double *eta)
+{
+    const render_lens_ctx *c = ctx;
+    double x[16], y[16], J[16 * 16];
+    for (int i = 0; i < c->nin; i++) x[i] = 0;
+    for (int k = 0; k < 5; k++)
+        if (c->in_idx[k] >= 0) x[c->in_idx[k]] = in[k];
+    int pass = jac ? poly_eval_jacobian(c->sys, x, y, J) : poly_eval(c->sys, x, y);
+    for (int k = 0; k < 4; k++) o[k] = y[c->out_idx[k]];
+    *eta = c->out_idx[4] >= 0 ? y[c->out_idx[4]] : 1;
+    if (!pass || !(*eta > 0)) return 0;
+    if (*eta > 1) *eta = 1; /* as map_poly */
+    if (jac)
+        for (int k = 0; k < 4; k++)
+            for (int i = 0; i < 4; i++) jac[4 * k + i] = J[c->out_idx[k] * c->nin + c->in_idx[i]];
+    return 1;
+}
+
 render_lens_ctx *render_lens_exact(const lens_t *lens, double sw, double sh,
                                    render_camera *cam, lens_err *err)
 {
@@ -106,6 +158,7 @@ render_lens_ctx *render_lens_exact(const lens_t *lens, double sw, double sh,
         }
     }
     fill_camera(cam, c, map_exact, lens, sw, sh);
+    cam->outer = outer_exact;
     return c;
 }
 
@@ -140,6 +193,7 @@ render_lens_ctx *render_lens_poly(const poly_system *sys, const lens_t *lens, do
         }
     }
     fill_camera(cam, c, map_poly, lens, sw, sh);
+    cam->outer = outer_poly;
     return c;
 }
 

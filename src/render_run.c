@@ -9,13 +9,12 @@
 #include "glass.h"
 #include "image.h"
 #include "lens.h"
+#include "lens_cli_options.h"
 #include "poly.h"
 #include "render_effects.h"
 #include "render_lens.h"
 #include "scene.h"
 #include "trace.h"
-
-#define PUPIL_RINGS 32
 
 static int cmp_float(const void *a, const void *b)
 {
@@ -141,7 +140,8 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         else snprintf(lens_buf, sizeof lens_buf, "%s", lp); /* as recorded, from the cwd */
         lens_path = lens_buf;
     }
-    if (lens_load(lens_path, NULL, &lens, err)) goto done;
+    if (lens_load(lens_path, o->load, &lens, err)) goto done;
+    if (o->log) lens_cli_warn_notes("lens-render", &lens); /* what an importer skipped */
     if (sys) {
         /* a fitted system has its focus and aperture baked in */
         if (!isnan(sc.focus) || !isnan(sc.fstop)) {
@@ -199,9 +199,14 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
     double rmax = 0.5 * hypot(sw, sh);
     if (o->rear_sampling) {
         render_sampler_rear(&smp, &cam);
-    } else if (render_sampler_pupil(&smp, &cam, sc.mode == SCENE_GREY ? GLASS_D_LINE : 0.55, rmax,
-                                    PUPIL_RINGS, err)) {
-        goto done;
+    } else {
+        double l0 = sc.mode == SCENE_GREY ? GLASS_D_LINE : RENDER_LAMBDA_MIN,
+               l1 = sc.mode == SCENE_GREY ? GLASS_D_LINE : RENDER_LAMBDA_MAX;
+        char dir[1024];
+        if (o->cache_dir) snprintf(dir, sizeof dir, "%s", o->cache_dir);
+        else render_default_cache_dir(dir, sizeof dir);
+        if (render_effects_sampler(&lens, l0, l1, rmax, dir, o->threads, o->log, &smp, err))
+            goto done;
     }
     img = malloc((size_t)sc.width * sc.height * 3 * sizeof *img);
     if (!img) {
@@ -209,12 +214,20 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         goto done;
     }
     if (o->log)
-        fprintf(o->log, "rendering %dx%d, %ld spp, %s mode, %s sampling\n", sc.width, sc.height,
-                sc.spp, scene_mode_name(sc.mode), o->rear_sampling ? "rear-element" : "line-pupil");
-    render_job job = {.scene = &sc, .cam = &cam, .sampler = &smp, .use_eta = use_eta,
+        fprintf(o->log, "rendering %dx%d, %ld spp, %s mode, %s sampling, %s\n", sc.width, sc.height,
+                sc.spp, scene_mode_name(sc.mode), o->rear_sampling ? "rear-element" : "line-pupil",
+                o->estimator == RENDER_ESTIMATOR_FULL ? "full estimator (Eq. 3, 8, 12)"
+                                                      : "estimator of Eq. 13");
+    render_job job = {.scene = &sc, .cam = &cam, .sampler = &smp, .estimator = o->estimator,
+                      .use_eta = use_eta,
                       .eta_const = eta_const, .spp = sc.spp, .threads = o->threads, .progress = o->progress,
                       .progress_ctx = o->progress_ctx};
     if (render_image(&job, img, NULL, st, err)) goto done;
+    if (o->estimator == RENDER_ESTIMATOR_FULL && o->log && st)
+        fprintf(o->log, "full estimator: %.0f rays reached the scene, %.0f of them (%.3g%%) "
+                "weighted by Eq. 13 (a factor not finite: |A| = 0, a blocked difference step)\n",
+                st->full_rays, st->full_fallback,
+                st->full_rays > 0 ? 100 * st->full_fallback / st->full_rays : 0);
     if (write_exr(o->exr, sc.width, sc.height, img, err)) goto done;
     if (o->png && render_write_png(o->png, sc.width, sc.height, img, err)) goto done;
     if (o->reference) {

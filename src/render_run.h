@@ -5,15 +5,18 @@
 #include <stdio.h>
 
 #include "diag.h"
+#include "lens.h"
 #include "render.h"
 
 typedef struct {
     const char *scene;      /* scene file */
+    const lens_load_options *load; /* glass catalogs and fallback for the lens; NULL: defaults */
     const char *exr;        /* output image (required) */
     const char *png;        /* preview, or NULL */
     const char *cache_dir;  /* fitted systems; NULL: $XDG_CACHE_HOME/sparselens or ~/.cache/sparselens */
     int exact;              /* trace exactly instead of a polynomial system */
     int rear_sampling;      /* sample the rear element instead of the line pupil */
+    render_estimator estimator; /* Eq. 13 (default) or the full one */
     long spp;               /* 0: the scene's */
     int threads;            /* <= 0: OpenMP default */
     const char *reference;  /* an EXR to compare with (RMS error printed to log), or NULL */

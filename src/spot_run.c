@@ -20,6 +20,15 @@ void spot_report_free(spot_report *rep)
     memset(rep, 0, sizeof *rep);
 }
 
+void run_error_model(lens_err *err, int m, const char *name)
+{
+    if (m == 0)
+        return;
+    char msg[sizeof err->msg];
+    snprintf(msg, sizeof msg, "%s", err->msg);
+    lens_errf(err, NULL, 0, "%s: %s", name, msg);
+}
+
 int spot_run(const spot_request *rq, spot_report *rep, lens_err *err)
 {
     memset(rep, 0, sizeof *rep);
@@ -47,11 +56,7 @@ int spot_run(const spot_request *rq, spot_report *rep, lens_err *err)
                 spot *s = &rep->spots[((size_t)m * nf + f) * nl + l];
                 if (spot_trace(&im[m], rq->field[f], rq->lambda[l], rq->pattern, rq->rays, rq->seed, s,
                                err) != 0) {
-                    if (m > 0) {
-                        char msg[sizeof err->msg];
-                        snprintf(msg, sizeof msg, "%s", err->msg);
-                        lens_errf(err, NULL, 0, "%s: %s", rq->model_names[m], msg);
-                    }
+                    run_error_model(err, m, rq->model_names[m]);
                     goto fail;
                 }
             }

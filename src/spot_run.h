@@ -38,6 +38,9 @@ typedef struct {
 } spot_report;
 
 int spot_run(const spot_request *rq, spot_report *rep, lens_err *err);
+/* lens-spot's and lens-distort's runs: an error of model m > 0 (a fitted system beside
+ * the lens) is prefixed with its name ("poly: ..."); the lens's own (m 0) is left as is. */
+void run_error_model(lens_err *err, int m, const char *name);
 void spot_report_free(spot_report *rep);
 /* Header line, then a row per model, field and wavelength, and a row "all" per field
  * (the pooled wavelengths) when there are several. */

@@ -27,9 +27,9 @@ skip() { ok "$1 (skipped: lens-$2 not built)"; }
 
 # clean_error NAME OUTDIR CMD...: non-zero exit, one line on stderr of the form
 # "lens-x: <where>: <what>" naming a file, no sanitizer report, OUTDIR left empty.
-# Leak checking is off on these error exits (as in valgrind.sh): a command that gives up
-# may leave its buffers to the kernel; every other sanitizer check stays on.
-export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
+# Leak checking stays on for these error exits too (under SANITIZE=1): a command that
+# gives up frees what it took before it returns, so a leak report is a failure here.
+export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=1"
 clean_error() {
   local n=$1 dir=$2; shift 2
   local verb err rc lines a
@@ -132,6 +132,48 @@ for spec in "${lens_cmds[@]}"; do
   if [ $bad -eq 0 ]; then ok "bad_lens_${verb}_nonfinite_fields ($n mutants)"
   else fail "bad_lens_${verb}_nonfinite_fields" "$bad of $n mutants not refused cleanly at their line"; fi
 done
+
+# ---- lenses that cannot exist, in every format and from stdin --------------------------
+# n_d below 1 or above 3, V_d <= 0, surfaces that cross inside their semi-diameters: one
+# line naming the file and the line of the offending glass or surface.
+if have info; then
+  X=$T/impossible; mkdir -p "$X"
+  printf '50 5 1e17/40 10\n-50 40 stop 10\n' >"$X/nd-high.lens"
+  printf '50 5 1.5/-1 10\n-50 40 stop 10\n' >"$X/vd-negative.lens"
+  printf '50 5 1e17 20\n0 2 0 10\n-50 40 1 20\n' >"$X/nd-high.dat"
+  printf '# c\n30 5 abbe 0.5 50 10\n1e5 2 iris 8\n-50 40 air 10\n' >"$X/nd-low.fx"
+  # a biconvex element 1 mm thick with R 10 and -10 over a 5 mm semi-diameter: its faces
+  # meet at h = sqrt(100 - 9.5^2) = 3.1 mm
+  printf '# name: crossing\n10 1 1.5/60 5\n-10 1 air 5\ninf 20 stop 2\n' >"$X/crossing.lens"
+  clean_error_at bad_lens_nd_high 1 "" "$BIN/lens-info" "$X/nd-high.lens"
+  clean_error_at bad_lens_vd_negative 1 "" "$BIN/lens-info" "$X/vd-negative.lens"
+  clean_error_at bad_pbrt_nd_high 1 "" "$BIN/lens-info" "$X/nd-high.dat"
+  clean_error_at bad_fx_nd_low 2 "" "$BIN/lens-info" "$X/nd-low.fx"
+  clean_error_at bad_seq_nd_low 7 "" "$BIN/lens-info" tests/fuzz/regressions/seq/glass-nd-below-1.seq
+  clean_error_at bad_lens_crossing 2 "" "$BIN/lens-info" "$X/crossing.lens"
+  from_stdin() { local f=$1; shift; "$@" - <"$f"; }   # from_stdin FILE CMD...: CMD - <FILE
+  clean_error_at bad_stdin_crossing 2 "" from_stdin "$X/crossing.lens" "$BIN/lens-info"
+  clean_error_at bad_stdin_seq_nd_low 7 "" from_stdin tests/fuzz/regressions/seq/glass-nd-below-1.seq "$BIN/lens-info"
+  if have trace; then
+    O=$T/out-impossible; mkdir -p "$O"
+    clean_error_at bad_trace_crossing 2 "$O" "$BIN/lens-trace" "$X/crossing.lens" -n 10 -o "$O/x.txt"
+  fi
+  # the limits are lenses: a hemisphere (|R| = semi-diameter) and faces meeting at the rim
+  printf '10 12 1.5/60 10\ninf 1 stop 3\n-20 30 air 8\n' >"$X/hemisphere.lens"
+  t=$(awk 'BEGIN { printf "%.17g", 2 * (10 - sqrt(75)) }')
+  printf '10 %s 1.5/60 5\n-10 1 air 5\ninf 20 stop 2\n' "$t" >"$X/knife-edge.lens"
+  for f in hemisphere knife-edge; do
+    if run "$BIN/lens-info" "$X/$f.lens" >/dev/null 2>"$T/err"; then ok "lens_limit_$f"
+    else fail "lens_limit_$f" "$(cat "$T/err")"; fi
+  done
+  # every shipped lens still loads
+  bad=""
+  for f in lenses/*.lens lenses/*.zmx lenses/*.seq; do run "$BIN/lens-info" "$f" >/dev/null 2>&1 || bad="$bad $f"; done
+  if [ -z "$bad" ]; then ok "shipped_lenses_load ($(ls lenses/*.lens lenses/*.zmx lenses/*.seq | wc -l))"
+  else fail shipped_lenses_load "refused:$bad"; fi
+else
+  skip bad_lens_impossible info
+fi
 
 # ---- .poly systems --------------------------------------------------------------------
 P=$T/poly; mkdir -p "$P"

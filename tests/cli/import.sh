@@ -51,3 +51,34 @@ if run "$BIN/lens-info" "$T/nope.zmx" $AGF --glass-fallback ndvd >/dev/null 2>"$
 # A fold mirror is refused with the surface and the reason.
 sed 's/GLAS N-F2 0 0 1.62004 36.37/GLAS MIRROR/' "$D/doublet.zmx" >"$T/fold.zmx"
 expect_error refuse-mirror "^lens-info: $T/fold.zmx:[0-9]+: surface 2 is a mirror" "$BIN/lens-info" "$T/fold.zmx" $AGF
+
+# stdin ('-') is read in every format, told by content: the same first-order data as the
+# file, and an imported lens's warnings name '-'.
+for file in singlet.zmx singlet.seq cooke.zmx dgauss.seq; do
+  a=$(run "$BIN/lens-info" "$D/$file" $AGF 2>/dev/null)
+  s=$(run "$BIN/lens-info" - $AGF <"$D/$file" 2>"$T/err")
+  if [ -n "$a" ] && [ "$a" = "$s" ]; then ok "stdin-$file"; else fail "stdin-$file" "$(head -3 <<<"$s") / $(cat "$T/err")"; fi
+done
+run "$BIN/lens-info" - <"$D/singlet.zmx" >/dev/null 2>"$T/err"
+if grep -q "^lens-info: warning: -: skipped: coatings" "$T/err"; then ok stdin-warnings; else fail stdin-warnings "$(cat "$T/err")"; fi
+# ... and a converted .lens piped back in keeps its notes to itself (said at conversion)
+run "$BIN/lens-info" "$D/singlet.zmx" --format lens 2>/dev/null | run "$BIN/lens-info" - >/dev/null 2>"$T/err"
+if ! grep -q "skipped" "$T/err"; then ok stdin-native-quiet; else fail stdin-native-quiet "$(cat "$T/err")"; fi
+
+# --lens-format names the format whatever the file is called; a wrong one is refused.
+cp "$D/singlet.seq" "$T/singlet.txt"
+a=$(run "$BIN/lens-info" "$D/singlet.seq" 2>/dev/null | value efl)
+s=$(run "$BIN/lens-info" --lens-format seq "$T/singlet.txt" 2>/dev/null | value efl)
+if [ -n "$a" ] && [ "$a" = "$s" ]; then ok lens-format-seq; else fail lens-format-seq "'$a' vs '$s'"; fi
+expect_error lens-format-wrong "^lens-info: $T/singlet.txt: not a Zemax" "$BIN/lens-info" --lens-format zmx "$T/singlet.txt"
+expect_error lens-format-unknown "^lens-info: --lens-format takes one of lens, fx, pbrt, zmx, seq" \
+  "$BIN/lens-info" --lens-format codev "$T/singlet.txt"
+
+# Model glasses out of range (n_d below 1, above 3, V_d <= 0) are refused at their line,
+# from a file and from stdin alike.
+gl=$(grep -n 'GLAS N-BK7 0 0 1.5168 64.17' "$D/doublet.zmx" | head -1 | cut -d: -f1)
+for bad in "0.6 40" "1e17 40" "1.5 -3"; do
+  sed "s/GLAS N-BK7 0 0 1.5168 64.17/GLAS ___BLANK 1 0 $bad/" "$D/doublet.zmx" >"$T/model.zmx"
+  expect_error "zmx-model-glass-${bad// /_}" "^lens-info: -:$gl: model glass .*(below 1|above 3|Abbe)" \
+    sh -c "'$BIN/lens-info' - <'$T/model.zmx'"
+done

@@ -35,6 +35,7 @@ if [ -s "$T/p.exr" ] && grep -q '^effects on:' <<<"$err" && grep -q '^effects of
    && ls "$T"/cache/*.poly >/dev/null 2>&1; then ok poly-render-fits-and-caches; else fail poly-render-fits-and-caches "$err"; fi
 err=$($R "$T/s.scene" -o "$T/p2.exr" --cache "$T/cache" 2>&1)
 grep -q 'system: cached' <<<"$err" && ok cache-reused || fail cache-reused "$err"
+grep -q 'line pupil: cached' <<<"$err" && ok pupil-cache-reused || fail pupil-cache-reused "$err"
 cmp -s "$T/p.exr" "$T/p2.exr" && ok reproducible || fail reproducible "same seed, different image"
 
 # a .poly camera: the cached system, named in a scene
@@ -43,3 +44,16 @@ sed "s|^camera .*|camera $poly|" "$T/s.scene" >"$T/poly.scene"
 cp "$T/dgauss.50mm.lens" "$T/cache/"
 err=$($R "$T/poly.scene" -o "$T/q.exr" --threads 1 2>&1)
 [ -s "$T/q.exr" ] && ok poly-camera || fail poly-camera "$err"
+
+# the glass flags every command has: an imported lens whose glasses are in a catalog of
+# the user's, and a glass missing from every catalog read by its n_d/V_d
+D=$PWD/tests/data/import
+printf 'camera %s\nsensor 24 16\nresolution 6 4\nmode grey\nspp 2\nplane 0 0 1000 0 0 -1 emit 1\n' \
+  "$T/nope.zmx" >"$T/zmx.scene"
+sed 's/GLAS N-BK7 0 0 1.5168 64.17/GLAS XG-NOPE 0 0 1.5168 64.17/' "$D/doublet.zmx" >"$T/nope.zmx"
+expect_error render-missing-glass "glass XG-NOPE not found in .*test.agf" \
+  $R "$T/zmx.scene" -o "$T/z.exr" --exact --glass-catalog "$D/test.agf"
+err=$($R "$T/zmx.scene" -o "$T/z.exr" --exact --cache "$T/cache" --glass-catalog "$D/test.agf" \
+      --glass-fallback ndvd 2>&1)
+if [ -s "$T/z.exr" ] && grep -q "warning: .*XG-NOPE" <<<"$err"; then ok render-glass-flags
+else fail render-glass-flags "$err"; fi

@@ -98,4 +98,23 @@ static inline void assert_same_lens(const lens_t *a, const lens_t *b, double tol
     }
 }
 
+
+/* Cuts of a design file at about 23 places: each prefix parses to a lens or to a message,
+ * never a crash (the sanitizer build checks the memory side). */
+typedef int (*check_parser)(const char *data, size_t len, const char *path,
+                            const lens_load_options *opt, lens_t *lens, lens_err *err);
+static inline void check_truncations(check_parser parse, const char *path, const char *data,
+                                     size_t len, const lens_load_options *opt)
+{
+    size_t step = len / 23 + 1;
+    for (size_t cut = 0; cut < len; cut += step) {
+        lens_t lens;
+        lens_err err;
+        if (parse(data, cut, path, opt, &lens, &err) == 0)
+            lens_free(&lens);
+        else
+            assert_true(strlen(err.msg) > 0);
+    }
+}
+
 #endif

@@ -12,7 +12,7 @@
 #include "import_check.h"
 
 static const char *const test_catalogs[] = {DATA "test.agf", NULL};
-static const lens_load_options with_catalog = {test_catalogs, 0};
+static const lens_load_options with_catalog = {.catalogs = test_catalogs};
 
 static void load(const char *path, const lens_load_options *opt, lens_t *lens)
 {
@@ -174,15 +174,7 @@ static void test_truncated(void **state)
         snprintf(path, sizeof path, DATA "%s", files[i]);
         size_t len;
         char *data = slurp(path, &len);
-        size_t step = len / 23 + 1;
-        for (size_t cut = 0; cut < len; cut += step) {
-            lens_t lens;
-            lens_err err;
-            if (lens_parse_seq(data, cut, path, &with_catalog, &lens, &err) == 0)
-                lens_free(&lens);
-            else
-                assert_true(strlen(err.msg) > 0);
-        }
+        check_truncations(lens_parse_seq, path, data, len, &with_catalog);
         free(data);
     }
 }

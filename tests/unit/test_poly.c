@@ -79,6 +79,9 @@ static void test_closed_form(void **st)
     assert_true(out[0] == 3 + 4 - 4 * 8);
     assert_true(out[1] == 1);
     poly_eval_jacobian(s, in, out, jac);
+    double jb[4];
+    poly_eval_jacobian_batch(s, 1, in, jb);
+    assert_memory_equal(jac, jb, sizeof jb);
     /* d/dx = (2 - 2 s_x s_y^3) / 2 = (2 - 32) / 2; d/dy = (-3 s_x^2 s_y^2) / 4 = -48 / 4 */
     assert_true(jac[0] == -15);
     assert_true(jac[1] == -12);
@@ -121,10 +124,16 @@ static void check_batch(int nparts)
     fixture_rng g = {99};
     for (int r = 0; r < n; r++)
         fixture_ray(&g, in + r * 5);
+    double *jac = malloc((size_t)n * 25 * sizeof(double));
     poly_eval_batch(s, (size_t)n, in, out, pass);
+    poly_eval_jacobian_batch(s, (size_t)n, in, jac);
     for (int r = 0; r < n; r++) {
-        double one[5], naive[5];
+        double one[5], naive[5], o2[5], j1[25];
         int ps = poly_eval(s, in + r * 5, one);
+        /* the Jacobian's outputs are poly_eval's; batch and scalar derivatives agree */
+        assert_int_equal(poly_eval_jacobian(s, in + r * 5, o2, j1), ps);
+        assert_memory_equal(one, o2, sizeof one);
+        assert_memory_equal(j1, jac + (size_t)r * 25, sizeof j1);
         fixture_naive(s, in + r * 5, naive);
         assert_int_equal(ps, pass[r]);
         for (int o = 0; o < 5; o++) {
@@ -137,6 +146,7 @@ static void check_batch(int nparts)
     free(in);
     free(out);
     free(pass);
+    free(jac);
     poly_free(s);
 }
 
