@@ -5,6 +5,9 @@
  *                        sweeps over the term budget and the degree
  *   bench_fit TRAIN TEST [--terms N] [--degree D] [--tolerance T] [--parts P]
  *             [--threads N] [--bins B] [--binby r|lambda|pupil] [--label NAME]
+ *             [--frame meridional|none] [--lambda-transform inverse-square|identity]
+ * Fits use lens-fit's defaults (the meridional frame except out_u, out_v, and
+ * 1/lambda^2); the suite also gives the figures without them ("_noframe").
  * Prints "bench NAME VALUE UNIT" lines: fit time (wall and CPU), error on the test rays
  * that pass the lens per output, and the outer-pupil position error as a length,
  * sqrt(dx^2 + dy^2), RMS over those rays; with --bins the position error by bins. */
@@ -104,6 +107,16 @@ static void run(const char *label, size_t nt, const double *tin, const double *t
                 const double *ein, const double *eout, const fit_options *opt, int bins,
                 const char *binby, int brief);
 
+/* lens-fit's defaults for the columns of cols[] */
+static const unsigned char PLAIN[5] = {0, 0, 1, 1, 0};
+static void lens_fit_defaults(fit_options *opt)
+{
+    fit_options_default(opt);
+    opt->frame = POLY_FRAME_MERIDIONAL;
+    opt->frame_plain = PLAIN;
+    opt->lambda_transform = POLY_XFORM_INVERSE_SQUARE;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 3) {
@@ -119,6 +132,9 @@ int main(int argc, char **argv)
         size_t ne = generate(&lens, 2, 100000, &ein, &eout);
         fit_options opt;
         fit_options_default(&opt);
+        run("fit_fisheye-ii_4000_noframe", 4000, tin, tout, ne, ein, eout, &opt, 0, "r", 1);
+        run("fit_fisheye-ii_15000_noframe", nt, tin, tout, ne, ein, eout, &opt, 0, "r", 1);
+        lens_fit_defaults(&opt);
         run("fit_fisheye-ii_4000", 4000, tin, tout, ne, ein, eout, &opt, 0, "r", 0);
         run("fit_fisheye-ii_15000", nt, tin, tout, ne, ein, eout, &opt, 0, "r", 0);
         int terms[] = {10, 20, 30, 40, 60, 80};
@@ -140,7 +156,7 @@ int main(int argc, char **argv)
         return 0;
     }
     fit_options opt;
-    fit_options_default(&opt);
+    lens_fit_defaults(&opt);
     int bins = 0;
     const char *label = "fit", *binby = "r";
     for (int i = 3; i + 1 < argc; i += 2) {
@@ -153,6 +169,9 @@ int main(int argc, char **argv)
         else if (!strcmp(k, "--bins")) bins = atoi(v);
         else if (!strcmp(k, "--label")) label = v;
         else if (!strcmp(k, "--binby")) binby = v;
+        else if (!strcmp(k, "--frame") && poly_frame_parse(v) >= 0) opt.frame = poly_frame_parse(v);
+        else if (!strcmp(k, "--lambda-transform") && poly_xform_parse(v) >= 0)
+            opt.lambda_transform = poly_xform_parse(v);
         else { fprintf(stderr, "bench_fit: unknown option %s\n", k); return 1; }
     }
     double *tin, *tout, *ein, *eout;

@@ -105,6 +105,9 @@ int main(int argc, char **argv)
         diag_print(prog, &err);
         return 1;
     }
+    if (p.afocal)
+        fprintf(stderr, "%s: warning: %s: the lens has no power (afocal): efl, bfl, ffl and "
+                        "fnumber are infinite\n", prog, path);
     printf("name %s\n", lens.name[0] ? lens.name : "-");
     print_key("wavelength", lambda);
     print_key("efl", p.efl);

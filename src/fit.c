@@ -32,6 +32,12 @@ void fit_options_default(fit_options *opt)
     opt->seed = 1;
     opt->threads = 0;
     opt->verbose = 0;
+    opt->no_offset = 0;
+    opt->frame = POLY_FRAME_NONE;
+    opt->frame_plain = NULL;
+    opt->scaling = NULL;
+    opt->force_parts = 0;
+    opt->lambda_transform = POLY_XFORM_IDENTITY;
 }
 
 typedef struct {
@@ -335,9 +341,10 @@ static void set_metaf(poly_system *sys, const char *key, const char *fmt, ...)
     poly_set_meta(sys, key, buf);
 }
 
-poly_system *fit_system(const char *lens_name, int ninputs, const char *const *inputs,
-                        int noutputs, const char *const *outputs, size_t count, const double *in,
-                        const double *out, const fit_options *opt, lens_err *err)
+poly_system *fit_system_core(const char *lens_name, int ninputs, const char *const *inputs,
+                             int noutputs, const char *const *outputs, size_t count,
+                             const double *in, const double *out, const fit_options *opt,
+                             lens_err *err)
 {
     ctx c = {0};
     c.opt = opt;
@@ -429,14 +436,21 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
      * turn every odd term into a sum of odd and even ones. Others are centred. */
     for (int i = 0; i < ninputs; i++) {
         double a = -lo[i], bnd = hi[i];
-        if (a > 0 && bnd > 0 && fmin(a, bnd) >= 0.25 * fmax(a, bnd)) {
+        if ((i < 32 && (opt->no_offset >> i & 1u)) ||
+            (a > 0 && bnd > 0 && fmin(a, bnd) >= 0.25 * fmax(a, bnd))) {
             off[i] = 0;
-            scl[i] = fmax(a, bnd);
+            scl[i] = fmax(fabs(lo[i]), fabs(hi[i]));
         } else {
             off[i] = 0.5 * (lo[i] + hi[i]);
             scl[i] = 0.5 * (hi[i] - lo[i]);
         }
     }
+    for (int i = 0; opt->scaling && i < ninputs; i++)
+        if (isfinite(opt->scaling[2 * i]) && isfinite(opt->scaling[2 * i + 1]) &&
+            opt->scaling[2 * i + 1] != 0) {
+            off[i] = opt->scaling[2 * i];
+            scl[i] = opt->scaling[2 * i + 1];
+        }
     for (size_t r = 0; r < n; r++)
         for (int i = 0; i < ninputs; i++) {
             double *v = c.s + r * ninputs + i;
@@ -482,6 +496,8 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
             double x = c.s[r * ninputs + ix] * scl[ix] + off[ix];
             double y = c.s[r * ninputs + iy] * scl[iy] + off[iy];
             c.rad[r] = hypot(x, y);
+        } else if (ix >= 0 && opt->frame == POLY_FRAME_MERIDIONAL) {
+            c.rad[r] = fabs(c.s[r * ninputs + ix] * scl[ix] + off[ix]); /* x is r here */
         }
     }
     {
@@ -510,13 +526,14 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
         lens_errf(err, NULL, 0, "out of memory for the candidates of degree %d", opt->max_degree);
         goto fail;
     }
-    if (fit_partition(&c, 1, &best, err) != 0)
+    if (fit_partition(&c, opt->force_parts > 0 ? opt->force_parts : 1, &best, err) != 0)
         goto fail;
     /* Radial parts, fewest that meet the tolerance; else the best tried. */
     int any_tol = 0;
     for (int o = 0; o < noutputs; o++)
         any_tol |= tol_of(opt, o) > 0;
-    if (any_tol && opt->max_parts > 1 && ix >= 0 && iy >= 0) {
+    if (any_tol && opt->max_parts > 1 && opt->force_parts <= 0 && ix >= 0 &&
+        (iy >= 0 || opt->frame == POLY_FRAME_MERIDIONAL)) {
         double worst = 0;
         for (int o = 0; o < noutputs; o++)
             if (tol_of(opt, o) > 0)
@@ -542,21 +559,33 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
         }
     }
 
-    sys = poly_new(lens_name, ninputs, inputs, noutputs, outputs);
-    if (!sys) {
-        lens_errf(err, NULL, 0, "out of memory");
-        goto fail;
-    }
-    for (int i = 0; i < ninputs; i++) {
-        poly_set_scaling(sys, i, off[i], scl[i]);
-        poly_set_domain(sys, i, lo[i], hi[i]);
-    }
-    for (int p = 0; p < best.nparts; p++) {
-        int pi = poly_add_part(sys, best.p[p].rmin, best.p[p].rmax);
-        for (int o = 0; o < noutputs; o++) {
-            const out_fit *of = best.p[p].o + o;
-            for (int t = 0; t < of->k; t++)
-                poly_add_term(sys, pi, o, c.b.exps + (size_t)of->cand[t] * ninputs, of->coef[t]);
+    {
+        /* In the frame (no y), the system gets a y that no term uses, so that radial
+         * parts (which need x and y) can be written; fit_system drops it again. */
+        int extra = opt->frame == POLY_FRAME_MERIDIONAL && iy < 0 && ix >= 0;
+        const char *names[FIT_MAX_VARS + 1];
+        int ex[FIT_MAX_VARS + 1] = {0};
+        for (int i = 0; i < ninputs; i++)
+            names[i] = inputs[i];
+        names[ninputs] = "y";
+        sys = poly_new(lens_name, ninputs + extra, names, noutputs, outputs);
+        if (!sys) {
+            lens_errf(err, NULL, 0, "out of memory");
+            goto fail;
+        }
+        for (int i = 0; i < ninputs; i++) {
+            poly_set_scaling(sys, i, off[i], scl[i]);
+            poly_set_domain(sys, i, lo[i], hi[i]);
+        }
+        for (int p = 0; p < best.nparts; p++) {
+            int pi = poly_add_part(sys, best.p[p].rmin, best.p[p].rmax);
+            for (int o = 0; o < noutputs; o++) {
+                const out_fit *of = best.p[p].o + o;
+                for (int t = 0; t < of->k; t++) {
+                    memcpy(ex, c.b.exps + (size_t)of->cand[t] * ninputs, (size_t)ninputs * sizeof *ex);
+                    poly_add_term(sys, pi, o, ex, of->coef[t]);
+                }
+            }
         }
     }
     /* Passage: inside the furthest passing hit on the front element (out_*), the stop

@@ -18,6 +18,18 @@ typedef struct {
     unsigned long seed; /* for the held-out split */
     int threads;        /* <= 0: OpenMP default */
     int verbose;        /* progress lines on stderr */
+    unsigned no_offset; /* bit i: scale input i without an offset (a radius >= 0 whose
+                           polynomial is odd or even in it) */
+    int frame;          /* POLY_FRAME_*: fit in the meridional frame of a rotationally
+                           symmetric lens (needs inputs x, y, u, v); default none */
+    const unsigned char *frame_plain; /* per output (noutputs): 1 = fitted outside the
+                           frame (directions that do not turn with the ray, as the
+                           outer-pupil u, v); NULL: all in it */
+    int lambda_transform; /* POLY_XFORM_* for the input lambda; default identity */
+    const double *scaling; /* NULL, or per input (offset, scale) pairs to use instead of
+                              the automatic ones (nan: automatic); for two fits sharing
+                              one system */
+    int force_parts;    /* > 0: exactly this many radial parts, no tolerance search */
 } fit_options;
 
 void fit_options_default(fit_options *opt);

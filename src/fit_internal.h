@@ -112,4 +112,13 @@ int fit_lsq(const fit_basis *b, const fit_powers *p, const double *y, int k, con
 double fit_eval_sample(const fit_basis *b, const fit_powers *p, size_t i, int k,
                        const int *cand, const double *coef);
 
+/* fit_system without the frame and transforms (fit.c): fits the inputs as given. With
+ * opt->frame meridional the inputs are the frame's, without y (x holds the radius, which
+ * then also drives the radial parts); fit_system (fit_frame.c) prepares them. */
+#include "fit.h"
+poly_system *fit_system_core(const char *lens_name, int ninputs, const char *const *inputs,
+                             int noutputs, const char *const *outputs, size_t count,
+                             const double *in, const double *out, const fit_options *opt,
+                             lens_err *err);
+
 #endif

@@ -69,9 +69,13 @@ int paraxial_compute(const lens_t *lens, double lambda, paraxial_data *p, lens_e
     double n_image = n[last];
     mat2 m = span(lens, n, 0, last);
     p->lambda = lambda;
-    p->efl = -1.0 / m.c;
-    p->bfl = -m.a * n_image / m.c;
-    p->ffl = m.d / m.c;
+    /* An afocal lens (no power: a window, a telescope) has no focal points; its
+     * focal lengths are infinite without a sign, where -1/C would give -inf for a
+     * power that is only zero by cancellation. */
+    p->afocal = m.c == 0;
+    p->efl = p->afocal ? INFINITY : -1.0 / m.c;
+    p->bfl = p->afocal ? INFINITY : -m.a * n_image / m.c;
+    p->ffl = p->afocal ? INFINITY : m.d / m.c;
     p->stop_surface = (int)s + 1;
     p->total_track = lens_total_track(lens);
     p->sensor_distance = lens->surf[last].thickness;
@@ -86,7 +90,7 @@ int paraxial_compute(const lens_t *lens, double lambda, paraxial_data *p, lens_e
     }
     p->entrance_pupil_z = f.a != 0 ? f.b / f.a : INFINITY;
     p->entrance_pupil_diameter = 2.0 * r_stop / fabs(f.a);
-    p->fnumber = p->efl / p->entrance_pupil_diameter;
+    p->fnumber = p->afocal ? INFINITY : p->efl / p->entrance_pupil_diameter;
 
     /* Exit pupil: image of the stop through surfaces s..last. */
     mat2 b = span(lens, n, s, last);

@@ -6,6 +6,7 @@
 
 typedef struct {
     double lambda;                 /* um */
+    int afocal;                    /* no power: efl, bfl, ffl, fnumber are +inf */
     double efl;                    /* effective focal length, mm */
     double bfl;                    /* last surface to rear focal point */
     double ffl;                    /* first surface to front focal point (signed, +z) */

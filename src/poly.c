@@ -77,8 +77,9 @@ poly_system *poly_new(const char *lens_name, int ninputs, const char *const *inp
     s->scale = calloc((size_t)ninputs, sizeof(double));
     s->lo = calloc((size_t)ninputs, sizeof(double));
     s->hi = calloc((size_t)ninputs, sizeof(double));
+    s->xform = calloc((size_t)ninputs, sizeof(int)); /* identity (poly_frame.c) */
     if (!s->lens_name || !s->lens_path || !s->inputs || !s->outputs || !s->offset ||
-        !s->scale || !s->lo || !s->hi) {
+        !s->scale || !s->lo || !s->hi || !s->xform) {
         poly_free(s);
         return NULL;
     }
@@ -101,6 +102,8 @@ poly_system *poly_new(const char *lens_name, int ninputs, const char *const *inp
     }
     s->ix = name_index(s->inputs, ninputs, "x");
     s->iy = name_index(s->inputs, ninputs, "y");
+    s->iu = name_index(s->inputs, ninputs, "u");
+    s->iv = name_index(s->inputs, ninputs, "v");
     return s;
 }
 
@@ -171,6 +174,11 @@ void poly_free(poly_system *s)
     free(s->scale);
     free(s->lo);
     free(s->hi);
+    free(s->xform);
+    free(s->pair);
+    free(s->plain);
+    poly_free(s->vframe);
+    poly_free(s->vplain);
     free(s->circles);
     free(s->lens_name);
     free(s->lens_path);
@@ -208,6 +216,7 @@ void poly_set_scaling(poly_system *s, int i, double offset, double scale)
         return;
     s->offset[i] = offset;
     s->scale[i] = scale;
+    poly_frame_on_change(s);
 }
 
 void poly_set_domain(poly_system *s, int i, double lo, double hi)
@@ -457,7 +466,9 @@ int poly_add_part(poly_system *s, double rmin, double rmax)
         free_part(p, s->nin, s->nout);
         return -1;
     }
-    return s->nparts++;
+    s->nparts++;
+    poly_frame_on_change(s);
+    return s->nparts - 1;
 }
 
 int poly_add_term(poly_system *s, int part, int output, const int *exps, double coef)
@@ -513,6 +524,7 @@ int poly_add_term(poly_system *s, int part, int output, const int *exps, double 
         build_plan(&p->dplan, &p->dmono, nin, s->nout * nin, p->dout);
         return -1;
     }
+    poly_frame_on_term(s, part, output, exps, coef);
     return 0;
 }
 

@@ -76,6 +76,42 @@ const char *poly_get_meta(const poly_system *sys, const char *key);
  * poly_add_pass_circle returns 0, or -1 for a bad output or radius. */
 #define POLY_MAX_DEGREE 24
 
+/* Around the polynomial (man 5 lens-poly, "frame" and "transform"). A rotationally
+ * symmetric lens is described with one input fewer in its meridional frame: each ray
+ * is rotated about the axis so that its sensor point lies on +x (inputs x, y, u, v
+ * become r, 0, u', v'), the polynomials give the outputs in that frame, and output
+ * pairs ..._x/..._y and ..._u/..._v are rotated back. A transform replaces an input
+ * by a function of it before the scaling (inverse-square: 1 / in^2, for the
+ * wavelength: glass dispersion is close to linear in it). */
+enum { POLY_FRAME_NONE = 0, POLY_FRAME_MERIDIONAL = 1 };
+enum { POLY_XFORM_IDENTITY = 0, POLY_XFORM_INVERSE_SQUARE = 1 };
+/* 0, or -1 for an unknown frame, or a meridional frame without inputs x, y, u, v, or with
+ * an output ..._x, ..._y, ..._u or ..._v whose partner is missing. */
+int poly_set_frame(poly_system *sys, int frame);
+int poly_get_frame(const poly_system *sys);
+/* Output o computed outside the frame (plain = 1: at the inputs as given, through their
+ * transforms only; for direction components that do not turn with the ray, like the
+ * outer-pupil tangent frame's u, v). Pairs must agree. 0, or -1 without a frame, for a
+ * bad output, or when the partner differs after this call: set both, then check with
+ * poly_frame_check. */
+int poly_set_output_plain(poly_system *sys, int output, int plain);
+int poly_get_output_plain(const poly_system *sys, int output);
+int poly_frame_check(const poly_system *sys); /* 0: every pair in or out together */
+int poly_set_transform(poly_system *sys, int input, int xform); /* 0, or -1 */
+int poly_get_transform(const poly_system *sys, int input);
+const char *poly_frame_name(int frame);   /* "none", "meridional"; NULL if unknown */
+const char *poly_xform_name(int xform);   /* "identity", "inverse-square"; NULL if unknown */
+int poly_frame_parse(const char *name);   /* -1 if unknown */
+/* The steps around the core alone (for fitters): the raw inputs in[ninputs] to the
+ * polynomials' inputs t[ninputs] (rotated into the frame, then transformed; scaling
+ * not applied), with the rotation cs[2] = (cos, sin) of the ray ((1, 0) without a
+ * frame); poly_frame_out rotates frame outputs back in place, poly_frame_out_inverse
+ * rotates outputs into the frame. */
+void poly_frame_in(const poly_system *sys, const double *in, double *t, double *cs);
+void poly_frame_out(const poly_system *sys, const double *cs, double *out);
+void poly_frame_out_inverse(const poly_system *sys, const double *cs, double *out);
+int poly_xform_parse(const char *name);   /* -1 if unknown */
+
 /* Reading a system back (for reports, fitters and the emitter). */
 int poly_nparts(const poly_system *sys);
 void poly_part_range(const poly_system *sys, int part, double *rmin, double *rmax);

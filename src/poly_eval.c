@@ -1,4 +1,5 @@
-/* Evaluation of polynomial systems: one ray, batches, and the Jacobian.
+/* Evaluation of polynomial systems: one ray, batches, and the Jacobian (the core in the
+ * system's frame; poly_frame.c wraps it into the public functions).
  * Every path runs the plan of poly_impl.h with the same products and the same order of
  * additions, so scalar and batch results are bit-identical. */
 #include "poly_impl.h"
@@ -104,12 +105,7 @@ static int run_one(const poly_system *s, const poly_plan *pl, const double *in, 
     return 0;
 }
 
-int poly_eval(const poly_system *s, const double *in, double *out)
-{
-    return poly_eval_part(s, s->nparts ? poly_select_part(s, in) : -1, in, out);
-}
-
-int poly_eval_part(const poly_system *s, int part, const double *in, double *out)
+int poly_eval_part_core(const poly_system *s, int part, const double *in, double *out)
 {
     if (part < 0 || part >= s->nparts || run_one(s, &s->parts[part].plan, in, out) != 0) {
         fill_nan(out, s->nout);
@@ -226,22 +222,22 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
     free(cur);
 }
 
-void poly_eval_batch(const poly_system *s, size_t count, const double *in, double *out,
-                     unsigned char *pass)
+void poly_eval_batch_core(const poly_system *s, size_t count, const double *in, double *out,
+                          unsigned char *pass)
 {
     batch(s, RUN_EVAL, count, in, out, pass);
 }
 
-void poly_eval_jacobian_batch(const poly_system *s, size_t count, const double *in,
+void poly_eval_jacobian_batch_core(const poly_system *s, size_t count, const double *in,
                               double *jac)
 {
     batch(s, RUN_JAC, count, in, jac, NULL);
 }
 
-int poly_eval_jacobian(const poly_system *s, const double *in, double *out, double *jac)
+int poly_eval_jacobian_core(const poly_system *s, const double *in, double *out, double *jac)
 {
     const int nin = s->nin, nout = s->nout;
-    int pass = poly_eval(s, in, out);
+    int pass = poly_eval_part_core(s, s->nparts ? poly_select_part(s, in) : -1, in, out);
     if (s->nparts == 0 ||
         run_one(s, &s->parts[poly_select_part(s, in)].dplan, in, jac) != 0) {
         fill_nan(jac, nin * nout);

@@ -81,6 +81,24 @@ struct poly_system {
     char **inputs, **outputs;
     double *offset, *scale, *lo, *hi;
     int ix, iy; /* inputs named x and y (part selection), -1 if absent */
+    /* Around the polynomial core (poly_frame.c): a frame rotation of the inputs and
+     * outputs, and per-input transforms. Both are off (POLY_FRAME_NONE, identity) in a
+     * system that does not ask for them, which then evaluates exactly as before. */
+    int frame;      /* POLY_FRAME_* */
+    int iu, iv;     /* inputs named u and v (the meridional frame), -1 if absent */
+    int *xform;     /* per input: POLY_XFORM_* */
+    int nxform;     /* inputs whose transform is not the identity */
+    unsigned char *plain; /* per output: 1 = computed outside the frame (at the inputs
+                             with their transforms only), as direction components
+                             that do not turn with the ray; NULL: none */
+    int nplain;
+    /* With outputs outside the frame, two views of the system that evaluation runs
+     * instead of it: vframe holds only the outputs in the frame, vplain only the others
+     * (the rest of their outputs have no terms), so each term is computed once.
+     * Kept in step by poly_frame_on_change / poly_frame_on_term (poly_frame.c). */
+    poly_system *vframe, *vplain;
+    int npairs;     /* output pairs rotated with the frame */
+    int *pair;      /* npairs x 2: outputs (a, b) = (..._x, ..._y) or (..._u, ..._v) */
     int nparts;
     poly_part *parts;
     int ncircles;
@@ -92,6 +110,24 @@ struct poly_system {
 /* The part a ray at sensor radius r belongs to (the nearest one if none contains r). */
 int poly_part_for_radius(const poly_system *sys, double r);
 int poly_select_part(const poly_system *sys, const double *in);
+
+/* The polynomial core of evaluation (poly_eval.c): the system's inputs are taken as
+ * already in the frame and transformed, the outputs are left in the frame. poly_frame.c
+ * wraps them into the public poly_eval* functions. */
+int poly_eval_part_core(const poly_system *sys, int part, const double *in, double *out);
+void poly_eval_batch_core(const poly_system *sys, size_t count, const double *in, double *out,
+                          unsigned char *pass);
+int poly_eval_jacobian_core(const poly_system *sys, const double *in, double *out, double *jac);
+void poly_eval_jacobian_batch_core(const poly_system *sys, size_t count, const double *in,
+                                   double *jac);
+
+/* Hooks of the builders in poly.c: a change of scaling or parts rebuilds the views, a
+ * new term is added to its view. */
+void poly_frame_on_change(poly_system *s);
+void poly_frame_on_term(poly_system *s, int part, int output, const int *exps, double coef);
+
+/* 1 when evaluation needs the frame or a transform around the core. */
+static inline int poly_frame_active(const poly_system *s) { return s->frame != 0 || s->nxform > 0; }
 
 /* Shortest decimal that reads back as v ("inf" / "-inf" for infinities); buf >= 32. */
 void poly_format_number(char *buf, size_t len, double v);

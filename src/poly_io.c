@@ -75,6 +75,19 @@ int poly_write(FILE *f, const poly_system *s)
         put_num(f, s->hi[i]);
         fputc('\n', f);
     }
+    /* Only when asked for: a system without them is written as before. */
+    if (s->frame != POLY_FRAME_NONE) {
+        fprintf(f, "frame %s", poly_frame_name(s->frame));
+        for (int o = 0, first = 1; o < s->nout; o++)
+            if (s->plain && s->plain[o]) {
+                fprintf(f, "%s %s", first ? " except" : "", s->outputs[o]);
+                first = 0;
+            }
+        fputc('\n', f);
+    }
+    for (int i = 0; i < s->nin; i++)
+        if (s->xform[i] != POLY_XFORM_IDENTITY)
+            fprintf(f, "transform %s %s\n", s->inputs[i], poly_xform_name(s->xform[i]));
     for (int c = 0; c < s->ncircles; c++) {
         fprintf(f, "pass %s %s ", s->outputs[s->circles[c].a], s->outputs[s->circles[c].b]);
         put_num(f, s->circles[c].radius);
@@ -355,6 +368,50 @@ static int read_body(FILE *f, rd *R, poly_system **out)
                     poly_set_scaling(s, i, off, sc);
                     poly_set_domain(s, i, lo, hi);
                 }
+            } else if (strcmp(k, "frame") == 0) {
+                int fr, o = -1;
+                if (n < 2 || n == 3 || (n > 3 && strcmp(tok[2], "except") != 0))
+                    bad = (lens_errf(R->err, R->name, R->line,
+                                     "frame needs: none|meridional [except OUTPUT...]"),
+                           1);
+                else if ((fr = poly_frame_parse(tok[1])) < 0)
+                    bad = (lens_errf(R->err, R->name, R->line, "unknown frame '%s'", tok[1]), 1);
+                else if (fr == POLY_FRAME_NONE && n > 2)
+                    bad = (lens_errf(R->err, R->name, R->line, "frame none takes no outputs"), 1);
+                else {
+                    /* the exceptions first: the pairs left in the frame must be whole */
+                    if (fr != POLY_FRAME_NONE && s->ix >= 0 && s->iy >= 0 && s->iu >= 0 &&
+                        s->iv >= 0) {
+                        s->frame = fr;
+                        if (!s->plain)
+                            s->plain = calloc((size_t)h.nout, 1);
+                        for (int q = 3; q < n && s->plain && !bad; q++)
+                            if ((o = find_name(h.out, h.nout, tok[q])) < 0)
+                                bad = (lens_errf(R->err, R->name, R->line,
+                                                 "unknown output '%s'", tok[q]),
+                                       1);
+                            else
+                                poly_set_output_plain(s, o, 1);
+                    }
+                    if (!bad && poly_set_frame(s, fr) != 0)
+                        bad = (lens_errf(R->err, R->name, R->line,
+                                         "frame %s needs inputs x, y, u, v and the outputs in "
+                                         "it in pairs (..._x with ..._y, ..._u with ..._v)",
+                                         tok[1]),
+                               1);
+                }
+            } else if (strcmp(k, "transform") == 0) {
+                int i, xf;
+                if (n != 3)
+                    bad = (lens_errf(R->err, R->name, R->line,
+                                     "transform needs: INPUT identity|inverse-square"),
+                           1);
+                else if ((i = find_name(h.in, h.nin, tok[1])) < 0)
+                    bad = (lens_errf(R->err, R->name, R->line, "unknown input '%s'", tok[1]), 1);
+                else if ((xf = poly_xform_parse(tok[2])) < 0)
+                    bad = (lens_errf(R->err, R->name, R->line, "unknown transform '%s'", tok[2]), 1);
+                else
+                    poly_set_transform(s, i, xf);
             } else if (strcmp(k, "pass") == 0) {
                 double r;
                 int a, b;

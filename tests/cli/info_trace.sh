@@ -13,6 +13,11 @@ for spec in dgauss.50mm:50 telephoto.250mm:250 fisheye.10mm:10; do
   if near "$efl" "$f" "$(awk -v f="$f" 'BEGIN { print 0.02 * f }')"; then ok "efl $l"; else fail "efl $l" "efl $efl, nominal $f"; fi
 done
 
+# A flat window has no power: its focal lengths are infinite (no sign), and lens-info says so.
+out=$(run "$info" tests/data/window.lens 2>"$T/window.err")
+if [ "$(echo "$out" | value efl)" = inf ] && [ "$(echo "$out" | value fnumber)" = inf ] &&
+   grep -q "afocal" "$T/window.err"; then ok "afocal window"; else fail "afocal window" "$(echo "$out" | head -5 | tr '\n' ' ')"; fi
+
 # Refocusing: --focus D writes a lens whose focus_distance is D.
 fd=$(run "$info" lenses/dgauss.50mm.lens --focus 1000 | run "$info" - 2>/dev/null | value focus_distance)
 if near "$fd" 1000 0.01; then ok "focus 1000"; else fail "focus 1000" "focus_distance $fd"; fi
