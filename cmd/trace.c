@@ -142,21 +142,16 @@ static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
     sampling_setup(a, &so);
     so.seed = PILOT_SEED;
     a->clip_share = malloc(lens->nsurf * sizeof *a->clip_share);
-    double *in = malloc((size_t)PILOT_RAYS * 5 * sizeof *in);
-    ray_generator *g = a->clip_share && in ? ray_generator_new(lens, &so, err) : NULL;
-    int rc = -1;
-    if (!a->clip_share || !in)
+    if (!a->clip_share) {
         lens_errf(err, NULL, 0, "out of memory");
-    else if (g && ray_generator_fill(g, 0, PILOT_RAYS, in, err) == 0 &&
-             trace_clip_census(lens, PILOT_RAYS, in, a->clip_share, a->threads, err) == 0) {
-        a->nclip = trace_clip_choose(lens, a->clip_share, CLIP_MIN_SHARE,
-                                     a->target == TRACE_TO_OUTER, a->clip);
-        rc = 0;
+        return -1;
     }
-    if (g)
-        ray_generator_free(g);
-    free(in);
-    return rc;
+    int k = trace_clip_pilot(lens, &so, PILOT_RAYS, CLIP_MIN_SHARE, a->target == TRACE_TO_OUTER,
+                             a->clip_share, a->clip, err);
+    if (k < 0)
+        return -1;
+    a->nclip = k;
+    return 0;
 }
 
 static int make_names(trace_args *a, lens_err *err)

@@ -68,3 +68,23 @@ int trace_surface_hit(const lens_t *lens, int surf, const double *n, const doubl
     view.stop = surf;
     return trace_stop_hit(&view, n, in, hit);
 }
+
+int trace_clip_pilot(const lens_t *lens, const sampling_options *so, size_t rays,
+                     double min_share, int skip_front, double *share, int *surf,
+                     lens_err *err)
+{
+    double *in = malloc((rays ? rays : 1) * 5 * sizeof *in);
+    if (!in) {
+        lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    ray_generator *g = ray_generator_new(lens, so, err);
+    int k = -1;
+    if (g && ray_generator_fill(g, 0, rays, in, err) == 0 &&
+        trace_clip_census(lens, rays, in, share, so->threads, err) == 0)
+        k = trace_clip_choose(lens, share, min_share, skip_front, surf);
+    if (g)
+        ray_generator_free(g);
+    free(in);
+    return k;
+}

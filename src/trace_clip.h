@@ -10,6 +10,7 @@
 
 #include "diag.h"
 #include "lens.h"
+#include "sampling.h"
 
 /* Share of rays, per surface, that end blocked there (outside its semi-diameter, the
  * stop included): in is count rows of (x, y, u, v, lambda), share[nsurf] gets the
@@ -23,6 +24,13 @@ int trace_clip_census(const lens_t *lens, size_t count, const double *in, double
  * output of the outer frame). surf needs room for nsurf entries; returns their count. */
 int trace_clip_choose(const lens_t *lens, const double *share, double min_share,
                       int skip_front, int *surf);
+
+/* The pilot: census of `rays` rays generated with *so (its seed included), then the
+ * choice above. share[nsurf] gets the shares, surf the surfaces; returns their count,
+ * or -1 with err set. */
+int trace_clip_pilot(const lens_t *lens, const sampling_options *so, size_t rays,
+                     double min_share, int skip_front, double *share, int *surf,
+                     lens_err *err);
 
 /* Hits on surface `surf` (0-based) of count rays: hit gets count rows of (x, y), in mm
  * of the lens frame, or (nan, nan) when the ray does not reach the surface within its
