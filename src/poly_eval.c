@@ -4,6 +4,7 @@
  * additions, so scalar and batch results are bit-identical. */
 #include "poly_impl.h"
 
+#include <immintrin.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -125,6 +126,7 @@ enum { RUN_EVAL, RUN_JAC };
  * the fisheye-ii system; it never contracts into FMA (ISO C mode), so the bits stay. */
 #define KERNEL_NAME run_blocks_avx512
 #define KERNEL_TARGET __attribute__((target("avx512f"), optimize("O3")))
+#define KERNEL_SQRT(x) ((vn)_mm512_sqrt_pd((__m512d)(x)))
 #define VW 8
 #define KBLK 16
 #include "poly_eval_kernel.h"
@@ -132,8 +134,10 @@ enum { RUN_EVAL, RUN_JAC };
 #undef KERNEL_TARGET
 #undef VW
 #undef KBLK
+#undef KERNEL_SQRT
 #define KERNEL_NAME run_blocks_avx2
 #define KERNEL_TARGET __attribute__((target("avx2"), optimize("O3")))
+#define KERNEL_SQRT(x) ((vn)_mm256_sqrt_pd((__m256d)(x)))
 #define VW 4
 #define KBLK 8
 #include "poly_eval_kernel.h"
@@ -141,8 +145,10 @@ enum { RUN_EVAL, RUN_JAC };
 #undef KERNEL_TARGET
 #undef VW
 #undef KBLK
+#undef KERNEL_SQRT
 #define KERNEL_NAME run_blocks_sse
 #define KERNEL_TARGET __attribute__((optimize("O3")))
+#define KERNEL_SQRT(x) ((vn)_mm_sqrt_pd((__m128d)(x)))
 #define VW 2
 #define KBLK 4
 #include "poly_eval_kernel.h"
@@ -150,6 +156,7 @@ enum { RUN_EVAL, RUN_JAC };
 #undef KERNEL_TARGET
 #undef VW
 #undef KBLK
+#undef KERNEL_SQRT
 
 typedef void run_fn(const poly_system *, const poly_plan *const *, int, int, size_t,
                     const size_t *, size_t, const double *, double *, unsigned char *, double *,

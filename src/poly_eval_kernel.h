@@ -2,6 +2,7 @@
  *   KERNEL_NAME    the function's name
  *   KERNEL_TARGET  its target attribute (empty for the baseline)
  *   VW             doubles per hardware vector of that set (8 AVX-512, 4 AVX2, 2 SSE)
+ *   KERNEL_SQRT    the square root of a vector of VW doubles (that set's instruction)
  * and KBLK (rays per block, a multiple of VW) and RUN_EVAL / RUN_JAC defined.
  *
  * Runs the plans pls[0 .. nview - 1] (one part's views, see batch()) on n rays: ray r is
@@ -69,11 +70,14 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 raw[i * KBLK + r] = src[r][i];
         if (fr) {
             const double *X = raw + ix * KBLK, *Y = raw + iy * KBLK;
-            for (int r = 0; r < KBLK; r++) {
-                const double x = X[r], y = Y[r], rr = sqrt(x * x + y * y);
-                rad[r] = rr;
-                cb[r] = rr > 0 ? x / rr : 1;
-                sb[r] = rr > 0 ? y / rr : 0;
+            for (int q = 0; q < NV; q++) {
+                /* r > 0 ? x / r : 1 and r > 0 ? y / r : 0 by mask (0 / 0 lanes dropped) */
+                const vn x = ((const vn *)X)[q], y = ((const vn *)Y)[q];
+                const vn rr = KERNEL_SQRT(x * x + y * y);
+                const vmask pos = rr > 0;
+                ((vn *)rad)[q] = rr;
+                ((vn *)cb)[q] = (vn)(((vmask)(x / rr) & pos) | ((vmask)((vn){0} + 1) & ~pos));
+                ((vn *)sb)[q] = (vn)((vmask)(y / rr) & pos);
             }
         }
         for (int w = 0; w < nview; w++) {
@@ -84,7 +88,10 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
             for (int i = 0; i < nin; i++) {
                 double col[KBLK];
                 const double *X = raw + i * KBLK;
-                if (fr && w == 0 && (i == ix || i == iy || i == iu || i == iv)) {
+                const int turns = fr && (i == ix || i == iy || i == iu || i == iv);
+                if (w > 0 && !turns)
+                    continue; /* the same value as in view 0, still in place */
+                if (turns && w == 0) {
                     const double *U = raw + iu * KBLK, *V = raw + iv * KBLK;
                     for (int r = 0; r < KBLK; r++)
                         col[r] = i == ix   ? rad[r]
