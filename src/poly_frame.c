@@ -103,8 +103,9 @@ static int rebuild_pairs(poly_system *s, int strict)
 }
 
 /* The views (poly_impl.h): copies of the inputs, scaling and parts, each with the
- * terms of its own outputs. No frame, transform or pass circle: the wrapper applies
- * them. On failure there are no views, and evaluation runs the whole system twice. */
+ * terms of its own outputs. No frame, transform or pass circle: poly_eval_part and the
+ * batch kernel apply them. On failure there are no views, and evaluation runs the
+ * whole system twice. */
 static void rebuild_views(poly_system *s)
 {
     poly_free(s->vframe);
