@@ -6,7 +6,12 @@
  * the batch paths; their best run too, the figure of a quiet machine), for
  *   naive     each term's powers computed from scratch (the baseline)
  *   scalar    poly_eval, one ray at a time
- *   batch     poly_eval_batch
+ *   batch     poly_eval_batch, the system as lens-fit's defaults make it: the meridional
+ *             frame except out_u, out_v, and 1/lambda^2 (the fixture's terms, so the
+ *             same count; with a SYSTEM.poly, that file)
+ *   batch_noframe  poly_eval_batch of the same terms without frame or transform (lens-fit
+ *             --frame none --lambda-transform identity; with SYSTEM.poly, NOFRAME.poly
+ *             if given), for the cost of the frame
  *   emitted   the C of poly_emit_c, compiled now with $CC (or cc) -O2, one call per ray
  *   emitted_c_batch         its NAME_batch function on all rays, -O2 as well
  *   emitted_c_batch_native  the same compiled with -O2 -march=native (this CPU's vectors)
@@ -14,8 +19,8 @@
  *   jacobian_batch  poly_eval_jacobian_batch (the 25 derivatives)
  *   trace     the exact tracer (trace_batch, one thread) on passing fisheye-ii rays,
  *             for the speed-up of the polynomial system over tracing
- * Usage: bench_poly [RAYS [SYSTEM.poly]]   (default 1000000 rays, the fixture system;
- * a system file must have the inputs x y u v lambda) */
+ * Usage: bench_poly [RAYS [SYSTEM.poly [NOFRAME.poly]]]   (default 1000000 rays, the
+ * fixture system; a system file must have the inputs x y u v lambda) */
 #include <dlfcn.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -135,22 +140,33 @@ int main(int argc, char **argv)
     size_t n = argc > 1 ? strtoul(argv[1], NULL, 10) : 1000000;
     if (n == 0)
         n = 1000000;
-    poly_system *s = NULL;
-    if (argc > 2) {
+    poly_system *s = NULL, *s0 = NULL;
+    for (int a = 2; a < argc && a < 4; a++) {
         lens_err err;
-        if (poly_read(argv[2], &s, &err) != 0) {
+        poly_system **d = a == 2 ? &s : &s0;
+        if (poly_read(argv[a], d, &err) != 0) {
             fprintf(stderr, "bench_poly: %s\n", err.msg);
             return 1;
         }
         for (int i = 0; i < 5; i++)
-            if (poly_ninputs(s) != 5 || poly_input_index(s, fixture_inputs[i]) != i ||
-                poly_noutputs(s) != 5 || poly_nparts(s) != 1) {
+            if (poly_ninputs(*d) != 5 || poly_input_index(*d, fixture_inputs[i]) != i ||
+                poly_noutputs(*d) != 5 || poly_nparts(*d) != 1) {
                 fprintf(stderr, "bench_poly: %s: needs inputs x y u v lambda, 5 outputs, 1 part\n",
-                        argv[2]);
+                        argv[a]);
                 return 1;
             }
-    } else {
+    }
+    if (!s) {
+        /* the fixture twice: as lens-fit's defaults lay it out, and without the frame */
         s = fixture_system(40, 11, 1, 2016);
+        s0 = fixture_system(40, 11, 1, 2016);
+        if (!s || !s0 || poly_set_frame(s, POLY_FRAME_MERIDIONAL) != 0 ||
+            poly_set_output_plain(s, 2, 1) != 0 || poly_set_output_plain(s, 3, 1) != 0 ||
+            poly_set_transform(s, 4, POLY_XFORM_INVERSE_SQUARE) != 0) {
+            fprintf(stderr, "bench_poly: cannot build the framed fixture\n");
+            return 1;
+        }
+        poly_set_scaling(s, 4, 4.25, 2.0); /* 1/lambda^2 over 0.40..0.70 um */
     }
     double *in = malloc(n * 5 * sizeof(double)), *out = malloc(n * 5 * sizeof(double));
     unsigned char *pass = malloc(n);
@@ -179,11 +195,14 @@ int main(int argc, char **argv)
     emitted_fn fn = mkdtemp(dir) ? load_emitted(s, dir, "", &handle, &fn_batch) : NULL;
     if (fn && !load_emitted(s, dir, "-march=native", &handle_native, &fn_batch_native))
         fn_batch_native = NULL;
-    const char *names[8] = {"naive",    "scalar",         "batch",           "emitted_c",
-                            "jacobian", "jacobian_batch", "emitted_c_batch", "emitted_c_batch_native"};
+    const char *names[9] = {"naive",           "scalar",         "batch",
+                            "emitted_c",       "jacobian",       "jacobian_batch",
+                            "emitted_c_batch", "emitted_c_batch_native", "batch_noframe"};
     double checksum = 0, batch_ns = 0;
     double *jac = malloc(n * 25 * sizeof(double));
-    for (int m = 0; m < 8; m++) {
+    for (int m = 0; m < 9; m++) {
+        if (m == 8 && !s0)
+            continue;
         if ((m == 3 && !fn) || (m == 6 && !fn_batch) || (m == 7 && !fn_batch_native)) {
             fprintf(stderr, "bench_poly: no C compiler: emitted C (%s) not measured\n", names[m]);
             continue;
@@ -212,6 +231,8 @@ int main(int argc, char **argv)
                                                                 jac + r * 25);
             else if (m == 5)
                 poly_eval_jacobian_batch(s, nr, rin, jac);
+            else if (m == 8)
+                poly_eval_batch(s0, nr, rin, out, pass);
             else
                 (m == 6 ? fn_batch : fn_batch_native)(nr, rin, out, pass);
             t[run] = now() - t0;
@@ -268,5 +289,6 @@ int main(int argc, char **argv)
     free(F.exps);
     free(F.coef);
     poly_free(s);
+    poly_free(s0);
     return 0;
 }

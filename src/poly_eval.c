@@ -4,6 +4,7 @@
  * additions, so scalar and batch results are bit-identical. */
 #include "poly_impl.h"
 
+#include <immintrin.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -125,6 +126,7 @@ enum { RUN_EVAL, RUN_JAC };
  * the fisheye-ii system; it never contracts into FMA (ISO C mode), so the bits stay. */
 #define KERNEL_NAME run_blocks_avx512
 #define KERNEL_TARGET __attribute__((target("avx512f"), optimize("O3")))
+#define KERNEL_SQRT(x) ((vn)_mm512_sqrt_pd((__m512d)(x)))
 #define VW 8
 #define KBLK 16
 #include "poly_eval_kernel.h"
@@ -132,8 +134,10 @@ enum { RUN_EVAL, RUN_JAC };
 #undef KERNEL_TARGET
 #undef VW
 #undef KBLK
+#undef KERNEL_SQRT
 #define KERNEL_NAME run_blocks_avx2
 #define KERNEL_TARGET __attribute__((target("avx2"), optimize("O3")))
+#define KERNEL_SQRT(x) ((vn)_mm256_sqrt_pd((__m256d)(x)))
 #define VW 4
 #define KBLK 8
 #include "poly_eval_kernel.h"
@@ -141,8 +145,10 @@ enum { RUN_EVAL, RUN_JAC };
 #undef KERNEL_TARGET
 #undef VW
 #undef KBLK
+#undef KERNEL_SQRT
 #define KERNEL_NAME run_blocks_sse
 #define KERNEL_TARGET __attribute__((optimize("O3")))
+#define KERNEL_SQRT(x) ((vn)_mm_sqrt_pd((__m128d)(x)))
 #define VW 2
 #define KBLK 4
 #include "poly_eval_kernel.h"
@@ -150,12 +156,34 @@ enum { RUN_EVAL, RUN_JAC };
 #undef KERNEL_TARGET
 #undef VW
 #undef KBLK
+#undef KERNEL_SQRT
 
-typedef void run_fn(const poly_system *, const poly_plan *, int, size_t, const size_t *, size_t,
-                    const double *, double *, unsigned char *, double *, double *, int *);
+typedef void run_fn(const poly_system *, const poly_plan *const *, int, int, size_t,
+                    const size_t *, size_t, const double *, double *, unsigned char *, double *,
+                    double *, double *, int *);
+
+/* The plans the kernel runs for part p: the part's plan, or with outputs outside the frame
+ * the frame view's and the plain view's (poly_impl.h; the system itself for a view that
+ * could not be built, as poly_eval_part does). Returns how many. */
+static int part_plans(const poly_system *s, int what, int p, const poly_plan **pls)
+{
+    if (what == RUN_JAC) {
+        pls[0] = &s->parts[p].dplan;
+        return 1;
+    }
+    if (!(s->frame && s->nplain)) {
+        pls[0] = &s->parts[p].plan;
+        return 1;
+    }
+    pls[0] = &(s->vframe ? s->vframe : s)->parts[p].plan;
+    pls[1] = &(s->vplain ? s->vplain : s)->parts[p].plan;
+    return 2;
+}
 
 /* The batch driver of poly_eval_batch and poly_eval_jacobian_batch: rays in runs of one
- * part (each chunk counting-sorted by part when there are several). */
+ * part (each chunk counting-sorted by part when there are several, the part chosen from
+ * the rays' own inputs as poly_eval does). RUN_EVAL applies the frame and transforms in
+ * the kernel; RUN_JAC runs the core alone. */
 static void batch(const poly_system *s, int what, size_t count, const double *in, double *out,
                   unsigned char *pass)
 {
@@ -165,10 +193,14 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
     int maxv = 0, maxo = nw;
     size_t maxoff = 1;
     for (int p = 0; p < s->nparts; p++) {
-        const poly_plan *pl = what == RUN_JAC ? &s->parts[p].dplan : &s->parts[p].plan;
-        size_t no = 2 * (size_t)pl->nprod + 2 * (size_t)pl->start[pl->nout];
-        if (pl->nvals > maxv)
-            maxv = pl->nvals;
+        const poly_plan *pls[2];
+        const int nview = part_plans(s, what, p, pls);
+        size_t no = 0;
+        for (int w = 0; w < nview; w++) {
+            no += 2 * (size_t)pls[w]->nprod + 2 * (size_t)pls[w]->start[pls[w]->nout];
+            if (pls[w]->nvals > maxv)
+                maxv = pls[w]->nvals;
+        }
         if (no > maxoff)
             maxoff = no;
     }
@@ -177,12 +209,13 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
                   : __builtin_cpu_supports("avx2")  ? run_blocks_avx2
                                                     : run_blocks_sse;
     double *v = s->nparts ? aligned_alloc(64, (size_t)maxv * BLK * sizeof(double)) : NULL;
-    double *res = aligned_alloc(64, (size_t)maxo * BLK * sizeof(double));
+    double *res = aligned_alloc(64, 2 * (size_t)maxo * BLK * sizeof(double));
+    double *fb = aligned_alloc(64, ((size_t)s->nin + 3) * BLK * sizeof(double));
     size_t *idx = s->nparts > 1 ? malloc(CHUNK * sizeof(size_t)) : NULL;
     int *part = s->nparts > 1 ? malloc(CHUNK * sizeof(int)) : NULL;
     int *start = calloc((size_t)s->nparts + 1, sizeof(int));
     int *cur = calloc((size_t)s->nparts + 1, sizeof(int));
-    if (!v || !res || !off || !start || !cur || (s->nparts > 1 && (!idx || !part))) {
+    if (!v || !res || !fb || !off || !start || !cur || (s->nparts > 1 && (!idx || !part))) {
         /* no parts, or out of memory: the rays do not pass */
         for (size_t r = 0; r < count; r++) {
             fill_nan(out + r * (size_t)nw, nw);
@@ -190,8 +223,9 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
                 pass[r] = 0;
         }
     } else if (s->nparts == 1) {
-        const poly_plan *pl = what == RUN_JAC ? &s->parts[0].dplan : &s->parts[0].plan;
-        run(s, pl, what, count, NULL, 0, in, out, pass, v, res, off);
+        const poly_plan *pls[2];
+        const int nview = part_plans(s, what, 0, pls);
+        run(s, pls, nview, what, count, NULL, 0, in, out, pass, v, res, fb, off);
     } else {
         for (size_t c0 = 0; c0 < count; c0 += CHUNK) {
             size_t n = count - c0 < CHUNK ? count - c0 : CHUNK;
@@ -206,15 +240,17 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
             for (size_t r = 0; r < n; r++)
                 idx[cur[part[r]]++] = c0 + r;
             for (int q = 0; q < s->nparts; q++) {
-                const poly_plan *pl = what == RUN_JAC ? &s->parts[q].dplan : &s->parts[q].plan;
+                const poly_plan *pls[2];
+                const int nview = part_plans(s, what, q, pls);
                 if (start[q + 1] > start[q])
-                    run(s, pl, what, (size_t)(start[q + 1] - start[q]), idx + start[q],
-                               0, in, out, pass, v, res, off);
+                    run(s, pls, nview, what, (size_t)(start[q + 1] - start[q]), idx + start[q],
+                        0, in, out, pass, v, res, fb, off);
             }
         }
     }
     free(v);
     free(res);
+    free(fb);
     free(off);
     free(idx);
     free(part);

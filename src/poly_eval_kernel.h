@@ -2,36 +2,54 @@
  *   KERNEL_NAME    the function's name
  *   KERNEL_TARGET  its target attribute (empty for the baseline)
  *   VW             doubles per hardware vector of that set (8 AVX-512, 4 AVX2, 2 SSE)
+ *   KERNEL_SQRT    the square root of a vector of VW doubles (that set's instruction)
  * and KBLK (rays per block, a multiple of VW) and RUN_EVAL / RUN_JAC defined.
  *
- * Runs plan pl on n rays: ray r is row idx[r] of in (row first + r if idx is NULL) and
- * goes to the same row of out (and pass). A block is NV = KBLK / VW vectors; the loops
- * over q < NV have constant bounds and are unrolled, so the partial sums stay in
- * registers (one vector type of KBLK lanes would be split by the compiler through the
- * stack). vbuf (nvals x KBLK), resbuf (nout x KBLK) and off (2 nprod + 2 nterms) are
- * scratch, 64-byte aligned; value k of lane r is vbuf[k * KBLK + r]. Unused lanes of the
- * last block repeat its first ray so no lane computes on garbage. Only IEEE multiplies,
- * adds and divides, never contracted: every instruction set gives the bits of the scalar
+ * Runs the plans pls[0 .. nview - 1] (one part's views, see batch()) on n rays: ray r is
+ * row idx[r] of in (row first + r if idx is NULL) and goes to the same row of out (and
+ * pass). With RUN_EVAL the system's frame and transforms are applied in the block too
+ * (the arithmetic of poly_frame.c on whole columns), so a framed system costs one pass
+ * over its rays, its two views' terms and a few operations per ray more. A block is
+ * NV = KBLK / VW vectors; the loops over q < NV have constant bounds and are unrolled, so
+ * the partial sums stay in registers (one vector type of KBLK lanes would be split by
+ * the compiler through the stack). vbuf (nvals x KBLK), resbuf (nview x nout x KBLK),
+ * fbuf ((nin + 3) x KBLK) and offbuf (2 nprod + 2 nterms per view) are scratch, 64-byte
+ * aligned; value k of lane r is vbuf[k * KBLK + r]. Unused lanes of the last block repeat
+ * its first ray so no lane computes on garbage. Only IEEE multiplies, adds, divides and
+ * square roots, never contracted: every instruction set gives the bits of the scalar
  * path. No include guard: meant to be included several times. */
 #define NV (KBLK / VW)
 
-KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *pl, int what,
-                                      size_t n, const size_t *idx, size_t first,
+KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *const *pls, int nview,
+                                      int what, size_t n, const size_t *idx, size_t first,
                                       const double *in, double *out, unsigned char *pass,
-                                      double *vbuf, double *resbuf, int *off)
+                                      double *vbuf, double *resbuf, double *fbuf, int *offbuf)
 {
     typedef double vn __attribute__((vector_size(VW * sizeof(double))));
     typedef long long vmask __attribute__((vector_size(VW * sizeof(long long))));
-    vn *v = (vn *)vbuf, *res = (vn *)resbuf;
-    const int nin = s->nin, nres = pl->nout, np = pl->nprod, nt = pl->start[nres];
-    /* the plan's value numbers as offsets in doubles into v: one load each, no
+    vn *v = (vn *)vbuf;
+    const int nin = s->nin, nres = pls[0]->nout;
+    /* the frame (poly_frame.c) done here, on whole columns of the block, in the order of
+     * poly_frame_in / poly_frame_out: view 0 sees the rotated and transformed inputs,
+     * view 1 (if any) the transformed ones, and gives the outputs outside the frame */
+    const int fr = what == RUN_EVAL && s->frame == POLY_FRAME_MERIDIONAL;
+    const int xf = what == RUN_EVAL && s->nxform > 0;
+    const int ix = s->ix, iy = s->iy, iu = s->iu, iv = s->iv;
+    double *raw = fbuf, *rad = fbuf + (size_t)nin * KBLK, *cb = rad + KBLK, *sb = cb + KBLK;
+    /* the plans' value numbers as offsets in doubles into v: one load each, no
      * arithmetic on the index (half the integer work of the loops below) */
-    int *pr = off, *fa_off = off + 2 * np, *fb_off = fa_off + nt;
-    for (int j = 0; j < 2 * np; j++)
-        pr[j] = pl->prod[j] * KBLK;
-    for (int t = 0; t < nt; t++) {
-        fa_off[t] = pl->fa[t] * KBLK;
-        fb_off[t] = pl->fb[t] * KBLK;
+    int *offs[2];
+    for (int w = 0; w < nview; w++) {
+        const poly_plan *pl = pls[w];
+        const int np = pl->nprod, nt = pl->start[pl->nout];
+        int *pr = offs[w] = offbuf, *fa_off = pr + 2 * np, *fb_off = fa_off + nt;
+        offbuf = fb_off + nt;
+        for (int j = 0; j < 2 * np; j++)
+            pr[j] = pl->prod[j] * KBLK;
+        for (int t = 0; t < nt; t++) {
+            fa_off[t] = pl->fa[t] * KBLK;
+            fb_off[t] = pl->fb[t] * KBLK;
+        }
     }
     const double *vd = (const double *)v;
     vn *d = v + (1 + nin) * NV;
@@ -47,25 +65,60 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *pl,
         for (int q = 0; q < NV; q++)
             for (int r = 0; r < VW; r++)
                 v[q][r] = 1;
-        for (int i = 0; i < nin; i++) {
-            double col[KBLK];
+        for (int i = 0; i < nin; i++)
             for (int r = 0; r < KBLK; r++)
-                col[r] = src[r][i];
-            poly_scale_column(s, i, col, KBLK);
-            memcpy(&v[(1 + i) * NV], col, sizeof col);
+                raw[i * KBLK + r] = src[r][i];
+        if (fr) {
+            const double *X = raw + ix * KBLK, *Y = raw + iy * KBLK;
+            for (int q = 0; q < NV; q++) {
+                /* r > 0 ? x / r : 1 and r > 0 ? y / r : 0 by mask (0 / 0 lanes dropped) */
+                const vn x = ((const vn *)X)[q], y = ((const vn *)Y)[q];
+                const vn rr = KERNEL_SQRT(x * x + y * y);
+                const vmask pos = rr > 0;
+                ((vn *)rad)[q] = rr;
+                ((vn *)cb)[q] = (vn)(((vmask)(x / rr) & pos) | ((vmask)((vn){0} + 1) & ~pos));
+                ((vn *)sb)[q] = (vn)((vmask)(y / rr) & pos);
+            }
         }
-        for (int j = 0; j < np; j++) {
-            const vn *x = (const vn *)(vd + pr[2 * j]), *y = (const vn *)(vd + pr[2 * j + 1]);
-            for (int q = 0; q < NV; q++)
-                d[j * NV + q] = x[q] * y[q];
-        }
-        for (int o = 0; o < nres; o++) {
-            const int t0 = pl->start[o], ns = pl->nsingle[o], nf = pl->start[o + 1] - t0 - ns;
-            const double *c = pl->coef + t0;
-            const int *fa = fa_off + t0;
-            vn a0[NV], a1[NV], a2[NV], a3[NV];
-            for (int q = 0; q < NV; q++)
-                a0[q] = a1[q] = a2[q] = a3[q] = (vn){0};
+        for (int w = 0; w < nview; w++) {
+            const poly_plan *pl = pls[w];
+            const int np = pl->nprod;
+            const int *pr = offs[w], *fa_off = pr + 2 * np, *fb_off = fa_off + pl->start[nres];
+            vn *res = (vn *)resbuf + (size_t)w * nres * NV;
+            for (int i = 0; i < nin; i++) {
+                double col[KBLK];
+                const double *X = raw + i * KBLK;
+                const int turns = fr && (i == ix || i == iy || i == iu || i == iv);
+                if (w > 0 && !turns)
+                    continue; /* the same value as in view 0, still in place */
+                if (turns && w == 0) {
+                    const double *U = raw + iu * KBLK, *V = raw + iv * KBLK;
+                    for (int r = 0; r < KBLK; r++)
+                        col[r] = i == ix   ? rad[r]
+                                 : i == iy ? 0
+                                 : i == iu ? cb[r] * U[r] + sb[r] * V[r]
+                                           : cb[r] * V[r] - sb[r] * U[r];
+                } else {
+                    memcpy(col, X, sizeof col);
+                }
+                if (xf && s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
+                    for (int r = 0; r < KBLK; r++)
+                        col[r] = 1 / (col[r] * col[r]);
+                poly_scale_column(s, i, col, KBLK);
+                memcpy(&v[(1 + i) * NV], col, sizeof col);
+            }
+            for (int j = 0; j < np; j++) {
+                const vn *x = (const vn *)(vd + pr[2 * j]), *y = (const vn *)(vd + pr[2 * j + 1]);
+                for (int q = 0; q < NV; q++)
+                    d[j * NV + q] = x[q] * y[q];
+            }
+            for (int o = 0; o < nres; o++) {
+                const int t0 = pl->start[o], ns = pl->nsingle[o], nf = pl->start[o + 1] - t0 - ns;
+                const double *c = pl->coef + t0;
+                const int *fa = fa_off + t0;
+                vn a0[NV], a1[NV], a2[NV], a3[NV];
+                for (int q = 0; q < NV; q++)
+                    a0[q] = a1[q] = a2[q] = a3[q] = (vn){0};
 #define SINGLE(acc, k)                                                                    \
     do {                                                                                   \
         const vn *x = (const vn *)(vd + fa[k]);                                            \
@@ -80,38 +133,56 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *pl,
         for (int q = 0; q < NV; q++)                                                       \
             acc[q] += ck * (x[q] * y[q]);                                                  \
     } while (0)
-            int t = 0;
-            for (; t + 4 <= ns; t += 4) {
-                SINGLE(a0, t);
-                SINGLE(a1, t + 1);
-                SINGLE(a2, t + 2);
-                SINGLE(a3, t + 3);
-            }
-            if (t < ns)
-                SINGLE(a0, t);
-            if (t + 1 < ns)
-                SINGLE(a1, t + 1);
-            if (t + 2 < ns)
-                SINGLE(a2, t + 2);
-            c += ns;
-            fa += ns;
-            const int *fb = fb_off + t0 + ns;
-            for (t = 0; t + 4 <= nf; t += 4) {
-                FUSED(a0, t);
-                FUSED(a1, t + 1);
-                FUSED(a2, t + 2);
-                FUSED(a3, t + 3);
-            }
-            if (t < nf)
-                FUSED(a0, t);
-            if (t + 1 < nf)
-                FUSED(a1, t + 1);
-            if (t + 2 < nf)
-                FUSED(a2, t + 2);
+                int t = 0;
+                for (; t + 4 <= ns; t += 4) {
+                    SINGLE(a0, t);
+                    SINGLE(a1, t + 1);
+                    SINGLE(a2, t + 2);
+                    SINGLE(a3, t + 3);
+                }
+                if (t < ns)
+                    SINGLE(a0, t);
+                if (t + 1 < ns)
+                    SINGLE(a1, t + 1);
+                if (t + 2 < ns)
+                    SINGLE(a2, t + 2);
+                c += ns;
+                fa += ns;
+                const int *fb = fb_off + t0 + ns;
+                for (t = 0; t + 4 <= nf; t += 4) {
+                    FUSED(a0, t);
+                    FUSED(a1, t + 1);
+                    FUSED(a2, t + 2);
+                    FUSED(a3, t + 3);
+                }
+                if (t < nf)
+                    FUSED(a0, t);
+                if (t + 1 < nf)
+                    FUSED(a1, t + 1);
+                if (t + 2 < nf)
+                    FUSED(a2, t + 2);
 #undef SINGLE
 #undef FUSED
-            for (int q = 0; q < NV; q++)
-                res[o * NV + q] = (a0[q] + a1[q]) + (a2[q] + a3[q]);
+                for (int q = 0; q < NV; q++)
+                    res[o * NV + q] = (a0[q] + a1[q]) + (a2[q] + a3[q]);
+            }
+        }
+        vn *res = (vn *)resbuf;
+        if (nview > 1) /* the outputs outside the frame from view 1 */
+            for (int o = 0; o < nres; o++)
+                if (s->plain && s->plain[o])
+                    for (int q = 0; q < NV; q++)
+                        res[o * NV + q] = res[(nres + o) * NV + q];
+        if (fr) {
+            const vn *C = (const vn *)cb, *S = (const vn *)sb;
+            for (int k = 0; k < s->npairs; k++) {
+                vn *A = res + s->pair[2 * k] * NV, *B = res + s->pair[2 * k + 1] * NV;
+                for (int q = 0; q < NV; q++) {
+                    const vn a = A[q], b = B[q];
+                    A[q] = C[q] * a - S[q] * b;
+                    B[q] = S[q] * a + C[q] * b;
+                }
+            }
         }
         const double *rs = (const double *)res; /* output k of lane r at rs[k * KBLK + r] */
         if (what == RUN_JAC) {

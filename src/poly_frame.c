@@ -9,7 +9,7 @@
  * without an offset by the fitter, since the outputs are odd or even in it.
  *
  * Every path (scalar, batch, Jacobian, emitted C) computes the same expressions in the
- * same order: r = sqrt(x*x + y*y), c = x / r, s = y / r (c = 1, s = 0 on the axis),
+ * same order (the batch path in its kernel, poly_eval_kernel.h, on columns of rays): r = sqrt(x*x + y*y), c = x / r, s = y / r (c = 1, s = 0 on the axis),
  * u' = c*u + s*v, v' = c*v - s*u; outputs a = c*a' - s*b', b = s*a' + c*b'. The pass
  * test is made on the frame outputs (the rotation keeps the length of a pair). */
 #include "poly_impl.h"
@@ -17,9 +17,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* Rays the batch wrapper transforms at a time (bounds its buffers). */
-#define FRAME_CHUNK 256
 
 const char *poly_frame_name(int frame)
 {
@@ -106,8 +103,9 @@ static int rebuild_pairs(poly_system *s, int strict)
 }
 
 /* The views (poly_impl.h): copies of the inputs, scaling and parts, each with the
- * terms of its own outputs. No frame, transform or pass circle: the wrapper applies
- * them. On failure there are no views, and evaluation runs the whole system twice. */
+ * terms of its own outputs. No frame, transform or pass circle: poly_eval_part and the
+ * batch kernel apply them. On failure there are no views, and evaluation runs the
+ * whole system twice. */
 static void rebuild_views(poly_system *s)
 {
     poly_free(s->vframe);
@@ -328,50 +326,12 @@ int poly_eval_part(const poly_system *s, int part, const double *in, double *out
     return passes(s, out);
 }
 
+/* The batch kernel applies the frame and transforms itself, in the same order as
+ * poly_eval_part above (poly_eval_kernel.h), one pass over the rays for both views. */
 void poly_eval_batch(const poly_system *s, size_t count, const double *in, double *out,
                      unsigned char *pass)
 {
-    if (!poly_frame_active(s)) {
-        poly_eval_batch_core(s, count, in, out, pass);
-        return;
-    }
-    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout;
-    const int np = s->frame && s->nplain;
-    double *t = malloc(FRAME_CHUNK * nin * sizeof *t);
-    double *cs = malloc(FRAME_CHUNK * 2 * sizeof *cs);
-    double *op = np ? malloc(FRAME_CHUNK * nout * sizeof *op) : NULL;
-    if (!t || !cs || (np && !op)) {
-        for (size_t r = 0; r < count * nout; r++)
-            out[r] = NAN;
-        if (pass)
-            memset(pass, 0, count);
-        free(t);
-        free(cs);
-        free(op);
-        return;
-    }
-    for (size_t r0 = 0; r0 < count; r0 += FRAME_CHUNK) {
-        size_t n = count - r0 < FRAME_CHUNK ? count - r0 : FRAME_CHUNK;
-        for (size_t r = 0; r < n; r++)
-            poly_frame_in(s, in + (r0 + r) * nin, t + r * nin, cs + 2 * r);
-        poly_eval_batch_core(s->vframe ? s->vframe : s, n, t, out + r0 * nout, NULL);
-        if (np) {
-            for (size_t r = 0; r < n; r++)
-                plain_in(s, in + (r0 + r) * nin, t + r * nin);
-            poly_eval_batch_core(s->vplain ? s->vplain : s, n, t, op, NULL);
-            for (size_t r = 0; r < n; r++)
-                take_plain(s, op + r * nout, out + (r0 + r) * nout);
-        }
-        for (size_t r = 0; r < n; r++) {
-            double *o = out + (r0 + r) * nout;
-            poly_frame_out(s, cs + 2 * r, o);
-            if (pass)
-                pass[r0 + r] = (unsigned char)passes(s, o);
-        }
-    }
-    free(t);
-    free(cs);
-    free(op);
+    poly_eval_batch_core(s, count, in, out, pass);
 }
 
 /* With a frame, ray by ray through poly_eval_jacobian (the same values). */

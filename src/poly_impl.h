@@ -113,7 +113,9 @@ int poly_select_part(const poly_system *sys, const double *in);
 
 /* The polynomial core of evaluation (poly_eval.c): the system's inputs are taken as
  * already in the frame and transformed, the outputs are left in the frame. poly_frame.c
- * wraps them into the public poly_eval* functions. */
+ * wraps them into the public poly_eval* functions. Except poly_eval_batch_core: its
+ * kernel applies the frame and transforms of sys itself (per block, in vector
+ * registers), so poly_eval_batch is that function alone. */
 int poly_eval_part_core(const poly_system *sys, int part, const double *in, double *out);
 void poly_eval_batch_core(const poly_system *sys, size_t count, const double *in, double *out,
                           unsigned char *pass);

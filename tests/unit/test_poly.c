@@ -250,13 +250,64 @@ static void test_pass_and_domain(void **st)
     poly_free(s);
 }
 
+/* The batch kernel applies the frame and transforms itself (poly_eval_kernel.h); the
+ * scalar path applies them ray by ray in poly_frame.c: two implementations of the same
+ * expressions, which must agree bit for bit, for each layout lens-fit can write, with
+ * two parts, a pass circle, a count that leaves a partial block, rays on the axis and
+ * rays whose 1/lambda^2 is infinite (they must not pass). */
+static void test_batch_frame_layouts(void **st)
+{
+    (void)st;
+    enum { N = 203 };
+    double *in = malloc(N * 5 * sizeof *in), *outb = malloc(N * 5 * sizeof *outb);
+    unsigned char pb[N];
+    for (int layout = 0; layout < 4; layout++) {
+        poly_system *s = fixture_system(30, 9, 2, 40 + (uint64_t)layout);
+        assert_non_null(s);
+        if (layout != 2) /* 2: the transform without the frame */
+            assert_int_equal(poly_set_frame(s, POLY_FRAME_MERIDIONAL), 0);
+        if (layout == 0 || layout == 3) { /* lens-fit's default: out_u, out_v outside */
+            assert_int_equal(poly_set_output_plain(s, 2, 1), 0);
+            assert_int_equal(poly_set_output_plain(s, 3, 1), 0);
+        }
+        if (layout != 1) {
+            assert_int_equal(poly_set_transform(s, 4, POLY_XFORM_INVERSE_SQUARE), 0);
+            poly_set_scaling(s, 4, 4.25, 2.0);
+        }
+        if (layout == 3)
+            assert_int_equal(poly_add_pass_circle(s, 0, 1, 50), 0);
+        fixture_rng g = {90 + (uint64_t)layout};
+        for (int r = 0; r < N; r++)
+            fixture_ray(&g, in + r * 5);
+        in[0] = in[1] = 0;         /* on the axis */
+        in[5 * 7 + 1] = 0;         /* on +x: c = 1 exactly */
+        in[5 * 9 + 4] = 0;         /* 1/lambda^2 infinite */
+        in[5 * 200 + 4] = 0;       /* the same in the last, partial block */
+        poly_eval_batch(s, N, in, outb, pb);
+        int npass = 0;
+        for (int r = 0; r < N; r++) {
+            double o[5];
+            int p = poly_eval(s, in + r * 5, o);
+            assert_memory_equal(o, outb + r * 5, sizeof o);
+            assert_int_equal(p, pb[r]);
+            npass += p;
+        }
+        if (layout != 1)
+            assert_int_equal(pb[9], 0);
+        assert_true(npass > N / 2);
+        poly_free(s);
+    }
+    free(in);
+    free(outb);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_builder_rejects), cmocka_unit_test(test_closed_form),
         cmocka_unit_test(test_batch_one_part),  cmocka_unit_test(test_batch_three_parts),
         cmocka_unit_test(test_jacobian_fd),     cmocka_unit_test(test_part_selection),
-        cmocka_unit_test(test_pass_and_domain),
+        cmocka_unit_test(test_pass_and_domain), cmocka_unit_test(test_batch_frame_layouts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
