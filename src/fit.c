@@ -454,7 +454,7 @@ poly_system *fit_system_core(const char *lens_name, int ninputs, const char *con
     for (size_t r = 0; r < n; r++)
         for (int i = 0; i < ninputs; i++) {
             double *v = c.s + r * ninputs + i;
-            *v = (*v - off[i]) / scl[i];
+            *v = (*v - off[i]) * (1 / scl[i]); /* as evaluation scales (poly_impl.h) */
         }
     /* Held-out rows: a seeded shuffle, so the split is reproducible. */
     size_t nho = (size_t)floor(opt->holdout * (double)n);

@@ -54,9 +54,9 @@ static void emit_scaled_inputs(FILE *f, const poly_system *s, const char *indent
         fprintf(f, srcfmt, i);
         fputs(" - ", f);
         num(f, s->offset[i]);
-        fputs(") / ", f);
+        fputs(") * (1.0 / ", f);
         num(f, s->scale[i]);
-        fputs("; /* ", f);
+        fputs("); /* ", f);
         comment_name(f, s->inputs[i]);
         fputs(" */\n", f);
     }
@@ -175,7 +175,8 @@ static void emit_frame(FILE *f, const poly_system *s, const char *func)
         fprintf(f,
                 "    /* the meridional frame: the sensor point rotated onto +x */\n"
                 "    const double fr = sqrt(in[%d] * in[%d] + in[%d] * in[%d]);\n"
-                "    const double fc = fr > 0 ? in[%d] / fr : 1, fs = fr > 0 ? in[%d] / fr : 0;\n"
+                "    const double fi = 1 / fr;\n"
+                "    const double fc = fr > 0 ? in[%d] * fi : 1, fs = fr > 0 ? in[%d] * fi : 0;\n"
                 "    t[%d] = fr;\n    t[%d] = 0;\n"
                 "    t[%d] = fc * in[%d] + fs * in[%d];\n"
                 "    t[%d] = fc * in[%d] - fs * in[%d];\n"

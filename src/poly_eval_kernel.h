@@ -71,13 +71,14 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
         if (fr) {
             const double *X = raw + ix * KBLK, *Y = raw + iy * KBLK;
             for (int q = 0; q < NV; q++) {
-                /* r > 0 ? x / r : 1 and r > 0 ? y / r : 0 by mask (0 / 0 lanes dropped) */
+                /* r > 0 ? x * (1 / r) : 1 and r > 0 ? y * (1 / r) : 0 by mask (0 * inf lanes dropped) */
                 const vn x = ((const vn *)X)[q], y = ((const vn *)Y)[q];
                 const vn rr = KERNEL_SQRT(x * x + y * y);
                 const vmask pos = rr > 0;
                 ((vn *)rad)[q] = rr;
-                ((vn *)cb)[q] = (vn)(((vmask)(x / rr) & pos) | ((vmask)((vn){0} + 1) & ~pos));
-                ((vn *)sb)[q] = (vn)((vmask)(y / rr) & pos);
+                const vn ir = 1 / rr; /* inf on the axis, dropped by the mask */
+                ((vn *)cb)[q] = (vn)(((vmask)(x * ir) & pos) | ((vmask)((vn){0} + 1) & ~pos));
+                ((vn *)sb)[q] = (vn)((vmask)(y * ir) & pos);
             }
         }
         for (int w = 0; w < nview; w++) {

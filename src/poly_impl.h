@@ -137,14 +137,16 @@ void poly_format_number(char *buf, size_t len, double v);
 void poly_format_monomial(FILE *f, const poly_system *s, const int *e);
 
 /* The scaled inputs of n rays: x[r] holds input i of ray r and becomes
- * s_i = (x - offset_i) / scale_i. The only place that maps inputs to the polynomial's
+ * s_i = (x - offset_i) * (1 / scale_i): a multiply, where a divide per ray and input
+ * cost the batch path a fifth of its time; 1 / scale_i is rounded once, the same in every
+ * path (the emitted C folds the same constant). The only place that maps inputs to the polynomial's
  * variables (with poly_scale_chain, its derivative): every path calls it, the batch path
  * on a whole column of a block, where it compiles to vector code. */
 static inline void poly_scale_column(const poly_system *s, int i, double *x, int n)
 {
-    const double off = s->offset[i], sc = s->scale[i]; /* locals: x cannot alias them */
+    const double off = s->offset[i], inv = 1 / s->scale[i]; /* locals: x cannot alias them */
     for (int r = 0; r < n; r++)
-        x[r] = (x[r] - off) / sc;
+        x[r] = (x[r] - off) * inv;
 }
 
 /* d out / d in_i from g = d out / d s_i (the chain rule through poly_scale_column). */
