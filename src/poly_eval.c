@@ -19,7 +19,7 @@
 /* Rays whose parts are sorted out together in the batch path (bounds the index buffer). */
 #define CHUNK 2048
 
-static int passes(const poly_system *s, const double *out)
+int poly_passes(const poly_system *s, const double *out)
 {
     for (int o = 0; o < s->nout; o++)
         if (!isfinite(out[o]))
@@ -112,7 +112,7 @@ int poly_eval_part_core(const poly_system *s, int part, const double *in, double
         fill_nan(out, s->nout);
         return 0;
     }
-    return passes(s, out);
+    return poly_passes(s, out);
 }
 
 /* What a batch run computes: the outputs with the passage test, or the derivatives

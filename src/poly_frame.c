@@ -270,20 +270,6 @@ int poly_eval(const poly_system *s, const double *in, double *out)
     return poly_eval_part(s, s->nparts ? poly_select_part(s, in) : -1, in, out);
 }
 
-/* The pass test of poly_eval.c on the final outputs: with a frame, every path
- * (scalar, batch, emitted C) tests the rotated-back values, so they agree bit for bit. */
-static int passes(const poly_system *s, const double *out)
-{
-    for (int o = 0; o < s->nout; o++)
-        if (!isfinite(out[o]))
-            return 0;
-    for (int c = 0; c < s->ncircles; c++) {
-        double a = out[s->circles[c].a], b = out[s->circles[c].b], r = s->circles[c].radius;
-        if (!(a * a + b * b <= r * r))
-            return 0;
-    }
-    return 1;
-}
 
 /* The inputs of the outputs outside the frame: the transforms alone. */
 static void plain_in(const poly_system *s, const double *in, double *t)
@@ -324,7 +310,7 @@ int poly_eval_part(const poly_system *s, int part, const double *in, double *out
     poly_frame_out(s, cs, out);
     if (t != buf)
         free(t);
-    return passes(s, out);
+    return poly_passes(s, out);  /* on the rotated-back values, as every path */
 }
 
 /* The batch kernel applies the frame and transforms itself, in the same order as
@@ -448,5 +434,5 @@ int poly_eval_jacobian(const poly_system *s, const double *in, double *out, doub
     }
     poly_frame_out(s, cs, out);
     free(buf);
-    return passes(s, out);
+    return poly_passes(s, out);
 }

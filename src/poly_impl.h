@@ -107,6 +107,10 @@ struct poly_system {
     char **meta_key, **meta_val;
 };
 
+/* The pass test on final outputs (rotated back when there is a frame, so every path,
+ * scalar, batch and emitted C, agrees bit for bit): finite, and inside every circle. */
+int poly_passes(const poly_system *s, const double *out);
+
 /* The part a ray at sensor radius r belongs to (the nearest one if none contains r). */
 int poly_part_for_radius(const poly_system *sys, double r);
 int poly_select_part(const poly_system *sys, const double *in);
