@@ -87,7 +87,7 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
             const int *pr = offs[w], *fa_off = pr + 2 * np, *fb_off = fa_off + pl->start[nres];
             vn *res = (vn *)resbuf + (size_t)w * nres * NV;
             for (int i = 0; i < nin; i++) {
-                double col[KBLK];
+                _Alignas(64) double col[KBLK]; /* aligned: a split vector access here cost up to 2x, by stack position */
                 const double *X = raw + i * KBLK;
                 const int turns = fr && (i == ix || i == iy || i == iu || i == iv);
                 if (w > 0 && !turns)
