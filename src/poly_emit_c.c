@@ -62,6 +62,17 @@ static void emit_scaled_inputs(FILE *f, const poly_system *s, const char *indent
     }
 }
 
+/* Pass circle c as a C condition on the outputs in array var: one text for the scalar
+ * function and the batch loop, so both test exactly the same expression. */
+static void emit_circle(FILE *f, const poly_system *s, int c, const char *var)
+{
+    const poly_circle *k = &s->circles[c];
+    fprintf(f, "%s[%d] * %s[%d] + %s[%d] * %s[%d] <= ", var, k->a, var, k->a, var, k->b, var, k->b);
+    num(f, k->radius);
+    fputs(" * ", f);
+    num(f, k->radius);
+}
+
 static int emit_part(FILE *f, const poly_system *s, const poly_part *p, const char *outfmt);
 
 /* NAME_batch: one part goes in blocks of 8 rays through one loop without branches, which
@@ -99,11 +110,8 @@ static int emit_batch(FILE *f, const poly_system *s, const char *func)
         for (int o = 0; o < nout; o++)
             fprintf(f, " && isfinite(o[%d])", o);
         for (int c = 0; c < s->ncircles; c++) {
-            fprintf(f, "\n                    && o[%d] * o[%d] + o[%d] * o[%d] <= ", s->circles[c].a,
-                    s->circles[c].a, s->circles[c].b, s->circles[c].b);
-            num(f, s->circles[c].radius);
-            fputs(" * ", f);
-            num(f, s->circles[c].radius);
+            fputs("\n                    && ", f);
+            emit_circle(f, s, c, "o");
         }
         fputs(");\n        }\n    }\n", f);
     }
@@ -214,11 +222,8 @@ static void emit_frame(FILE *f, const poly_system *s, const char *func)
     fprintf(f, "    for (int o = 0; o < %d; o++)\n        if (!isfinite(out[o]))\n            return 0;\n",
             nout);
     for (int c = 0; c < s->ncircles; c++) {
-        fprintf(f, "    if (!(out[%d] * out[%d] + out[%d] * out[%d] <= ", s->circles[c].a,
-                s->circles[c].a, s->circles[c].b, s->circles[c].b);
-        num(f, s->circles[c].radius);
-        fputs(" * ", f);
-        num(f, s->circles[c].radius);
+        fputs("    if (!(", f);
+        emit_circle(f, s, c, "out");
         fputs("))\n        return 0;\n", f);
     }
     fputs("    return 1;\n}\n", f);
@@ -355,11 +360,8 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
     fputs("    for (int o = 0; o < ", f);
     fprintf(f, "%d; o++)\n        if (!isfinite(out[o]))\n            return 0;\n", nout);
     for (int c = 0; c < s->ncircles; c++) {
-        fprintf(f, "    if (!(out[%d] * out[%d] + out[%d] * out[%d] <= ", s->circles[c].a,
-                s->circles[c].a, s->circles[c].b, s->circles[c].b);
-        num(f, s->circles[c].radius);
-        fputs(" * ", f);
-        num(f, s->circles[c].radius);
+        fputs("    if (!(", f);
+        emit_circle(f, s, c, "out");
         fputs("))\n        return 0;\n", f);
     }
     fputs("    return 1;\n}\n", f);
