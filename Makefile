@@ -1,8 +1,8 @@
 # sparselens: `make` builds bin/ and build/; see README.md for the other targets.
 # Sources are discovered by wildcard so that adding a file never needs an edit here:
-#   src/*.c, src/*.cpp  -> build/liblens.a
-#   cmd/<verb>.c        -> bin/lens-<verb>
-#   tests/unit/test_*.c -> build/tests/test_* (cmocka)
+#   src/<stage>/*.c, src/<stage>/*.cpp -> build/liblens.a (public headers: include/sparselens/)
+#   cmd/lens-<verb>.c                  -> bin/lens-<verb>
+#   tests/unit/<stage>/test_*.c        -> build/tests/test_* (cmocka)
 #   bench/bench_*.c     -> build/bench/bench_* (`make bench` runs tools/bench.sh)
 #   tests/fuzz/fuzz_*.c -> build-fuzz/fuzz_* (libFuzzer, clang; `make fuzz`)
 
@@ -21,18 +21,20 @@ BIN   := bin-san
 OPT   := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
 endif
 
-CPPFLAGS += -Isrc -I/usr/include/OpenEXR -D_DEFAULT_SOURCE
+CPPFLAGS += -Iinclude -Isrc -I/usr/include/OpenEXR -D_DEFAULT_SOURCE
 CFLAGS   += -std=c11 $(OPT) -Wall -Wextra -fopenmp -march=x86-64-v2
 CXXFLAGS += -std=c++17 $(OPT) -Wall -Wextra -I/usr/include/opencv4
 LDFLAGS  += $(OPT) -fopenmp
 LDLIBS   := -lopencv_calib3d -lopencv_imgcodecs -lopencv_imgproc -lopencv_core \
             -lOpenEXRCore-3_1 -lproj -llapacke -llapack -lblas -lstdc++ -lm
 
-LIB_C    := $(wildcard src/*.c)
-LIB_CXX  := $(wildcard src/*.cpp)
+LIB_C    := $(wildcard src/*/*.c)
+LIB_CXX  := $(wildcard src/*/*.cpp)
+HEADERS  := $(wildcard include/sparselens/*.h src/*/*.h)
+TEST_SRC := $(wildcard tests/unit/*/test_*.c)
 LIB_OBJ  := $(LIB_C:src/%.c=$(BUILD)/src/%.o) $(LIB_CXX:src/%.cpp=$(BUILD)/src/%.o)
-CMDS     := $(patsubst cmd/%.c,$(BIN)/lens-%,$(wildcard cmd/*.c))
-TESTS    := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(wildcard tests/unit/test_*.c))
+CMDS     := $(patsubst cmd/%.c,$(BIN)/%,$(wildcard cmd/lens-*.c))
+TESTS    := $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(TEST_SRC)))
 BENCHES  := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/bench_*.c))
 LIB      := $(BUILD)/liblens.a
 
@@ -42,11 +44,11 @@ all: $(CMDS) $(TESTS) $(BENCHES)
 deps:
 	@tools/install-deps.sh
 
-$(BUILD)/src/%.o: src/%.c $(wildcard src/*.h)
+$(BUILD)/src/%.o: src/%.c $(HEADERS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
-$(BUILD)/src/%.o: src/%.cpp $(wildcard src/*.h)
+$(BUILD)/src/%.o: src/%.cpp $(HEADERS)
 	@mkdir -p $(dir $@)
 	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c $< -o $@
 
@@ -54,11 +56,12 @@ $(LIB): $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
-$(BIN)/lens-%: cmd/%.c $(LIB)
+$(BIN)/lens-%: cmd/lens-%.c $(LIB)
 	@mkdir -p $(BIN)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
-$(BUILD)/tests/%: tests/unit/%.c $(LIB) $(wildcard tests/unit/*.h)
+vpath test_%.c $(sort $(dir $(TEST_SRC)))
+$(BUILD)/tests/test_%: test_%.c $(LIB) $(wildcard tests/unit/*.h)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) -Itests/unit $(CFLAGS) $< $(LIB) $(LDFLAGS) -lcmocka $(LDLIBS) -o $@
 

@@ -17,13 +17,13 @@
 #include <string.h>
 #include <time.h>
 
-#include "diag.h"
-#include "fit.h"
-#include "lens.h"
-#include "poly.h"
-#include "samples.h"
-#include "sampling.h"
-#include "trace.h"
+#include "sparselens/diag.h"
+#include "sparselens/fit.h"
+#include "sparselens/lens.h"
+#include "sparselens/poly.h"
+#include "sparselens/samples.h"
+#include "sparselens/sampling.h"
+#include "sparselens/trace.h"
 
 static const char *cols[10] = {"x", "y", "u", "v", "lambda", "out_x", "out_y", "out_u", "out_v", "out_eta"};
 

@@ -29,9 +29,9 @@
 #include <unistd.h>
 
 #include "../tests/unit/poly_fixture.h"
-#include "lens.h"
-#include "poly.h"
-#include "trace.h"
+#include "sparselens/lens.h"
+#include "sparselens/poly.h"
+#include "sparselens/trace.h"
 
 static double now(void)
 {

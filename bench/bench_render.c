@@ -13,13 +13,13 @@
 #include <string.h>
 #include <time.h>
 
-#include "glass.h"
-#include "lens.h"
-#include "render.h"
-#include "render_effects.h"
-#include "render_lens.h"
-#include "scene.h"
-#include "trace.h"
+#include "sparselens/glass.h"
+#include "sparselens/lens.h"
+#include "sparselens/render.h"
+#include "sparselens/render_effects.h"
+#include "sparselens/render_lens.h"
+#include "sparselens/scene.h"
+#include "sparselens/trace.h"
 
 static double now(void)
 {

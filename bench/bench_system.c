@@ -9,10 +9,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "lens.h"
-#include "poly.h"
-#include "samples.h"
-#include "trace.h"
+#include "sparselens/lens.h"
+#include "sparselens/poly.h"
+#include "sparselens/samples.h"
+#include "sparselens/trace.h"
 
 static double now(void)
 {

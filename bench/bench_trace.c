@@ -11,9 +11,9 @@
 #include <time.h>
 
 #include "../tests/unit/fixture_lenses.h"
-#include "rng.h"
-#include "sampling.h"
-#include "trace.h"
+#include "sparselens/rng.h"
+#include "sparselens/sampling.h"
+#include "sparselens/trace.h"
 
 /* The machine may be shared: wall time counts other processes' turns, CPU time does
  * not. Single thread: CPU time of the process; all threads: wall time. */

@@ -22,7 +22,7 @@ mode=${1:-60}
 OUT=${FUZZ_BUILD:-build-fuzz}
 CLANG=${CLANG:-clang}
 SAN="-fsanitize=address,undefined -fno-sanitize-recover=undefined"
-CFLAGS="-std=c11 -O1 -g -fno-omit-frame-pointer -fopenmp -march=x86-64-v2 -Wall -Wextra -Isrc -Itests/fuzz -I/usr/include/OpenEXR -D_DEFAULT_SOURCE -D_GNU_SOURCE"
+CFLAGS="-std=c11 -O1 -g -fno-omit-frame-pointer -fopenmp -march=x86-64-v2 -Wall -Wextra -Iinclude -Isrc -Itests/fuzz -I/usr/include/OpenEXR -D_DEFAULT_SOURCE -D_GNU_SOURCE"
 LIBS="-lOpenEXRCore-3_1 -lproj -llapacke -llapack -lblas -lm"
 export SPARSELENS_GLASS_CATALOG=${SPARSELENS_GLASS_CATALOG:-lenses/glass.catalog}
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
@@ -52,12 +52,12 @@ missing_needs() {
   done
 }
 
-# Library objects: every src/*.c, rebuilt when it or any header is newer than its object.
+# Library objects: every src/<stage>/*.c, rebuilt when it or any header is newer than its object.
 build_lib() {
   mkdir -p "$OUT/obj"
   local newest_h src obj pids=() rc=0
-  newest_h=$(ls -t src/*.h | head -1)
-  for src in src/*.c; do
+  newest_h=$(ls -t include/sparselens/*.h src/*/*.h | head -1)
+  for src in src/*/*.c; do
     obj=$OUT/obj/$(basename "$src" .c).o
     if [ ! -f "$obj" ] || [ "$src" -nt "$obj" ] || [ "$newest_h" -nt "$obj" ]; then
       "$CLANG" $CFLAGS $SAN -fsanitize=fuzzer-no-link -c "$src" -o "$obj" &
@@ -68,7 +68,7 @@ build_lib() {
   for p in "${pids[@]}"; do wait "$p" || rc=1; done
   [ $rc -eq 0 ] || { echo "fuzz: building the library with clang failed" >&2; return 1; }
   # Objects of sources that were removed must not linger in the archive.
-  for obj in "$OUT"/obj/*.o; do [ -f "src/$(basename "$obj" .o).c" ] || rm -f "$obj"; done
+  for obj in "$OUT"/obj/*.o; do compgen -G "src/*/$(basename "$obj" .o).c" >/dev/null || rm -f "$obj"; done
   rm -f "$OUT/liblens.a"
   ar rcs "$OUT/liblens.a" "$OUT"/obj/*.o
 }

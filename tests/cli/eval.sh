@@ -22,7 +22,7 @@ if [ $rc -ne 0 ] && grep -q "bad.txt:3:" $T/err.txt && [ "$(sed -n 3p $T/out.txt
    [ "$(awk 'NR == 4 { print $3 }' $T/out.txt)" = 3 ]
 then ok eval_bad_row; else fail eval_bad_row "rc=$rc $(cat $T/err.txt) $(cat $T/out.txt)"; fi
 
-# the report, against the hand computation in tests/unit/test_eval_report.c
+# the report, against the hand computation in tests/unit/analysis/test_eval_report.c
 run $E $tiny tests/data/eval_tiny.txt --report --bins 2 >$T/rep.txt 2>/dev/null
 rms=$(awk '$1 == "out_x" && $NF == "mm" && NF == 7 { print $3 }' $T/rep.txt)
 if head -1 $T/rep.txt | grep -q '^# columns: output rays rms mean p99 max unit' && near "$rms" 0.661438 1e-6 &&

@@ -1,11 +1,11 @@
 /* libFuzzer target: the Zemax AGF glass catalog reader (agf_parse), 8-bit and UTF-16.
  * A glass handed to the callback must be finite where it matters (its range).
- * needs: src/agf.h */
+ * needs: include/sparselens/agf.h */
 #include <math.h>
 
-#include "agf.h"
+#include "sparselens/agf.h"
 #include "fuzz_common.h"
-#include "glass.h"
+#include "sparselens/glass.h"
 
 static int add(void *ctx, const glass_t *g, lens_err *err)
 {

@@ -1,11 +1,11 @@
 /* libFuzzer target: the project's .catalog glass catalog reader (glass_catalog_load).
  * Every glass it accepts must give a finite index inside its own wavelength range, or
  * an error, never a silent NaN.
- * needs: src/glass.c */
+ * needs: src/lens/glass.c */
 #include <math.h>
 
 #include "fuzz_common.h"
-#include "glass.h"
+#include "sparselens/glass.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

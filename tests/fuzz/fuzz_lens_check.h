@@ -7,9 +7,9 @@
 #include <math.h>
 
 #include "fuzz_common.h"
-#include "lens.h"
-#include "paraxial.h"
-#include "trace.h"
+#include "sparselens/lens.h"
+#include "sparselens/paraxial.h"
+#include "sparselens/trace.h"
 
 static inline char *fuzz_lens_text(const lens_t *lens, size_t *len)
 {

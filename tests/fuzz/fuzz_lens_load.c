@@ -1,9 +1,9 @@
 /* libFuzzer target: lens_load on a file without a known extension, so the content
  * sniffing (native, .fx or pbrt) picks the reader, as for a lens piped in or renamed.
- * needs: src/lens_load.c */
+ * needs: src/lens/lens_load.c */
 #include "fuzz_common.h"
 #include "fuzz_lens_check.h"
-#include "lens.h"
+#include "sparselens/lens.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {

@@ -9,8 +9,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "lens.h"
-#include "lens_import.h"
+#include "sparselens/lens.h"
+#include "sparselens/lens_import.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

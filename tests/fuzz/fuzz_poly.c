@@ -1,10 +1,10 @@
 /* libFuzzer target: the .poly reader (poly_read_stream). An accepted system must write
  * and read back, and evaluate without faults at points inside and outside its domain.
- * needs: src/poly_io.c */
+ * needs: src/poly/poly_io.c */
 #include <math.h>
 
 #include "fuzz_common.h"
-#include "poly.h"
+#include "sparselens/poly.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

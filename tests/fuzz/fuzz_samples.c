@@ -1,11 +1,11 @@
 /* libFuzzer target: the sample-file reader (samples_open, samples_map, samples_next).
  * A malformed row must come back as -1 with every value nan and a FILE:LINE message, and
  * reading goes on after it, as the filters (lens-trace -, lens-eval) rely on.
- * needs: src/samples.c */
+ * needs: src/sample/samples.c */
 #include <math.h>
 
 #include "fuzz_common.h"
-#include "samples.h"
+#include "sparselens/samples.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

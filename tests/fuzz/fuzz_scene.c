@@ -1,8 +1,8 @@
 /* libFuzzer target: the lens-render scene parser (scene_parse). The camera file it names
  * is only recorded here, not loaded.
- * needs: src/scene.h */
+ * needs: include/sparselens/scene.h */
 #include "fuzz_common.h"
-#include "scene.h"
+#include "sparselens/scene.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

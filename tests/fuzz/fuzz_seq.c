@@ -1,9 +1,9 @@
 /* libFuzzer target: the CODE V .seq importer (lens_read_seq).
- * needs: src/import.h */
+ * needs: include/sparselens/import.h */
 #include "fuzz_common.h"
 #include "fuzz_lens_check.h"
-#include "lens.h"
-#include "lens_import.h"
-#include "import.h"
+#include "sparselens/lens.h"
+#include "sparselens/lens_import.h"
+#include "sparselens/import.h"
 
 FUZZ_LENS_READER_TARGET(lens_read_seq, "fuzz.seq")

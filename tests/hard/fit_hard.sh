@@ -8,7 +8,7 @@ BUILD=${BUILD:-build}
 LIB=$BUILD/liblens.a
 if [ ! -f "$LIB" ] || ! nm "$LIB" 2>/dev/null | grep -q ' T fit_system$'; then
   ok "hard_fit (skipped: fit_system not in $LIB on this branch)"; exit 0; fi
-flags="-std=c11 -O2 -g -fopenmp -march=x86-64-v2 -Isrc -D_DEFAULT_SOURCE"
+flags="-std=c11 -O2 -g -fopenmp -march=x86-64-v2 -Iinclude -Isrc -D_DEFAULT_SOURCE"
 [ -n "${SANITIZE:-}" ] && flags="$flags -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined"
 libs="-lopencv_calib3d -lopencv_imgcodecs -lopencv_imgproc -lopencv_core -lOpenEXRCore-3_1 -lproj -llapacke -llapack -lblas -lstdc++ -lm"
 # shellcheck disable=SC2086

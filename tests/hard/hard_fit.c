@@ -26,9 +26,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "fit.h"
-#include "poly.h"
-#include "trace.h"
+#include "sparselens/fit.h"
+#include "sparselens/poly.h"
+#include "sparselens/trace.h"
 
 static int failures;
 static void ok(const char *n, const char *note) { printf("ok %s%s%s\n", n, note ? " " : "", note ? note : ""); }

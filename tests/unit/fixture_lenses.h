@@ -9,7 +9,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "lens.h"
+#include "sparselens/lens.h"
 
 typedef struct {
     double r, t, nd, vd, sd; /* nd 0: air; vd 0: constant index; r 0: flat */
@@ -38,7 +38,7 @@ static inline int fixture_build(lens_t *lens, const char *name, const fixture_ro
 
 /* Paraxial y-nu trace from an axial object at infinity at the d line: the back focal
  * distance (last surface to focus). Written here so the tests do not depend on
- * src/paraxial.c. */
+ * src/lens/paraxial.c. */
 static inline double fixture_bfl(const lens_t *lens)
 {
     double y = 1, nu = 0, n1 = 1;

@@ -8,9 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "glass.h"
-#include "lens.h"
-#include "paraxial.h"
+#include "sparselens/glass.h"
+#include "sparselens/lens.h"
+#include "sparselens/paraxial.h"
 
 #define DATA "tests/data/import/"
 

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "poly.h"
+#include "sparselens/poly.h"
 
 typedef struct {
     uint64_t s;

@@ -1,0 +1,445 @@
+/* lens-trace: generates sample rays and traces them through a lens, or traces the rays
+ * given on stdin; writes a sample file (lens-samples(5)). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "sparselens/cli.h"
+#include "sparselens/lens_cli_options.h"
+#include "sparselens/outfile.h"
+#include "sparselens/samples.h"
+#include "sparselens/sampling.h"
+#include "sparselens/trace.h"
+#include "sparselens/trace_clip.h"
+#include "sparselens/trace_stop.h"
+
+static const char *prog = "lens-trace";
+
+static const char *usage =
+    "usage: lens-trace LENS [-n N] [--seed S] [--sampling pupil|rear] [--lambda A:B|L]\n"
+    "                  [--to outer|stop] [--all] [--stop-columns] [--clip-columns]\n"
+    "                  [--clip-surfaces LIST] [--sensor WxH]\n"
+    "                  [--threads T] [-o FILE] [-]\n"
+    "Generates N rays from the sensor and traces them through LENS, writing a sample file\n"
+    "with columns x y u v lambda out_x out_y out_u out_v out_eta. With '-', traces the rays\n"
+    "read from stdin (columns x y u v lambda, found by name) instead: one output row per\n"
+    "input row, rays that do not pass with out_eta 0, bad rows as nan (exit status 1).\n"
+    "  -n N             rays to write (default 10000): passing rays, or all rays with --all\n"
+    "  --seed S         random seed (default 1); the same seed gives the same file\n"
+    "  --sampling STR   pupil: directions that pass from each sensor point (default);\n"
+    "                   rear: aimed at the rear element (the usual way, a baseline)\n"
+    "  --lambda A:B     wavelengths uniform in A..B um, or one wavelength (default 0.4:0.7)\n"
+    "  --to outer|stop  output frame: the outer pupil (default) or the aperture stop\n"
+    "  --all            also write rays that do not pass (out_eta 0, other outputs nan)\n"
+    "  --stop-columns   add columns ap_x ap_y: the ray's hit on the aperture stop (nan when\n"
+    "                   it does not get through to the stop); lens-fit then fits a stop\n"
+    "                   pass circle\n"
+    "  --clip-columns   ap_x ap_y, plus sN_x sN_y for every other surface N (numbered as in\n"
+    "                   lens-info) that blocks >= 0.5%% of a pilot trace of 65536 rays\n"
+    "                   (same sampling, fixed seed): the hit on surface N, nan when the ray\n"
+    "                   does not get there within its semi-diameter; lens-fit fits a pass\n"
+    "                   circle for each\n"
+    "  --clip-surfaces LIST  as --clip-columns, for the surfaces N,N,... given (no pilot)\n"    "  --sensor WxH     sensor size in mm (default: the lens header)\n"
+    "  --threads T      threads (default: all)\n"
+    "  -o FILE          write FILE (complete or not at all) instead of stdout\n"
+    LENS_CLI_OPTIONS_HELP
+    "See lens-trace(1) and lens-samples(5).\n";
+
+static const char *const base_columns[] = {"x", "y", "u", "v", "lambda",
+                                           "out_x", "out_y", "out_u", "out_v", "out_eta",
+                                           "ap_x", "ap_y"};
+enum { NCOLS = 10, NCOLS_STOP = 12 };
+/* Rays of the pilot trace that picks the clip surfaces, and its seed: fixed, so that a
+ * training and a test set traced with different --seed get the same columns. */
+enum { PILOT_RAYS = 65536, PILOT_SEED = 20161 };
+#define CLIP_MIN_SHARE 0.005
+
+typedef struct {
+    const char *lens_path, *out_path;
+    long count;
+    unsigned long seed;
+    sampling_strategy strategy;
+    double lambda_min, lambda_max, sensor_w, sensor_h;
+    trace_target target;
+    int all, threads, from_stdin, stop_columns, clip_columns;
+    const char *clip_list;
+    int nclip, *clip;        /* clip surfaces, 0-based (besides the stop) */
+    double *clip_share;      /* pilot: blocked share per surface, or NULL */
+    char **names;            /* column names */
+} trace_args;
+
+static int ncols(const trace_args *a)
+{
+    return (a->stop_columns ? NCOLS_STOP : NCOLS) + 2 * a->nclip;
+}
+
+static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
+{
+    fprintf(f, "# lens-trace %s: lens %s, frame %s", a->lens_path, lens->name[0] ? lens->name : "-",
+            a->target == TRACE_TO_STOP ? "stop" : "outer");
+    if (!a->from_stdin)
+        fprintf(f, ", sampling %s, seed %lu, lambda %g:%g um, sensor %gx%g mm",
+                sampling_strategy_name(a->strategy), a->seed, a->lambda_min, a->lambda_max,
+                a->sensor_w, a->sensor_h);
+    fputc('\n', f);
+    if (a->clip_share) {
+        fprintf(f, "# clip surfaces (>= %g%% of %d pilot rays blocked there):", 100 * CLIP_MIN_SHARE,
+                PILOT_RAYS);
+        for (int k = 0; k < a->nclip; k++)
+            fprintf(f, " %d (%.3g%%)", a->clip[k] + 1, 100 * a->clip_share[a->clip[k]]);
+        fprintf(f, "; stop %d (%.3g%%)\n", lens->stop + 1, 100 * a->clip_share[lens->stop]);
+    }
+    samples_write_header(f, (const char *const *)a->names, ncols(a));
+}
+
+static void sampling_setup(const trace_args *a, sampling_options *so)
+{
+    *so = sampling_defaults();
+    so->strategy = a->strategy;
+    so->sensor_w = a->sensor_w;
+    so->sensor_h = a->sensor_h;
+    so->lambda_min = a->lambda_min;
+    so->lambda_max = a->lambda_max;
+    so->seed = a->seed;
+    so->threads = a->threads;
+}
+
+/* The clip surfaces: those given, or those a pilot trace finds blocking rays. */
+static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
+{
+    a->clip = malloc(lens->nsurf * sizeof *a->clip);
+    if (!a->clip) {
+        lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    if (a->clip_list) {
+        const char *p = a->clip_list;
+        while (*p) {
+            char *end;
+            long s = strtol(p, &end, 10);
+            if (end == p || (*end && *end != ',') || s < 1 || (size_t)s > lens->nsurf) {
+                lens_errf(err, NULL, 0, "--clip-surfaces: expected surface numbers 1..%zu "
+                          "separated by commas, not '%s'", lens->nsurf, a->clip_list);
+                return -1;
+            }
+            int dup = (int)s - 1 == lens->stop; /* the stop has ap_x ap_y already */
+            for (int k = 0; k < a->nclip; k++)
+                dup |= a->clip[k] == (int)s - 1;
+            if (!dup)
+                a->clip[a->nclip++] = (int)s - 1;
+            p = *end ? end + 1 : end;
+        }
+        return 0;
+    }
+    if (isnan(a->sensor_w)) {
+        lens_errf(err, a->lens_path, 0, "--clip-columns: no sensor size for the pilot trace; "
+                  "give --sensor WxH or --clip-surfaces");
+        return -1;
+    }
+    sampling_options so;
+    sampling_setup(a, &so);
+    so.seed = PILOT_SEED;
+    a->clip_share = malloc(lens->nsurf * sizeof *a->clip_share);
+    if (!a->clip_share) {
+        lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    int k = trace_clip_pilot(lens, &so, PILOT_RAYS, CLIP_MIN_SHARE, a->target == TRACE_TO_OUTER,
+                             a->clip_share, a->clip, err);
+    if (k < 0)
+        return -1;
+    a->nclip = k;
+    return 0;
+}
+
+static int make_names(trace_args *a, lens_err *err)
+{
+    int nc = ncols(a), nb = a->stop_columns ? NCOLS_STOP : NCOLS;
+    a->names = calloc((size_t)nc, sizeof *a->names);
+    if (!a->names)
+        goto oom;
+    for (int k = 0; k < nb; k++)
+        a->names[k] = (char *)base_columns[k];
+    for (int k = 0; k < 2 * a->nclip; k++) {
+        a->names[nb + k] = malloc(32);
+        if (!a->names[nb + k])
+            goto oom;
+        snprintf(a->names[nb + k], 32, "s%d_%c", a->clip[k / 2] + 1, k % 2 ? 'y' : 'x');
+    }
+    return 0;
+oom:
+    lens_errf(err, NULL, 0, "out of memory");
+    return -1;
+}
+
+static void free_names(trace_args *a)
+{
+    if (a->names) {
+        int nb = a->stop_columns ? NCOLS_STOP : NCOLS;
+        for (int k = 0; k < 2 * a->nclip; k++)
+            free(a->names[nb + k]);
+    }
+    free(a->names);
+    free(a->clip);
+    free(a->clip_share);
+}
+
+static void progress(long done, long total, long generated)
+{
+    fprintf(stderr, "\r%s: %ld / %ld rays written (%ld traced)", prog, done, total, generated);
+}
+
+/* Generation: rays are made in index order, so the first N passing rays of a seed are
+ * the same whatever the chunk size or thread count. */
+static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *err)
+{
+    sampling_options so;
+    sampling_setup(a, &so);
+    ray_generator *g = ray_generator_new(lens, &so, err);
+    if (!g)
+        return -1;
+    const size_t chunk = 1 << 16;
+    double *in = malloc(chunk * 5 * sizeof *in), *out = malloc(chunk * 5 * sizeof *out);
+    double *ap = a->stop_columns ? malloc(chunk * 2 * sizeof *ap) : NULL;
+    double *hits = a->nclip ? malloc(chunk * 2 * (size_t)a->nclip * sizeof *hits) : NULL;
+    double *row = malloc((size_t)ncols(a) * sizeof *row);
+    if (!in || !out || (a->stop_columns && !ap) || (a->nclip && !hits) || !row) {
+        lens_errf(err, NULL, 0, "out of memory");
+        free(in);
+        free(out);
+        free(ap);
+        free(hits);
+        free(row);
+        ray_generator_free(g);
+        return -1;
+    }
+    int show = cli_progress_wanted() && a->count > 200000;
+    long written = 0;
+    size_t next = 0;
+    /* A lens that passes almost nothing would loop for ever: give up after 1000 rays
+     * per wanted ray, which no usable sampling comes near. */
+    size_t give_up = (size_t)a->count * 1000 + chunk;
+    int rc = 0;
+    while (written < a->count) {
+        if (next >= give_up) {
+            lens_errf(err, a->lens_path, 0, "only %ld of %zu traced rays pass the lens; "
+                      "check the sensor size and the lens", written, next);
+            rc = -1;
+            break;
+        }
+        size_t n = chunk;
+        if (a->all && (size_t)(a->count - written) < n)
+            n = (size_t)(a->count - written);
+        if (ray_generator_fill(g, next, n, in, err) != 0 ||
+            trace_batch(lens, a->target, n, in, out, NULL, a->threads, err) != 0 ||
+            (ap && trace_stop_batch(lens, n, in, ap, a->threads, err) != 0)) {
+            rc = -1;
+            break;
+        }
+        for (int k = 0; k < a->nclip && rc == 0; k++)
+            if (trace_surface_batch(lens, a->clip[k], n, in, hits + 2 * chunk * (size_t)k,
+                                    a->threads, err) != 0)
+                rc = -1;
+        if (rc)
+            break;
+        next += n;
+        for (size_t i = 0; i < n && written < a->count; i++) {
+            if (!a->all && !(out[5 * i + 4] > 0))
+                continue;
+            memcpy(row, in + 5 * i, 5 * sizeof *row);
+            memcpy(row + 5, out + 5 * i, 5 * sizeof *row);
+            if (ap)
+                memcpy(row + NCOLS, ap + 2 * i, 2 * sizeof *row);
+            for (int k = 0, nb = ap ? NCOLS_STOP : NCOLS; k < a->nclip; k++)
+                memcpy(row + nb + 2 * k, hits + 2 * chunk * (size_t)k + 2 * i, 2 * sizeof *row);
+            samples_write_row(f, row, ncols(a));
+            written++;
+        }
+        if (show)
+            progress(written, a->count, (long)next);
+    }
+    if (show)
+        fputc('\n', stderr);
+    free(in);
+    free(out);
+    free(ap);
+    free(hits);
+    free(row);
+    ray_generator_free(g);
+    return rc;
+}
+
+/* Filter: one output row per input row; a bad row becomes a row of nan, is reported
+ * with its line, and makes the exit status non-zero at the end. */
+static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_rows, lens_err *err)
+{
+    samples_reader *r = samples_open("-", err);
+    if (!r)
+        return -1;
+    static const char *const want[] = {"x", "y", "u", "v", "lambda"};
+    int map[5];
+    if (samples_map(r, want, 5, map, err) != 0) {
+        samples_close(r);
+        return -1;
+    }
+    int nc = samples_ncols(r);
+    double *vals = malloc((size_t)nc * sizeof *vals);
+    double *n = malloc(lens->nsurf * sizeof *n);
+    double *row = malloc((size_t)ncols(a) * sizeof *row);
+    double cached_lambda = NAN;
+    int cached_ok = 0;
+    lens_err cached_err = {{0}};
+    int st;
+    while (vals && n && row && (st = samples_next(r, vals, err)) != 0) {
+        for (int k = 0; k < ncols(a); k++)
+            row[k] = NAN;
+        if (st < 0) {
+            diag_print(prog, err);
+            ++*bad_rows;
+            samples_write_row(f, row, ncols(a));
+            continue;
+        }
+        for (int k = 0; k < 5; k++)
+            row[k] = vals[map[k]];
+        int finite = 1;
+        for (int k = 0; k < 5; k++)
+            finite &= isfinite(row[k]) != 0;
+        if (!finite) {
+            fprintf(stderr, "%s: %s:%ld: x, y, u, v and lambda must be finite numbers\n", prog,
+                    samples_path(r), samples_line(r));
+            ++*bad_rows;
+        } else {
+            if (row[4] != cached_lambda) {
+                cached_lambda = row[4];
+                cached_ok = lens_indices(lens, row[4], n, &cached_err) == 0;
+            }
+            if (!cached_ok) {
+                fprintf(stderr, "%s: %s:%ld: %s\n", prog, samples_path(r), samples_line(r),
+                        cached_err.msg);
+                ++*bad_rows;
+            } else {
+                trace_result res = trace_sample(lens, n, a->target, row, row + 5);
+                row[9] = res.status == TRACE_PASSED ? res.transmittance : 0.0;
+                if (a->stop_columns)
+                    trace_stop_hit(lens, n, row, row + NCOLS);
+                for (int k = 0, nb = a->stop_columns ? NCOLS_STOP : NCOLS; k < a->nclip; k++)
+                    trace_surface_hit(lens, a->clip[k], n, row, row + nb + 2 * k);
+            }
+        }
+        samples_write_row(f, row, ncols(a));
+    }
+    int rc = (vals && n && row) ? 0 : -1;
+    if (rc)
+        lens_errf(err, NULL, 0, "out of memory");
+    free(vals);
+    free(n);
+    free(row);
+    samples_close(r);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    trace_args a = {NULL, "-", 10000, 1, SAMPLING_PUPIL, 0.4, 0.7, NAN, NAN,
+                    TRACE_TO_OUTER, 0, 0, 0, 0, 0, NULL, 0, NULL, NULL, NULL};
+    const char *v;
+    lens_cli_options lopt;
+    lens_cli_options_init(&lopt);
+    for (int i = 1; i < argc; i++) {
+        if (lens_cli_common_take(prog, usage, argc, argv, &i, &lopt))
+            continue;
+        if (cli_opt(prog, argc, argv, &i, "-n", &v))
+            a.count = cli_count(prog, "-n", v, 1, 1000000000L);
+        else if (cli_opt(prog, argc, argv, &i, "--seed", &v))
+            a.seed = (unsigned long)cli_count(prog, "--seed", v, 0, 4000000000000000L);
+        else if (cli_opt(prog, argc, argv, &i, "--sampling", &v)) {
+            if (sampling_strategy_parse(v, &a.strategy) != 0)
+                diag_die(prog, "--sampling: expected 'pupil' or 'rear', not '%s'", v);
+        } else if (cli_opt(prog, argc, argv, &i, "--lambda", &v)) {
+            if (strchr(v, ':'))
+                cli_pair(prog, "--lambda", v, ':', &a.lambda_min, &a.lambda_max);
+            else
+                a.lambda_min = a.lambda_max = cli_double(prog, "--lambda", v);
+            if (!(a.lambda_min > 0 && a.lambda_max >= a.lambda_min))
+                diag_die(prog, "--lambda: need 0 < A <= B (micrometres), got '%s'", v);
+        } else if (cli_opt(prog, argc, argv, &i, "--to", &v)) {
+            if (!strcmp(v, "outer"))
+                a.target = TRACE_TO_OUTER;
+            else if (!strcmp(v, "stop"))
+                a.target = TRACE_TO_STOP;
+            else
+                diag_die(prog, "--to: expected 'outer' or 'stop', not '%s'", v);
+        } else if (!strcmp(argv[i], "--all"))
+            a.all = 1;
+        else if (!strcmp(argv[i], "--stop-columns"))
+            a.stop_columns = 1;
+        else if (!strcmp(argv[i], "--clip-columns"))
+            a.stop_columns = a.clip_columns = 1;
+        else if (cli_opt(prog, argc, argv, &i, "--clip-surfaces", &v))
+            a.clip_list = v, a.stop_columns = a.clip_columns = 1;
+        else if (cli_opt(prog, argc, argv, &i, "--sensor", &v)) {
+            cli_pair(prog, "--sensor", v, 'x', &a.sensor_w, &a.sensor_h);
+            if (!(a.sensor_w > 0 && a.sensor_h > 0))
+                diag_die(prog, "--sensor: sizes must be positive");
+        } else if (cli_opt(prog, argc, argv, &i, "--threads", &v))
+            a.threads = (int)cli_count(prog, "--threads", v, 1, 1024);
+        else if (cli_opt(prog, argc, argv, &i, "-o", &v))
+            a.out_path = v;
+        else if (!strcmp(argv[i], "-"))
+            a.from_stdin = 1;
+        else if (argv[i][0] == '-')
+            diag_die(prog, "unknown option '%s' (see --help)", argv[i]);
+        else if (a.lens_path)
+            diag_die(prog, "one lens at a time ('%s' and '%s')", a.lens_path, argv[i]);
+        else
+            a.lens_path = argv[i];
+    }
+    if (!a.lens_path)
+        diag_die(prog, "no lens given (see --help)");
+    lens_t lens;
+    cli_load_lens(prog, a.lens_path, lens_cli_options_get(&lopt), &lens);
+    lens_cli_options_free(&lopt);
+    if (isnan(a.sensor_w)) {
+        a.sensor_w = lens.sensor_w;
+        a.sensor_h = lens.sensor_h;
+    }
+    if (!a.from_stdin && isnan(a.sensor_w))
+        diag_die(prog, "%s: no sensor size in the lens header; give --sensor WxH", a.lens_path);
+
+    lens_err err;
+    if ((a.clip_columns && choose_clip(&lens, &a, &err) != 0) || make_names(&a, &err) != 0) {
+        diag_print(prog, &err);
+        free_names(&a);
+        lens_free(&lens);
+        return 1;
+    }
+    outfile *of = outfile_open(a.out_path, &err);
+    if (!of) {
+        diag_print(prog, &err);
+        free_names(&a);
+        lens_free(&lens);
+        return 1;
+    }
+    FILE *f = outfile_stream(of);
+    write_preamble(f, &lens, &a);
+    int bad_rows = 0;
+    int rc = a.from_stdin ? filter(&lens, &a, f, &bad_rows, &err) : generate(&lens, &a, f, &err);
+    if (rc != 0) {
+        outfile_abort(of);
+        diag_print(prog, &err);
+        free_names(&a);
+        lens_free(&lens);
+        return 1;
+    }
+    if (outfile_commit(of, &err) != 0) {
+        diag_print(prog, &err);
+        rc = -1;
+    }
+    if (bad_rows)
+        fprintf(stderr, "%s: %d bad input rows (written as nan)\n", prog, bad_rows);
+    free_names(&a);
+    lens_free(&lens);
+    return rc != 0 || bad_rows ? 1 : 0;
+}

@@ -1,0 +1,63 @@
+#ifndef SPARSELENS_DISTORT_H
+#define SPARSELENS_DISTORT_H
+/* Distortion: where real chief rays land compared with an ideal projection, the
+ * relative illumination, the distorted image of a regular object grid, and OpenCV's
+ * camera models fitted to that mapping. Conventions: imaging.h. */
+#include <stdio.h>
+
+#include "sparselens/image.h"
+#include "sparselens/imaging.h"
+#include "sparselens/projection.h"
+
+typedef struct {
+    double field;      /* degrees, or object height mm */
+    double h_real;     /* chief-ray image height (sensor y), mm */
+    double x_real;     /* chief-ray sensor x (0 for a rotationally symmetric lens), mm */
+    double h_ideal;    /* f tan(theta) (infinity), or paraxial magnification x height */
+    double dist_pct;   /* 100 (h_real - h_ideal) / h_ideal; 0 on the axis */
+    double rel_illum;  /* relative illumination, 1 on the axis */
+    double map_pct[PROJ_COUNT]; /* distortion against each ideal projection (infinity) */
+} distort_row;
+
+/* First-order scale of the ideal image: the paraxial focal length (object at infinity)
+ * or the paraxial magnification of the chief ray on the sensor plane (finite object,
+ * image height per object height, positive for an inverted real image). */
+int distort_scale(const imaging *im, double lambda, double *scale, lens_err *err);
+
+/* Relative illumination from energy through the pupil: the transmitted flux of a
+ * field's ray bundle (a grid of ris x ris rays across the beam, wider than the
+ * entrance pupil, weighted by transmittance; for a finite object by solid angle and
+ * Lambert's cosine) over the image area it lands on per unit of object (solid angle or
+ * area, from the derivative of the chief-ray height), divided by the same on axis. The
+ * cos^4 fall-off and vignetting both come out of the trace. */
+int distort_curve(const imaging *im, double lambda, const double *field, int nf, int ris,
+                  distort_row *rows, lens_err *err);
+
+/* The projection with the least RMS distortion over the rows with a non-zero field
+ * (object at infinity); *rms_pct gets that RMS. */
+proj_kind distort_best_mapping(const distort_row *rows, int nf, double *rms_pct);
+
+/* The grid map: nx x ny points spread evenly over a sensor rectangle 2 half_w x 2 half_h
+ * centred on the axis, taken as ideal image points of projection k (focal length or
+ * magnification `scale`), traced back to their object (direction or point) and imaged
+ * through the model. pts gets 4 doubles per point: ideal x, y, real x, y (NAN when the
+ * chief ray fails or the projection has no object there). Returns the number of
+ * points with a real image. */
+int distort_grid(const imaging *im, double lambda, proj_kind k, double scale, double half_w,
+                 double half_h, int nx, int ny, double *pts);
+
+/* OpenCV's models fitted to the grid map made with projection k (object at infinity;
+ * points within max_deg of the axis): the object points are the directions of the rays
+ * on the plane z = 1 in front of the camera, the image points the real sensor points in
+ * pixels of a sensor of width x height pixels over 2 half_w x 2 half_h mm. */
+int distort_opencv(const imaging *im, double lambda, int fisheye, proj_kind k, const double *pts,
+                   int npts, double scale, double half_w, double half_h, int width, int height,
+                   double max_deg, cv_camera_fit *fit, lens_err *err);
+
+/* Grid map picture: the ideal grid in grey and each model's distorted grid (ideal +
+ * factor x displacement) in its colour. pts[m] as from distort_grid. */
+int distort_write_png(const char *path, const char *title, int nmodels, const char *const *names,
+                      const double *const *pts, int nx, int ny, double half_w, double half_h,
+                      double factor, lens_err *err);
+
+#endif

@@ -1,0 +1,44 @@
+#ifndef SPARSELENS_FIT_H
+#define SPARSELENS_FIT_H
+/* Adaptive sparse polynomial regression (lens-fit): greedy forward selection scored by
+ * the exact drop in residual, an exchange pass, held-out stopping, and radial
+ * partitioning where one polynomial cannot meet the tolerance. */
+#include <stddef.h>
+
+#include "sparselens/diag.h"
+#include "sparselens/poly.h"
+
+typedef struct {
+    int max_terms;      /* per output and part (default 40) */
+    int max_degree;     /* candidates: all monomials up to this total degree (default 11) */
+    double tolerance;   /* stop an output when its held-out RMS error <= tolerance (output units); 0 = off */
+    const double *output_tolerance; /* per output (noutputs values) instead of tolerance; NULL: none */
+    int max_parts;      /* radial parts allowed when one polynomial misses the tolerance (default 1) */
+    double holdout;     /* fraction of samples held out for stopping (default 0.2) */
+    unsigned long seed; /* for the held-out split */
+    int threads;        /* <= 0: OpenMP default */
+    int verbose;        /* progress lines on stderr */
+    unsigned no_offset; /* bit i: scale input i without an offset (a radius >= 0 whose
+                           polynomial is odd or even in it) */
+    int frame;          /* POLY_FRAME_*: fit in the meridional frame of a rotationally
+                           symmetric lens (needs inputs x, y, u, v); default none */
+    const unsigned char *frame_plain; /* per output (noutputs): 1 = fitted outside the
+                           frame (directions that do not turn with the ray, as the
+                           outer-pupil u, v); NULL: all in it */
+    int lambda_transform; /* POLY_XFORM_* for the input lambda; default identity */
+    const double *scaling; /* NULL, or per input (offset, scale) pairs to use instead of
+                              the automatic ones (nan: automatic); for two fits sharing
+                              one system */
+    int force_parts;    /* > 0: exactly this many radial parts, no tolerance search */
+} fit_options;
+
+void fit_options_default(fit_options *opt);
+
+/* Fits every output on the rows whose outputs are all finite (rays that pass).
+ * in: count x ninputs, out: count x noutputs (row-major). Returns NULL with err set on
+ * degenerate input (too few usable rows, a constant input column, non-finite inputs). */
+poly_system *fit_system(const char *lens_name, int ninputs, const char *const *inputs,
+                        int noutputs, const char *const *outputs, size_t count, const double *in,
+                        const double *out, const fit_options *opt, lens_err *err);
+
+#endif

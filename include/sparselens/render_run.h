@@ -1,0 +1,39 @@
+#ifndef SPARSELENS_RENDER_RUN_H
+#define SPARSELENS_RENDER_RUN_H
+/* The whole of lens-render as a library call: scene -> camera (exact lens, a given
+ * .poly, or a system fitted for the scene's effects) -> image -> EXR (+ PNG). */
+#include <stdio.h>
+
+#include "sparselens/diag.h"
+#include "sparselens/lens.h"
+#include "sparselens/render.h"
+
+typedef struct {
+    const char *scene;      /* scene file */
+    const lens_load_options *load; /* glass catalogs and fallback for the lens; NULL: defaults */
+    const char *exr;        /* output image (required) */
+    const char *png;        /* preview, or NULL */
+    const char *cache_dir;  /* fitted systems; NULL: $XDG_CACHE_HOME/sparselens or ~/.cache/sparselens */
+    int exact;              /* trace exactly instead of a polynomial system */
+    int rear_sampling;      /* sample the rear element instead of the line pupil */
+    render_estimator estimator; /* Eq. 13 (default) or the full one */
+    long spp;               /* 0: the scene's */
+    int threads;            /* <= 0: OpenMP default */
+    const char *reference;  /* an EXR to compare with (RMS error printed to log), or NULL */
+    FILE *log;              /* decisions and figures (stderr in lens-render); may be NULL */
+    void (*progress)(void *ctx, double done);
+    void *progress_ctx;
+} render_options;
+
+int render_run(const render_options *opt, render_stats *st, lens_err *err);
+
+/* RMS difference of rgb (width x height, as render_image fills it) from the R, G, B
+ * channels of the EXR file ref, and that over ref's mean. 0 on success. */
+int render_compare(const char *ref, int width, int height, const float *rgb, double *rms,
+                   double *rel, lens_err *err);
+
+/* Writes the preview: exposure so that the 99th percentile of the luminance maps to
+ * white, then the sRGB curve. rgb as render_image fills it. */
+int render_write_png(const char *path, int width, int height, const float *rgb, lens_err *err);
+
+#endif

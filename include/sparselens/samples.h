@@ -1,0 +1,37 @@
+#ifndef SPARSELENS_SAMPLES_H
+#define SPARSELENS_SAMPLES_H
+/* Sample files (man 5 lens-samples): whitespace-separated numbers, '#' comments, and one
+ * header line "# columns: name name ..." naming the columns. Columns are found by
+ * name, never by position. Streamed: rows are read one at a time, so files of any size
+ * work in constant memory. */
+#include <stdio.h>
+
+#include "sparselens/diag.h"
+
+typedef struct samples_reader samples_reader;
+
+/* Opens path ("-" = stdin) and reads up to the header line. NULL on error (err set:
+ * unreadable file, empty file, no "# columns:" line before the first data row). */
+samples_reader *samples_open(const char *path, lens_err *err);
+int samples_ncols(const samples_reader *r);
+const char *samples_colname(const samples_reader *r, int i);
+int samples_find(const samples_reader *r, const char *name); /* column index or -1 */
+/* Fills map[i] with the column of names[i]; -1 with err set naming the first missing one. */
+int samples_map(const samples_reader *r, const char *const *names, int n, int *map,
+                lens_err *err);
+/* Next data row into vals[ncols].
+ * Returns 1 for a row, 0 at end of file, and -1 for a malformed row (wrong number of
+ * fields, or a field that is not a number): err says FILE:LINE, vals are all nan, and
+ * the caller may go on reading. "nan" and "inf" fields are numbers here; callers that
+ * need finite inputs check them. */
+int samples_next(samples_reader *r, double *vals, lens_err *err);
+long samples_line(const samples_reader *r); /* line number of the last row read */
+const char *samples_path(const samples_reader *r);
+void samples_close(samples_reader *r);
+
+/* Writes "# columns: a b c". */
+void samples_write_header(FILE *f, const char *const *names, int n);
+/* One row, %.17g, non-finite values as nan/inf. */
+void samples_write_row(FILE *f, const double *vals, int n);
+
+#endif

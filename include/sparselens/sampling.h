@@ -1,0 +1,57 @@
+#ifndef SPARSELENS_SAMPLING_H
+#define SPARSELENS_SAMPLING_H
+/* Generation of sample rays (lens-trace): sensor points uniform over a sensor rectangle
+ * centred on the axis, wavelengths uniform over a range, and sensor-side directions
+ * (u, v) (trace.h) by one of two strategies:
+ *  - rear:  towards a uniform point of the rear element's clear disc (the disc of its
+ *           semi-diameter in its vertex plane): the usual way, kept as the baseline;
+ *  - pupil: from the pupil sampler (pupil_sampler.h), which knows which directions
+ *           pass from each sensor radius.
+ * Ray i is made from the random stream (seed, i) alone (rng.h), so any range of rays
+ * can be generated on its own, by any number of threads, with the same result. */
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sparselens/diag.h"
+#include "sparselens/lens.h"
+#include "sparselens/pupil_sampler.h"
+
+typedef enum { SAMPLING_PUPIL = 0, SAMPLING_REAR } sampling_strategy;
+
+typedef struct {
+    sampling_strategy strategy;
+    double sensor_w, sensor_h;     /* mm; NAN: the lens's sensor_w, sensor_h */
+    double lambda_min, lambda_max; /* um; equal for one wavelength */
+    uint64_t seed;
+    int pupil_radii, pupil_grid;   /* pupil sampler resolution (0: its defaults) */
+    int threads;                   /* <= 0: OpenMP default */
+} sampling_options;
+
+sampling_options sampling_defaults(void); /* pupil, lens sensor, 0.4..0.7 um, seed 1 */
+
+/* "pupil" / "rear" <-> strategy; parse returns -1 for an unknown name. */
+int sampling_strategy_parse(const char *name, sampling_strategy *s);
+const char *sampling_strategy_name(sampling_strategy s);
+
+/* The rear strategy at one sensor point: rnd in [0,1)^2 -> (u, v) and its pdf per du dv. */
+void rear_sample(const lens_t *lens, double x, double y, const double rnd[2], double *u,
+                 double *v, double *pdf);
+double rear_pdf(const lens_t *lens, double x, double y, double u, double v);
+
+typedef struct ray_generator ray_generator;
+
+/* Checks the options (sensor size known, wavelengths inside every glass's range) and
+ * builds the pupil sampler when needed. NULL with err set on failure. */
+ray_generator *ray_generator_new(const lens_t *lens, const sampling_options *opt,
+                                 lens_err *err);
+/* Rays first .. first+count-1 as rows (x, y, u, v, lambda). A sensor point from which no
+ * direction passes is drawn again from the same stream (up to 64 times; then the ray is
+ * aimed at the rear element), so pupil-sampled points are uniform over the part of the
+ * sensor the lens can reach. */
+int ray_generator_fill(const ray_generator *g, size_t first, size_t count, double *rows,
+                       lens_err *err);
+/* The pupil sampler in use (NULL for the rear strategy). */
+const pupil_sampler *ray_generator_sampler(const ray_generator *g);
+void ray_generator_free(ray_generator *g);
+
+#endif

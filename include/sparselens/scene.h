@@ -1,0 +1,93 @@
+#ifndef SPARSELENS_SCENE_H
+#define SPARSELENS_SCENE_H
+/* Scenes for lens-render (man 5 lens-scene): a camera, a few diffuse objects and some
+ * emitters, in plain text.
+ *
+ * Scene frame (mm): the vertex of the lens's front element is the origin, the camera
+ * looks along +z (objects have z > 0), x to the right, y up. The lens frame of lens.h
+ * (z towards the sensor) is this frame turned half a turn about y:
+ *   scene (x, y, z) = lens (-x, y, -z).
+ * The image is upright: pixel (0, 0) is the top-left corner of the picture. */
+#include <stddef.h>
+
+#include "sparselens/diag.h"
+
+typedef enum { SCENE_GREY, SCENE_RGB, SCENE_SPECTRAL } scene_mode;
+typedef enum { TEX_CONSTANT, TEX_CHECKER, TEX_IMAGE } texture_kind;
+typedef enum { OBJ_PLANE, OBJ_SPHERE, OBJ_DISK } object_kind;
+typedef enum { EFFECT_AUTO = -1, EFFECT_OFF = 0, EFFECT_ON = 1 } effect_setting;
+
+typedef struct {
+    texture_kind kind;
+    double a[3], b[3]; /* constant: a; checker: squares of a and b */
+    double size;       /* checker square / image width, mm */
+    int w, h;          /* image texture: pixels (rgb floats in [0, 1], row 0 at the top) */
+    float *pix;
+} scene_texture;
+
+/* A diffuse surface, or an emitter when emit[] is non-zero (emitters do not reflect).
+ * plane: infinite through p with normal n; disk: the part of that plane within radius;
+ * sphere: centre p, radius. An emitter disk emits on the side its normal points to. */
+typedef struct {
+    object_kind kind;
+    double p[3], n[3], radius;
+    scene_texture tex;
+    double emit[3]; /* radiance per channel (W sr^-1 m^-2 in arbitrary units) */
+    long line;      /* scene line, for messages */
+} scene_object;
+
+typedef struct {
+    char path[512];        /* the scene file */
+    char camera[512];      /* lens file or .poly, resolved against the scene's directory */
+    int camera_is_poly;
+    double sensor_w, sensor_h; /* mm; NAN: from the lens file's header */
+    int width, height;     /* pixels */
+    double focus;          /* mm in front of the front vertex; INFINITY; NAN = as the lens file has it */
+    double fstop;          /* NAN = as the lens file has it */
+    scene_mode mode;
+    long spp;
+    unsigned long seed;
+    effect_setting transmittance, vignetting;
+    size_t nobj;
+    scene_object *obj;
+} scene_t;
+
+void scene_init(scene_t *s);
+void scene_free(scene_t *s);
+/* Reads a scene; every error is "FILE:LINE: what is wrong". 0 on success. */
+int scene_load(const char *path, scene_t *s, lens_err *err);
+int scene_parse(const char *text, const char *path, scene_t *s, lens_err *err);
+const char *scene_mode_name(scene_mode m);
+
+/* --- geometry (scene_geometry.c) --- */
+typedef struct {
+    double t;     /* ray parameter */
+    double p[3];  /* hit point */
+    double n[3];  /* unit normal facing the incoming ray */
+    int obj;      /* object index, -1 for none */
+} scene_hit;
+
+/* Nearest hit of o + t d (d unit) with tmin < t < tmax; 1 if any. */
+int scene_intersect(const scene_t *s, const double o[3], const double d[3], double tmin,
+                    double tmax, scene_hit *hit);
+/* 1 when nothing blocks the segment between a and b (shadow rays). */
+int scene_visible(const scene_t *s, const double a[3], const double b[3]);
+/* Diffuse albedo of object obj at point p in channel c (0 r, 1 g, 2 b). */
+double scene_albedo(const scene_t *s, int obj, const double p[3], int c);
+/* Radiance (rgb) that emitter obj sends from its point p in direction w (unit, away
+ * from p); returns 0 (and zeros) for the back of an emitter and for non-emitters. */
+int scene_emitted(const scene_t *s, int obj, const double p[3], const double w[3],
+                  double rgb[3]);
+int scene_is_emitter(const scene_object *o);
+/* Uniform point on emitter obj (its area): position, outward unit normal, pdf = 1/area. */
+void scene_sample_emitter(const scene_t *s, int obj, double u1, double u2, double p[3],
+                          double n[3], double *pdf_area);
+/* Reflected radiance (rgb) at diffuse point p (normal n, facing the viewer) by
+ * next-event estimation: one sample (u[2j], u[2j+1]) on each emitter j that has an area
+ * (disks, spheres); an unbiased estimate of albedo/pi * sum over emitters of the
+ * integral of L_e cos cos' / d^2 dA. Infinite emitting planes are only seen directly. */
+void scene_direct(const scene_t *s, int obj, const double p[3], const double n[3],
+                  const double *u, double rgb[3]);
+size_t scene_emitter_count(const scene_t *s);
+
+#endif

@@ -1,0 +1,378 @@
+/* Distortion curve, relative illumination, grid map and OpenCV model fits (distort.h). */
+#include "sparselens/distort.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sparselens/paraxial.h"
+
+int distort_scale(const imaging *im, double lambda, double *scale, lens_err *err)
+{
+    paraxial_data p;
+    if (paraxial_compute(im->lens, lambda, &p, err) != 0)
+        return -1;
+    if (!isfinite(p.efl) || fabs(p.efl) > 1e9) {
+        lens_errf(err, im->lens->path[0] ? im->lens->path : NULL, 0,
+                  "the lens has no finite focal length: no ideal image to compare with");
+        return -1;
+    }
+    if (isinf(im->object_distance)) {
+        *scale = p.efl;
+        return 0;
+    }
+    /* Paraxial chief ray from a unit object height (the point (0, -1, -D)) towards the
+     * centre of the entrance pupil; its height on the (shifted) sensor plane per unit
+     * object height is the magnification. */
+    const lens_t *l = im->lens;
+    double *n = malloc(sizeof(double) * l->nsurf);
+    if (!n || lens_indices(l, lambda, n, err) != 0) {
+        free(n);
+        if (!n)
+            lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    double D = im->object_distance, u = 1.0 / (D + p.entrance_pupil_z);
+    double y0 = -1 + D * u, y, nu;
+    paraxial_trace_forward(l, n, y0, u, &y, &nu);
+    free(n);
+    /* nu is n' u' in the last medium, air */
+    *scale = y + im->sensor_shift * nu;
+    return 0;
+}
+
+/* Unit vectors e1, e2 completing d to an orthonormal frame. */
+static void frame(const double d[3], double e1[3], double e2[3])
+{
+    double a[3] = {1, 0, 0};
+    double k = a[0] * d[0];
+    for (int i = 0; i < 3; i++)
+        e1[i] = a[i] - k * d[i];
+    double m = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    for (int i = 0; i < 3; i++)
+        e1[i] /= m;
+    e2[0] = d[1] * e1[2] - d[2] * e1[1];
+    e2[1] = d[2] * e1[0] - d[0] * e1[2];
+    e2[2] = d[0] * e1[1] - d[1] * e1[0];
+}
+
+static double dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Transmitted flux of the bundle of field f per unit object measure (see distort.h). */
+static int bundle_flux(const imaging *im, const double *n, double lambda, double f, int ris,
+                       double *flux)
+{
+    const lens_t *l = im->lens;
+    lens_ray chief;
+    if (imaging_object_ray(im, n, f, 0, 0, &chief) != 0)
+        return -1;
+    int finite = !isinf(im->object_distance);
+    double d[3] = {chief.d[0], chief.d[1], chief.d[2]}, e1[3], e2[3];
+    frame(d, e1, e2);
+    double P[3] = {0, -f, -im->object_distance};
+    /* Extent of the beam: rays aimed at the rim of the stop (or further in, when the rim
+     * cannot be reached), in beam coordinates; then widened until no passing ray lies
+     * in the outer ring of the grid, so the whole transmitted bundle is counted. */
+    double stop = l->surf[l->stop].semi_diameter, ext = 0;
+    static const double fracs[3] = {0.999, 0.7, 0.4};
+    for (int q = 0; q < 3 && !(ext > 0); q++)
+        for (int k = 0; k < 16; k++) {
+            double a = 2 * M_PI * k / 16, e;
+            lens_ray r;
+            if (imaging_object_ray(im, n, f, fracs[q] * stop * cos(a), fracs[q] * stop * sin(a), &r) != 0)
+                continue;
+            if (finite) {
+                double c = dot(r.d, d);
+                if (!(c > 0.05))
+                    continue;
+                e = fmax(fabs(dot(r.d, e1) / c), fabs(dot(r.d, e2) / c));
+            } else {
+                double o[3] = {r.o[0] - chief.o[0], r.o[1] - chief.o[1], r.o[2] - chief.o[2]};
+                e = fmax(fabs(dot(o, e1)), fabs(dot(o, e2)));
+            }
+            ext = fmax(ext, e / fracs[q]);
+        }
+    if (!(ext > 0))
+        ext = finite ? stop / im->object_distance : stop;
+    ext *= 1.3;
+    /* object at infinity: start well in front of the lens on the chief ray */
+    double back = 2 * l->surf[0].semi_diameter + 10, sum = 0, cell = 0;
+    for (int attempt = 0; attempt < 6; attempt++) {
+        int border = 0;
+        size_t passed = 0;
+        cell = 2 * ext / ris;
+        sum = 0;
+#pragma omp parallel for collapse(2) reduction(+ : sum, passed) reduction(| : border) schedule(static)
+        for (int i = 0; i < ris; i++)
+            for (int j = 0; j < ris; j++) {
+                double a = -ext + (i + 0.5) * cell, b = -ext + (j + 0.5) * cell, s[4], eta, w;
+                lens_ray r;
+                if (finite) {
+                    double q = 1 + a * a + b * b;
+                    for (int k = 0; k < 3; k++)
+                        r.o[k] = P[k], r.d[k] = (d[k] + a * e1[k] + b * e2[k]) / sqrt(q);
+                    w = r.d[2] / (q * sqrt(q)); /* Lambert cosine x solid angle per da db */
+                } else {
+                    for (int k = 0; k < 3; k++)
+                        r.o[k] = chief.o[k] - back * d[k] + a * e1[k] + b * e2[k], r.d[k] = d[k];
+                    w = 1;
+                }
+                if (imaging_trace(im, n, lambda, &r, NULL, s, &eta)) {
+                    sum += w * eta;
+                    passed++;
+                    border |= i == 0 || j == 0 || i == ris - 1 || j == ris - 1;
+                }
+            }
+        if (border)
+            ext *= 2;
+        else if (passed > 0 && passed < (size_t)(ris * ris) / 16)
+            ext *= 0.5; /* resolve a small bundle with more rays */
+        else
+            break;
+    }
+    *flux = sum * cell * cell;
+    return 0;
+}
+
+static int chief_height(const imaging *im, const double *n, double lambda, double f, double *h)
+{
+    double s[4];
+    if (imaging_chief(im, n, lambda, f, s, NULL) != 0)
+        return -1;
+    *h = s[1];
+    return 0;
+}
+
+/* Image area per unit object measure at field f: h h' / sin(theta) per steradian
+ * (infinity) or h h' / H per unit area (finite), h'^2 on the axis. */
+static int area_ratio(const imaging *im, const double *n, double lambda, double f, double *J)
+{
+    int finite = !isinf(im->object_distance);
+    double step = finite ? 1e-3 * fmax(1, fabs(f)) : 0.01, h0, hm, hp;
+    double toang = finite ? 1 : M_PI / 180;
+    if (chief_height(im, n, lambda, f, &h0) != 0 || chief_height(im, n, lambda, f + step, &hp) != 0)
+        return -1;
+    double deriv;
+    if (f - step >= 0 && chief_height(im, n, lambda, f - step, &hm) == 0)
+        deriv = (hp - hm) / (2 * step * toang);
+    else
+        deriv = (hp - h0) / (step * toang);
+    if (f == 0)
+        *J = deriv * deriv;
+    else
+        *J = h0 * deriv / (finite ? f : sin(f * toang));
+    return 0;
+}
+
+int distort_curve(const imaging *im, double lambda, const double *field, int nf, int ris,
+                  distort_row *rows, lens_err *err)
+{
+    double scale;
+    if (distort_scale(im, lambda, &scale, err) != 0)
+        return -1;
+    double *n = malloc(sizeof(double) * im->lens->nsurf);
+    if (!n || imaging_indices(im, lambda, n, err) != 0) {
+        if (!n)
+            lens_errf(err, NULL, 0, "out of memory");
+        free(n);
+        return -1;
+    }
+    int finite = !isinf(im->object_distance), rc = -1;
+    double flux0 = NAN, J0 = NAN;
+    if (ris > 0 && (bundle_flux(im, n, lambda, 0, ris, &flux0) != 0 ||
+                    area_ratio(im, n, lambda, 0, &J0) != 0)) {
+        lens_errf(err, NULL, 0, "the axial bundle does not reach the sensor");
+        goto out;
+    }
+    for (int i = 0; i < nf; i++) {
+        distort_row *r = &rows[i];
+        double f = field[i], s[4];
+        memset(r, 0, sizeof *r);
+        r->field = f;
+        if (!finite && !(f >= 0 && f < 180)) {
+            lens_errf(err, NULL, 0, "field %g deg: fields are angles from 0 to 180 degrees", f);
+            goto out;
+        }
+        if (finite && f < 0) {
+            lens_errf(err, NULL, 0, "field %g mm: object heights must not be negative", f);
+            goto out;
+        }
+        if (imaging_chief(im, n, lambda, f, s, err) != 0)
+            goto out;
+        r->h_real = s[1], r->x_real = s[0];
+        double theta = f * M_PI / 180;
+        r->h_ideal = finite ? scale * f : proj_radius(PROJ_RECTILINEAR, scale, theta);
+        r->dist_pct = f == 0 ? 0 : 100 * (r->h_real - r->h_ideal) / r->h_ideal;
+        for (int k = 0; k < PROJ_COUNT; k++) {
+            double hi = finite ? NAN : proj_radius((proj_kind)k, scale, theta);
+            r->map_pct[k] = f == 0 && !finite ? 0 : 100 * (r->h_real - hi) / hi;
+        }
+        r->rel_illum = NAN;
+        double flux, J;
+        if (ris > 0 && bundle_flux(im, n, lambda, f, ris, &flux) == 0 &&
+            area_ratio(im, n, lambda, f, &J) == 0 && J > 0)
+            r->rel_illum = (flux / J) / (flux0 / J0);
+    }
+    rc = 0;
+out:
+    free(n);
+    return rc;
+}
+
+proj_kind distort_best_mapping(const distort_row *rows, int nf, double *rms_pct)
+{
+    proj_kind best = PROJ_RECTILINEAR;
+    double bestv = INFINITY;
+    for (int k = 0; k < PROJ_COUNT; k++) {
+        double s = 0;
+        int m = 0;
+        for (int i = 0; i < nf; i++)
+            if (rows[i].field != 0) {
+                s += rows[i].map_pct[k] * rows[i].map_pct[k];
+                m++;
+            }
+        double v = m ? sqrt(s / m) : 0;
+        if (isnan(v))
+            continue; /* the projection has no image for some field */
+        if (v < bestv)
+            bestv = v, best = (proj_kind)k;
+    }
+    *rms_pct = bestv;
+    return best;
+}
+
+int distort_grid(const imaging *im, double lambda, proj_kind k, double scale, double half_w,
+                 double half_h, int nx, int ny, double *pts)
+{
+    double *n = malloc(sizeof(double) * im->lens->nsurf);
+    if (!n || imaging_indices(im, lambda, n, NULL) != 0) {
+        free(n);
+        return 0;
+    }
+    int good = 0, finite = !isinf(im->object_distance);
+#pragma omp parallel for collapse(2) reduction(+ : good) schedule(dynamic, 4)
+    for (int j = 0; j < ny; j++)
+        for (int i = 0; i < nx; i++) {
+            double *p = pts + 4 * (j * nx + i);
+            double x = nx > 1 ? -half_w + 2 * half_w * i / (nx - 1) : 0;
+            double y = ny > 1 ? -half_h + 2 * half_h * j / (ny - 1) : 0;
+            p[0] = x, p[1] = y, p[2] = p[3] = NAN;
+            lens_ray r;
+            double s[4], eta, rr = hypot(x, y);
+            if (finite) {
+                /* the object point whose ideal image is (x, y) */
+                double P[3] = {-x / scale, -y / scale, -im->object_distance};
+                if (aim_from_object(im->lens, n, NULL, P, 0, 0, &r) != 0)
+                    continue;
+            } else {
+                double t = rr > 0 ? proj_theta(k, scale, rr) : 0;
+                if (!isfinite(t))
+                    continue;
+                double d[3] = {rr > 0 ? sin(t) * x / rr : 0, rr > 0 ? sin(t) * y / rr : 0, cos(t)};
+                if (aim_from_object(im->lens, n, d, NULL, 0, 0, &r) != 0)
+                    continue;
+            }
+            if (!imaging_trace(im, n, lambda, &r, NULL, s, &eta))
+                continue;
+            p[2] = s[0], p[3] = s[1];
+            good++;
+        }
+    free(n);
+    return good;
+}
+
+/* Object points of one calibration view: the plane n . P = 1 (n unit) in the camera
+ * frame, in a frame of its own (origin n, axes in the plane), for the directions that
+ * meet it at a good angle. OpenCV's calibration estimates a pose per view, and one
+ * plane alone leaves pose and distortion entangled (a fisheye fit from one view does
+ * not even recover exact synthetic coefficients); several tilted planes do. */
+static size_t plane_view(const double n[3], const double *dir, const double *pix_in, size_t cnt,
+                         double *obj, double *pix)
+{
+    double e1[3] = {1 - n[0] * n[0], -n[0] * n[1], -n[0] * n[2]};
+    double m = sqrt(dot(e1, e1));
+    for (int k = 0; k < 3; k++)
+        e1[k] /= m;
+    double e2[3] = {n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]};
+    size_t v = 0;
+    for (size_t i = 0; i < cnt; i++) {
+        double c = dot(n, dir + 3 * i);
+        if (c < 0.25)
+            continue;
+        double q[3];
+        for (int k = 0; k < 3; k++)
+            q[k] = dir[3 * i + k] / c - n[k];
+        obj[3 * v] = dot(q, e1), obj[3 * v + 1] = dot(q, e2), obj[3 * v + 2] = 0;
+        pix[2 * v] = pix_in[2 * i], pix[2 * v + 1] = pix_in[2 * i + 1];
+        v++;
+    }
+    return v;
+}
+
+int distort_opencv(const imaging *im, double lambda, int fisheye, proj_kind k, const double *pts,
+                   int npts, double scale, double half_w, double half_h, int width, int height,
+                   double max_deg, cv_camera_fit *fit, lens_err *err)
+{
+    if (!isinf(im->object_distance)) {
+        lens_errf(err, NULL, 0, "the OpenCV check needs an object at infinity");
+        return -1;
+    }
+    (void)half_h;
+    double pitch = 2 * half_w / width; /* mm per pixel */
+    /* The focal length the mapping actually has near the axis on this sensor plane (a
+     * sensor off the paraxial focus scales every height): h / theta of a chief ray at a
+     * twentieth of a degree. The fisheye fit holds it fixed. */
+    double *n = malloc(sizeof(double) * im->lens->nsurf), s[4], f_eff = scale;
+    const double small = 0.05 * M_PI / 180;
+    if (n && imaging_indices(im, lambda, n, NULL) == 0 &&
+        imaging_chief(im, n, lambda, 0.05, s, NULL) == 0 && s[1] > 0)
+        f_eff = s[1] / small;
+    free(n);
+    enum { NVIEWS = 5 };
+    double *dir = malloc(sizeof(double) * 3 * (size_t)npts);
+    double *pin = malloc(sizeof(double) * 2 * (size_t)npts);
+    double *obj = malloc(sizeof(double) * 3 * NVIEWS * (size_t)npts);
+    double *pix = malloc(sizeof(double) * 2 * NVIEWS * (size_t)npts);
+    if (!dir || !pin || !obj || !pix) {
+        free(dir), free(pin), free(obj), free(pix);
+        lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    size_t m = 0;
+    for (int i = 0; i < npts; i++) {
+        const double *p = pts + 4 * i;
+        if (!isfinite(p[2]) || !isfinite(p[3]))
+            continue;
+        double r = hypot(p[0], p[1]), t = r > 0 ? proj_theta(k, scale, r) : 0;
+        if (!(t < max_deg * M_PI / 180))
+            continue;
+        dir[3 * m] = r > 0 ? sin(t) * p[0] / r : 0;
+        dir[3 * m + 1] = r > 0 ? sin(t) * p[1] / r : 0;
+        dir[3 * m + 2] = cos(t);
+        pin[2 * m] = width / 2.0 + p[2] / pitch;
+        pin[2 * m + 1] = height / 2.0 + p[3] / pitch;
+        m++;
+    }
+    const double a = 35 * M_PI / 180, sa = sin(a), ca = cos(a);
+    const double normals[NVIEWS][3] = {{0, 0, 1}, {sa, 0, ca}, {-sa, 0, ca}, {0, sa, ca}, {0, -sa, ca}};
+    size_t counts[NVIEWS], total = 0;
+    int nv = 0;
+    for (int v = 0; v < NVIEWS; v++) {
+        size_t c = plane_view(normals[v], dir, pin, m, obj + 3 * total, pix + 2 * total);
+        if (c >= 12)
+            counts[nv++] = c, total += c;
+    }
+    int rc;
+    if (nv == 0) {
+        lens_errf(err, NULL, 0, "too few grid points for the OpenCV fit");
+        rc = -1;
+    } else {
+        rc = fisheye ? cv_fit_fisheye(width, height, f_eff / pitch, 0, nv, counts, obj, pix, fit, err)
+                     : cv_fit_brown(width, height, f_eff / pitch, nv, counts, obj, pix, fit, err);
+    }
+    free(dir), free(pin), free(obj), free(pix);
+    return rc;
+}

@@ -1,0 +1,343 @@
+/* The imaging set-up shared by the spot and distortion analyses (see imaging.h). */
+#include "sparselens/imaging.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sparselens/paraxial.h"
+#include "sparselens/poly_solve.h"
+
+/* Fraunhofer line wavelengths, um (Schott's table of the lines used in glass data). */
+static const struct {
+    const char *name;
+    double um;
+} lines[] = {
+    {"i", 0.365015},  {"h", 0.404656}, {"g", 0.435835},  {"F'", 0.479991}, {"F", GLASS_F_LINE},
+    {"e", 0.546074},  {"d", GLASS_D_LINE}, {"D", 0.5892938}, {"C'", 0.643847}, {"C", GLASS_C_LINE},
+    {"r", 0.706519},  {"A'", 0.768195}, {"s", 0.85211},   {"t", 1.01398},
+};
+
+static int split(const char *spec, const char *what, char tok[][32], int max, lens_err *err)
+{
+    if (!spec || !*spec) {
+        lens_errf(err, NULL, 0, "empty %s list", what);
+        return -1;
+    }
+    int n = 0;
+    const char *p = spec;
+    for (;;) {
+        const char *e = strchr(p, ',');
+        size_t len = e ? (size_t)(e - p) : strlen(p);
+        if (len == 0 || len >= 32) {
+            lens_errf(err, NULL, 0, "bad %s list '%s': %s", what, spec,
+                      len ? "item too long" : "empty item");
+            return -1;
+        }
+        if (n == max) {
+            lens_errf(err, NULL, 0, "too many %ss in '%s' (at most %d)", what, spec, max);
+            return -1;
+        }
+        memcpy(tok[n], p, len);
+        tok[n++][len] = '\0';
+        if (!e)
+            break;
+        p = e + 1;
+    }
+    return n;
+}
+
+int wavelengths_parse(const char *spec, double *lambda, int max, lens_err *err)
+{
+    char tok[IMAGING_MAX_WAVELENGTHS][32];
+    int n = split(spec, "wavelength", tok, max < IMAGING_MAX_WAVELENGTHS ? max : IMAGING_MAX_WAVELENGTHS, err);
+    for (int i = 0; i < n; i++) {
+        int found = 0;
+        for (size_t k = 0; k < sizeof lines / sizeof lines[0]; k++)
+            if (strcmp(tok[i], lines[k].name) == 0) {
+                lambda[i] = lines[k].um;
+                found = 1;
+            }
+        if (found)
+            continue;
+        if (parse_double(tok[i], &lambda[i]) != 0) {
+            lens_errf(err, NULL, 0,
+                      "unknown wavelength '%s' (a value in um, or a Fraunhofer line: i h g F' F e d "
+                      "D C' C r A' s t)",
+                      tok[i]);
+            return -1;
+        }
+        if (lambda[i] < 0.2 || lambda[i] > 2.5) {
+            lens_errf(err, NULL, 0, "wavelength %s um is outside 0.2..2.5 um", tok[i]);
+            return -1;
+        }
+    }
+    return n;
+}
+
+int numbers_parse(const char *spec, const char *what, double *v, int max, lens_err *err)
+{
+    char (*tok)[32] = malloc(sizeof *tok * (size_t)max);
+    if (!tok) {
+        lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    int n = split(spec, what, tok, max, err);
+    for (int i = 0; i < n; i++)
+        if (parse_double(tok[i], &v[i]) != 0) {
+            lens_errf(err, NULL, 0, "bad %s '%s': not a number", what, tok[i]);
+            n = -1;
+            break;
+        }
+    free(tok);
+    return n;
+}
+
+int imaging_indices(const imaging *im, double lambda, double *n, lens_err *err)
+{
+    return lens_indices(im->lens, lambda, n, err);
+}
+
+int imaging_object_ray(const imaging *im, const double *n, double field, double sx, double sy,
+                       lens_ray *r)
+{
+    if (isinf(im->object_distance)) {
+        double a = field * (M_PI / 180);
+        double dir[3] = {0, sin(a), cos(a)};
+        return aim_from_object(im->lens, n, dir, NULL, sx, sy, r) == 0 ? 0 : -1;
+    }
+    double p[3] = {0, -field, -im->object_distance};
+    return aim_from_object(im->lens, n, NULL, p, sx, sy, r) == 0 ? 0 : -1;
+}
+
+static void shift_sensor(double s[4], double dz)
+{
+    s[0] -= dz * s[2];
+    s[1] -= dz * s[3];
+}
+
+int imaging_trace(const imaging *im, const double *n, double lambda, const lens_ray *r,
+                  const double *guess, double s[4], double *eta)
+{
+    lens_ray t = *r;
+    trace_result res = trace_to_sensor(im->lens, n, &t);
+    int passed = res.status == TRACE_PASSED;
+    if (passed)
+        ray_to_sensor(im->lens, &t, s);
+    if (!im->sys) {
+        if (!passed)
+            return 0;
+        *eta = res.transmittance;
+        shift_sensor(s, im->sensor_shift);
+        return 1;
+    }
+    double outer[4], seed[4], sol[4];
+    if (outer_of_object_ray(im->lens, r, outer) != 0)
+        return 0;
+    /* The exact ray is the natural seed; a vignetted one leaves the caller's guess. */
+    if (passed)
+        memcpy(seed, s, sizeof seed);
+    else if (guess)
+        memcpy(seed, guess, sizeof seed);
+    else
+        memset(seed, 0, sizeof seed);
+    int pass = 0;
+    double e = 1;
+    if (poly_solve_sensor(im->sys, lambda, outer, seed, sol, &pass, &e) != 0 || !pass)
+        return 0;
+    memcpy(s, sol, sizeof sol);
+    *eta = e;
+    shift_sensor(s, im->sensor_shift);
+    return 1;
+}
+
+static const char *field_unit(const imaging *im)
+{
+    return isinf(im->object_distance) ? "deg" : "mm";
+}
+
+int imaging_chief(const imaging *im, const double *n, double lambda, double field, double s[4],
+                  lens_err *err)
+{
+    lens_ray r;
+    double eta;
+    if (imaging_object_ray(im, n, field, 0, 0, &r) != 0 ||
+        !imaging_trace(im, n, lambda, &r, NULL, s, &eta)) {
+        lens_errf(err, NULL, 0,
+                  "field %g %s: no chief ray through the stop centre reaches the sensor "
+                  "at %g um%s",
+                  field, field_unit(im), lambda, im->sys ? " through the system" : "");
+        return -1;
+    }
+    return 0;
+}
+
+int imaging_max_field(const imaging *im, double lambda, double limit, double *field,
+                      lens_err *err)
+{
+    double *n = malloc(sizeof(double) * (im->lens->nsurf ? im->lens->nsurf : 1));
+    if (!n) {
+        lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    int rc = -1;
+    double s[4];
+    if (imaging_indices(im, lambda, n, err) != 0 || imaging_chief(im, n, lambda, 0, s, err) != 0)
+        goto out;
+    /* Coarse scan, then bisection on the last step: the passing range of chief rays is
+     * an interval from the axis for every lens we know. */
+    double lo = 0, hi = limit;
+    int steps = 64;
+    for (int i = 1; i <= steps; i++) {
+        double f = limit * i / steps;
+        if (imaging_chief(im, n, lambda, f, s, NULL) != 0) {
+            hi = f;
+            break;
+        }
+        lo = f;
+    }
+    if (lo < limit)
+        for (int i = 0; i < 40; i++) {
+            double m = 0.5 * (lo + hi);
+            if (imaging_chief(im, n, lambda, m, s, NULL) == 0)
+                lo = m;
+            else
+                hi = m;
+        }
+    *field = lo;
+    rc = 0;
+out:
+    free(n);
+    return rc;
+}
+
+int imaging_paraxial_shift(const lens_t *lens, double object_distance, double lambda,
+                           double *shift, lens_err *err)
+{
+    double t;
+    if (paraxial_focus_thickness(lens, lambda, object_distance, &t, err) != 0)
+        return -1;
+    *shift = t - lens->surf[lens->nsurf - 1].thickness;
+    return 0;
+}
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t a = strlen(s), b = strlen(suffix);
+    return a >= b && strcmp(s + a - b, suffix) == 0;
+}
+
+static int load_system(const char *path, poly_system **sys, lens_err *err)
+{
+    if (poly_read(path, sys, err) != 0)
+        return -1;
+    lens_err e2;
+    if (poly_solve_check(*sys, &e2) != 0) {
+        lens_errf(err, path, 0, "%s", e2.msg);
+        poly_free(*sys);
+        *sys = NULL;
+        return -1;
+    }
+    return 0;
+}
+
+int imaging_models_load(const char *path, const char *compare, const char *lens_path,
+                        const lens_load_options *lopt, imaging_models *m, lens_err *err)
+{
+    memset(m, 0, sizeof *m);
+    lens_init(&m->lens);
+    if (ends_with(path, ".poly")) {
+        if (compare) {
+            lens_errf(err, NULL, 0, "--compare needs a lens as the first argument, not a system");
+            return -1;
+        }
+        if (load_system(path, &m->sys, err) != 0)
+            return -1;
+        const char *lp = lens_path ? lens_path : poly_lens_path(m->sys);
+        if (!lp || !*lp) {
+            lens_errf(err, path, 0, "the system records no lens file; give it with --lens");
+            imaging_models_free(m);
+            return -1;
+        }
+        if (lens_load(lp, lopt, &m->lens, err) != 0) {
+            imaging_models_free(m);
+            return -1;
+        }
+        return 0;
+    }
+    if (lens_load(path, lopt, &m->lens, err) != 0)
+        return -1;
+    if (compare && load_system(compare, &m->compare, err) != 0) {
+        imaging_models_free(m);
+        return -1;
+    }
+    return 0;
+}
+
+void imaging_models_free(imaging_models *m)
+{
+    poly_free(m->sys);
+    poly_free(m->compare);
+    lens_free(&m->lens);
+    m->sys = m->compare = NULL;
+}
+
+int imaging_models_setup(const imaging_models *m, double object_distance, imaging im[2],
+                         const char *names[2])
+{
+    imaging base = {.lens = &m->lens, .sys = NULL, .object_distance = object_distance};
+    im[0] = base;
+    names[0] = "lens";
+    if (m->sys) {
+        im[0].sys = m->sys;
+        names[0] = "poly";
+        return 1;
+    }
+    if (!m->compare)
+        return 1;
+    im[1] = base;
+    im[1].sys = m->compare;
+    names[1] = "poly";
+    return 2;
+}
+
+int imaging_default_fields(const imaging *im, const double *lambdas, int nl, double *field,
+                           lens_err *err)
+{
+    if (!isinf(im->object_distance)) {
+        lens_errf(err, NULL, 0, "give --fields (object heights in mm) for a finite object distance");
+        return -1;
+    }
+    double maxf = 179.0, lambda = lambdas[nl / 2];
+    for (int i = 0; i < nl; i++) {
+        double m;
+        if (imaging_max_field(im, lambdas[i], maxf, &m, err) != 0)
+            return -1;
+        maxf = fmin(maxf, m);
+    }
+    const lens_t *l = im->lens;
+    if (isfinite(l->sensor_w) && isfinite(l->sensor_h)) {
+        /* the field whose chief ray lands on the sensor corner, if inside the image */
+        double r = 0.5 * hypot(l->sensor_w, l->sensor_h), s[4];
+        double *n = malloc(sizeof(double) * l->nsurf);
+        if (n && imaging_indices(im, lambda, n, NULL) == 0 &&
+            imaging_chief(im, n, lambda, maxf, s, NULL) == 0 && s[1] > r) {
+            double lo = 0, hi = maxf;
+            for (int i = 0; i < 50; i++) {
+                double m = 0.5 * (lo + hi);
+                if (imaging_chief(im, n, lambda, m, s, NULL) == 0 && s[1] < r)
+                    lo = m;
+                else
+                    hi = m;
+            }
+            maxf = lo;
+        }
+        free(n);
+    }
+    /* a hair inside the last passing chief ray */
+    maxf = floor(maxf * 0.999 * 100) / 100;
+    field[0] = 0;
+    field[1] = round(0.7 * maxf * 100) / 100;
+    field[2] = maxf;
+    return maxf > 0 ? 3 : 1;
+}

@@ -1,0 +1,169 @@
+/* lens-eval's stream (eval_run.h): rows are read in chunks and evaluated with
+ * poly_eval_batch, so a file of any size runs in constant memory at batch speed. */
+#include "sparselens/eval_run.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define CHUNK 4096
+
+void eval_run_options_default(eval_run_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    eval_report_options_default(&opt->ropt);
+}
+
+typedef struct {
+    const poly_system *sys;
+    int nin, nout, ncols, eta;
+    int *map_in, *map_ref;
+    double *row, *in, *pred, *ref, *outrow;
+    unsigned char *pass, *bad;
+} ctx_t;
+
+static void flush(ctx_t *c, size_t n, FILE *out, const eval_run_options *opt, eval_report *rep)
+{
+    poly_eval_batch(c->sys, n, c->in, c->pred, c->pass);
+    for (size_t r = 0; r < n; r++) {
+        const double *in = c->in + r * (size_t)c->nin;
+        double *pred = c->pred + r * (size_t)c->nout;
+        if (rep) {
+            if (!c->bad[r]) {
+                const double *ref = c->ref + r * (size_t)c->nout;
+                eval_report_add(rep, in, pred, c->pass[r], ref,
+                                eval_reference_passes(c->sys, ref));
+            }
+            continue;
+        }
+        double *o = c->outrow;
+        if (c->bad[r]) {
+            for (int k = 0; k < c->nin + c->nout; k++)
+                o[k] = NAN;
+        } else {
+            memcpy(o, in, (size_t)c->nin * sizeof(double));
+            for (int k = 0; k < c->nout; k++)
+                o[c->nin + k] = opt->raw || c->pass[r] ? pred[k] : NAN;
+            if (!opt->raw && !c->pass[r] && c->eta >= 0)
+                o[c->nin + c->eta] = 0;
+        }
+        samples_write_row(out, o, c->nin + c->nout);
+    }
+}
+
+int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_run_options *opt,
+             eval_run_stats *st, lens_err *err)
+{
+    ctx_t c = {0};
+    c.sys = sys;
+    c.nin = poly_ninputs(sys);
+    c.nout = poly_noutputs(sys);
+    c.ncols = samples_ncols(rd);
+    c.eta = poly_output_index(sys, "out_eta");
+    memset(st, 0, sizeof *st);
+    int rc = -1;
+    eval_report *rep = NULL;
+    const char **names = malloc((size_t)(c.nin + c.nout) * sizeof *names);
+    c.map_in = malloc((size_t)c.nin * sizeof(int));
+    c.map_ref = malloc((size_t)c.nout * sizeof(int));
+    c.row = malloc((size_t)(c.ncols > 0 ? c.ncols : 1) * sizeof(double));
+    c.in = malloc(CHUNK * (size_t)c.nin * sizeof(double));
+    c.pred = malloc(CHUNK * (size_t)c.nout * sizeof(double));
+    c.ref = malloc(CHUNK * (size_t)c.nout * sizeof(double));
+    c.outrow = malloc((size_t)(c.nin + c.nout) * sizeof(double));
+    c.pass = malloc(CHUNK);
+    c.bad = malloc(CHUNK);
+    if (!names || !c.map_in || !c.map_ref || !c.row || !c.in || !c.pred || !c.ref ||
+        !c.outrow || !c.pass || !c.bad) {
+        lens_errf(err, NULL, 0, "out of memory");
+        goto done;
+    }
+    for (int i = 0; i < c.nin; i++)
+        names[i] = poly_input_name(sys, i);
+    for (int o = 0; o < c.nout; o++)
+        names[c.nin + o] = poly_output_name(sys, o);
+    if (samples_map(rd, names, c.nin, c.map_in, err) != 0)
+        goto done;
+    if (opt->report) {
+        for (int o = 0; o < c.nout; o++) {
+            c.map_ref[o] = samples_find(rd, names[c.nin + o]);
+            if (c.map_ref[o] < 0) {
+                lens_errf(err, samples_path(rd), 0,
+                          "no reference column '%s': --report needs the traced outputs "
+                          "(a lens-trace test set)",
+                          names[c.nin + o]);
+                goto done;
+            }
+        }
+        rep = eval_report_new(sys, &opt->ropt);
+        if (!rep) {
+            lens_errf(err, NULL, 0, "out of memory");
+            goto done;
+        }
+    } else {
+        samples_write_header(out, names, c.nin + c.nout);
+    }
+    size_t n = 0;
+    for (;;) {
+        lens_err rowerr;
+        int got = samples_next(rd, c.row, &rowerr);
+        if (got == 0)
+            break;
+        double *in = c.in + n * (size_t)c.nin;
+        c.bad[n] = 0;
+        if (got > 0) {
+            for (int i = 0; i < c.nin; i++)
+                in[i] = c.row[c.map_in[i]];
+            for (int i = 0; i < c.nin && !c.bad[n]; i++)
+                if (!isfinite(in[i])) {
+                    lens_errf(&rowerr, samples_path(rd), samples_line(rd),
+                              "input '%s' is not a finite number", names[i]);
+                    c.bad[n] = 1;
+                }
+            if (opt->report)
+                for (int o = 0; o < c.nout; o++)
+                    c.ref[n * (size_t)c.nout + (size_t)o] = c.row[c.map_ref[o]];
+        } else {
+            c.bad[n] = 1;
+        }
+        if (c.bad[n]) {
+            st->bad_rows++;
+            for (int i = 0; i < c.nin; i++)
+                in[i] = 0; /* evaluated, but never written or counted */
+            if (opt->on_bad_row)
+                opt->on_bad_row(opt->ctx, &rowerr);
+        } else if (!poly_in_domain(sys, in)) {
+            st->outside++;
+            for (int i = 0; i < c.nin && i < 64; i++) {
+                double lo, hi;
+                poly_get_domain(sys, i, &lo, &hi);
+                if (!(in[i] >= lo && in[i] <= hi))
+                    st->outside_input[i]++;
+            }
+        }
+        st->rows++;
+        if (++n == CHUNK) {
+            flush(&c, n, out, opt, rep);
+            n = 0;
+        }
+    }
+    flush(&c, n, out, opt, rep);
+    if (rep && eval_report_write(out, rep) != 0) {
+        lens_errf(err, NULL, 0, "out of memory writing the report");
+        goto done;
+    }
+    rc = 0;
+done:
+    eval_report_free(rep);
+    free(names);
+    free(c.map_in);
+    free(c.map_ref);
+    free(c.row);
+    free(c.in);
+    free(c.pred);
+    free(c.ref);
+    free(c.outrow);
+    free(c.pass);
+    free(c.bad);
+    return rc;
+}

@@ -1,0 +1,121 @@
+/* The whole lens-spot job as a library call: every field and wavelength for each model,
+ * the focus, the polychromatic pools, the table (see spot_run.h). */
+#include "sparselens/spot_run.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void spot_report_free(spot_report *rep)
+{
+    size_t n = (size_t)rep->nmodels * (size_t)rep->nfields;
+    if (rep->spots)
+        for (size_t i = 0; i < n * (size_t)rep->nl; i++)
+            spot_free(&rep->spots[i]);
+    if (rep->pooled)
+        for (size_t i = 0; i < n; i++)
+            spot_free(&rep->pooled[i]);
+    free(rep->spots);
+    free(rep->pooled);
+    memset(rep, 0, sizeof *rep);
+}
+
+void run_error_model(lens_err *err, int m, const char *name)
+{
+    if (m == 0)
+        return;
+    char msg[sizeof err->msg];
+    snprintf(msg, sizeof msg, "%s", err->msg);
+    lens_errf(err, NULL, 0, "%s: %s", name, msg);
+}
+
+int spot_run(const spot_request *rq, spot_report *rep, lens_err *err)
+{
+    memset(rep, 0, sizeof *rep);
+    int nm = rq->nmodels, nf = rq->nfields, nl = rq->nl;
+    size_t n = (size_t)nm * (size_t)nf;
+    rep->spots = calloc(n * (size_t)nl, sizeof *rep->spots);
+    rep->pooled = calloc(n, sizeof *rep->pooled);
+    if (!rep->spots || !rep->pooled) {
+        free(rep->spots), free(rep->pooled);
+        lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    rep->nmodels = nm, rep->nfields = nf, rep->nl = nl;
+    imaging im[2] = {rq->im[0], rq->im[1]};
+    double shift = 0;
+    if (rq->focus == FOCUS_PARAXIAL &&
+        imaging_paraxial_shift(im[0].lens, im[0].object_distance, rq->lambda[rq->primary], &shift,
+                               err) != 0)
+        goto fail;
+    for (int m = 0; m < nm; m++)
+        im[m].sensor_shift = shift;
+    for (int m = 0; m < nm; m++)
+        for (int f = 0; f < nf; f++)
+            for (int l = 0; l < nl; l++) {
+                spot *s = &rep->spots[((size_t)m * nf + f) * nl + l];
+                if (spot_trace(&im[m], rq->field[f], rq->lambda[l], rq->pattern, rq->rays, rq->seed, s,
+                               err) != 0) {
+                    run_error_model(err, m, rq->model_names[m]);
+                    goto fail;
+                }
+            }
+    if (rq->focus == FOCUS_BEST) {
+        /* one plane for every model (the first one's best), so a system is judged at
+         * the lens's focus */
+        double dz = spot_best_shift(rep->spots, (size_t)nf * (size_t)nl);
+        for (size_t i = 0; i < n * (size_t)nl; i++) {
+            spot_shift(&rep->spots[i], dz);
+            spot_stats(&rep->spots[i]);
+        }
+        shift += dz;
+    }
+    rep->sensor_shift = shift;
+    for (size_t i = 0; i < n; i++)
+        if (spot_pool(&rep->spots[i * (size_t)nl], (size_t)nl, (size_t)rq->primary, &rep->pooled[i]) != 0) {
+            lens_errf(err, NULL, 0, "out of memory");
+            goto fail;
+        }
+    return 0;
+fail:
+    spot_report_free(rep);
+    return -1;
+}
+
+static void row(FILE *f, const char *model, const spot *s, const char *lambda)
+{
+    fprintf(f, "%s %.10g %s %zu %zu %.6f %.9g %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.6g\n", model,
+            s->field, lambda, s->rays, s->passed, s->vignetted, s->chief[0], s->chief[1],
+            s->centroid[0], s->centroid[1], s->rms_chief * 1e3, s->max_chief * 1e3,
+            s->rms_centroid * 1e3, s->max_centroid * 1e3, s->airy * 1e3);
+}
+
+void spot_report_print(FILE *f, const spot_request *rq, const spot_report *rep)
+{
+    int finite = isfinite(rq->im[0].object_distance);
+    fprintf(f,
+            "# columns: model %s lambda_um rays passed vignetted chief_x_mm chief_y_mm centroid_x_mm "
+            "centroid_y_mm rms_chief_um max_chief_um rms_centroid_um max_centroid_um airy_um\n",
+            finite ? "field_mm" : "field_deg");
+    for (int m = 0; m < rep->nmodels; m++)
+        for (int fi = 0; fi < rep->nfields; fi++) {
+            for (int l = 0; l < rep->nl; l++) {
+                char lam[32];
+                snprintf(lam, sizeof lam, "%.7g", rq->lambda[l]);
+                row(f, rq->model_names[m], &rep->spots[((size_t)m * rep->nfields + fi) * rep->nl + l], lam);
+            }
+            if (rep->nl > 1)
+                row(f, rq->model_names[m], &rep->pooled[(size_t)m * rep->nfields + fi], "all");
+        }
+}
+
+int focus_mode_parse(const char *s, focus_mode *mode)
+{
+    static const char *const names[] = {"file", "paraxial", "best"};
+    for (int i = 0; i < 3; i++)
+        if (strcmp(s, names[i]) == 0) {
+            *mode = (focus_mode)i;
+            return 0;
+        }
+    return -1;
+}

@@ -1,0 +1,63 @@
+#include "sparselens/diag.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+void lens_errf(lens_err *err, const char *file, long line, const char *fmt, ...)
+{
+    if (!err)
+        return;
+    int n = 0;
+    if (file && line > 0)
+        n = snprintf(err->msg, sizeof err->msg, "%s:%ld: ", file, line);
+    else if (file)
+        n = snprintf(err->msg, sizeof err->msg, "%s: ", file);
+    if (n < 0 || (size_t)n >= sizeof err->msg)
+        n = 0;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err->msg + n, sizeof err->msg - (size_t)n, fmt, ap);
+    va_end(ap);
+}
+
+void diag_print(const char *prog, const lens_err *err)
+{
+    fprintf(stderr, "%s: %s\n", prog, err->msg);
+}
+
+void diag_die(const char *prog, const char *fmt, ...)
+{
+    va_list ap;
+    fprintf(stderr, "%s: ", prog);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+    exit(1);
+}
+
+int parse_double(const char *s, double *out)
+{
+    if (!s || !*s)
+        return -1;
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (*end != '\0' || errno == ERANGE || !isfinite(v))
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int parse_long(const char *s, long *out)
+{
+    double v;
+    /* Accepts 1e6 as well as 1000000: counts are often written that way. */
+    if (parse_double(s, &v) != 0 || v != floor(v) || fabs(v) > 9e15)
+        return -1;
+    *out = (long)v;
+    return 0;
+}

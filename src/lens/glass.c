@@ -1,0 +1,487 @@
+/* Refractive index of the media a lens is made of.
+ *
+ * The (n_d, V_d) model glass. Patents give most glasses as n_d and V_d only; two numbers
+ * fix an index and a slope, not the curvature of n(lambda) that sets the secondary
+ * spectrum. The model supplies the missing facts from Schott's "normal lines" (the
+ * straight lines through K7 and F2 on which normal glasses lie; Schott, Optical Glass,
+ * eq. 3.10): the relative partial dispersions
+ *   P_g,F = (n_g - n_F) / (n_F - n_C) = 0.6438 - 0.001682 V_d
+ *   P_C,t = (n_C - n_t) / (n_F - n_C) = 0.5450 + 0.004743 V_d
+ * and fits n(l) = A + B / (l^2 - C) + D l^2 (an ultraviolet pole and an infrared slope)
+ * so that n(d) = n_d, n(F) - n(C) = (n_d - 1) / V_d exactly, and both partial
+ * dispersions hold. For fixed C the conditions are linear in A, B, D; C is found by
+ * bisection on the P_C,t condition.
+ * Against the shipped Schott catalog the model is within 5e-5 over 0.4-0.7 um and
+ * 3.5e-4 over 0.36-1.0 um for normal glasses (N-BK7, N-SK16, N-BAF10, F2, F5); glasses
+ * off the normal lines (dense flints such as N-SF6: 1.6e-3 and 5.5e-3) are only as good
+ * as the assumption. Assumptions: a normal glass; 0.36 .. 1.0 um only, outside that range
+ * an error, not an extrapolation. Should an (n_d, V_d) pair lie so far outside the
+ * glass map that no pole C in [-0.2, 0.1] um^2 fits (none does for n_d 1.35-2.2 and
+ * V_d 15-100), the model falls back to Cauchy's n = A + B / l^2 with the same two exact
+ * conditions. */
+#include "sparselens/glass.h"
+
+#include <ctype.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <unistd.h>
+
+#include "sparselens/agf.h"
+#include "sparselens/glass_formula.h"
+
+#define NDVD_LAMBDA_MIN 0.36
+#define NDVD_LAMBDA_MAX 1.0
+
+glass_t glass_air(void)
+{
+    glass_t g;
+    memset(&g, 0, sizeof g);
+    g.kind = GLASS_AIR;
+    g.nd = 1.0;
+    g.lambda_min = 0.0;
+    g.lambda_max = INFINITY;
+    return g;
+}
+
+glass_t glass_constant(double nd)
+{
+    glass_t g = glass_air();
+    g.kind = GLASS_CONSTANT;
+    g.nd = nd;
+    return g;
+}
+
+int glass_check_ndvd(double nd, double vd, const char *what, const char *file, long line,
+                     lens_err *err)
+{
+    if (!isfinite(nd) || nd < 1) {
+        lens_errf(err, file, line, "%s: n_d %g %s", what, nd,
+                  isfinite(nd) ? "is below 1 (indices are relative to air)" : "is not a number");
+        return -1;
+    }
+    if (nd > GLASS_ND_MAX) {
+        lens_errf(err, file, line, "%s: n_d %g is above %g, which no optical glass reaches", what,
+                  nd, GLASS_ND_MAX);
+        return -1;
+    }
+    if (!isnan(vd) && !(vd > 0 && isfinite(vd))) {
+        lens_errf(err, file, line, "%s: Abbe number V_d %g must be positive and finite", what,
+                  vd);
+        return -1;
+    }
+    return 0;
+}
+
+#define G_LINE 0.4358343 /* mercury g line, um */
+#define T_LINE 1.0139722 /* mercury t line, um */
+#define PGF_A 0.6438
+#define PGF_B (-0.001682)
+#define PCT_A 0.5450
+#define PCT_B 0.004743
+#define NDVD_POLE_LO (-0.2)
+#define NDVD_POLE_HI 0.1
+
+static double ndvd_eval(const double *c, double l)
+{
+    double l2 = l * l;
+    return c[0] + c[1] / (l2 - c[2]) + c[3] * l2;
+}
+
+/* A, B, D for the pole C: n(d) = nd, n(F) - n(C) = dfc, n(g) - n(F) = pgf dfc. */
+static void ndvd_fit(double nd, double dfc, double pgf, double pole, double *c)
+{
+    double fd = 1 / (GLASS_D_LINE * GLASS_D_LINE - pole);
+    double ff = 1 / (GLASS_F_LINE * GLASS_F_LINE - pole);
+    double fc = 1 / (GLASS_C_LINE * GLASS_C_LINE - pole);
+    double fg = 1 / (G_LINE * G_LINE - pole);
+    double a11 = ff - fc, a12 = GLASS_F_LINE * GLASS_F_LINE - GLASS_C_LINE * GLASS_C_LINE;
+    double a21 = fg - ff, a22 = G_LINE * G_LINE - GLASS_F_LINE * GLASS_F_LINE;
+    double det = a11 * a22 - a12 * a21;
+    c[1] = (dfc * a22 - a12 * pgf * dfc) / det;
+    c[3] = (a11 * pgf * dfc - a21 * dfc) / det;
+    c[2] = pole;
+    c[0] = nd - c[1] * fd - c[3] * GLASS_D_LINE * GLASS_D_LINE;
+}
+
+/* Residual of the P_C,t condition for the pole C. */
+static double ndvd_residual(double nd, double dfc, double pgf, double pct, double pole)
+{
+    double c[4];
+    ndvd_fit(nd, dfc, pgf, pole, c);
+    return (ndvd_eval(c, GLASS_C_LINE) - ndvd_eval(c, T_LINE)) / dfc - pct;
+}
+
+glass_t glass_from_ndvd(double nd, double vd)
+{
+    glass_t g = glass_air();
+    g.kind = GLASS_NDVD;
+    g.nd = nd;
+    g.vd = vd;
+    g.lambda_min = NDVD_LAMBDA_MIN;
+    g.lambda_max = NDVD_LAMBDA_MAX;
+    double dfc = (nd - 1.0) / vd;
+    double pgf = PGF_A + PGF_B * vd, pct = PCT_A + PCT_B * vd;
+    double lo = NDVD_POLE_LO, hi = NDVD_POLE_HI;
+    double rlo = ndvd_residual(nd, dfc, pgf, pct, lo), rhi = ndvd_residual(nd, dfc, pgf, pct, hi);
+    if (isfinite(rlo) && isfinite(rhi) && (rlo < 0) != (rhi < 0)) {
+        for (int i = 0; i < 80; i++) { /* 80 halvings: below one ulp of the bracket */
+            double mid = 0.5 * (lo + hi);
+            double r = ndvd_residual(nd, dfc, pgf, pct, mid);
+            if ((r < 0) == (rlo < 0)) {
+                lo = mid;
+                rlo = r;
+            } else {
+                hi = mid;
+            }
+        }
+        ndvd_fit(nd, dfc, pgf, 0.5 * (lo + hi), g.coef);
+        return g;
+    }
+    /* Cauchy fallback: pole at 0, no infrared term. */
+    double b = dfc / (1.0 / (GLASS_F_LINE * GLASS_F_LINE) - 1.0 / (GLASS_C_LINE * GLASS_C_LINE));
+    g.coef[0] = nd - b / (GLASS_D_LINE * GLASS_D_LINE);
+    g.coef[1] = b;
+    g.coef[2] = 0;
+    g.coef[3] = 0;
+    return g;
+}
+
+double glass_index_unchecked(const glass_t *g, double l)
+{
+    switch (g->kind) {
+    case GLASS_AIR:
+        return 1.0;
+    case GLASS_CONSTANT:
+        return g->nd;
+    case GLASS_NDVD:
+        return ndvd_eval(g->coef, l);
+    case GLASS_FORMULA:
+        return glass_formula_eval(g->formula, g->coef, l);
+    }
+    return NAN;
+}
+
+int glass_index(const glass_t *g, double l, double *n, lens_err *err)
+{
+    if (!(l >= g->lambda_min && l <= g->lambda_max)) {
+        lens_errf(err, NULL, 0, "wavelength %g um is outside the range %g..%g um of %s", l,
+                  g->lambda_min, g->lambda_max, g->name[0] ? g->name : "the glass model");
+        return -1;
+    }
+    double v = glass_index_unchecked(g, l);
+    if (!isfinite(v) || v < 1.0) {
+        lens_errf(err, NULL, 0, "glass %s has no real index at %g um", g->name, l);
+        return -1;
+    }
+    *n = v;
+    return 0;
+}
+
+/* ---- catalogs ------------------------------------------------------------------ */
+
+struct glass_catalog {
+    glass_t *g;
+    size_t n, cap;
+    char *sources; /* "a.catalog, b.agf" */
+};
+
+glass_catalog *glass_catalog_new(void)
+{
+    return calloc(1, sizeof(glass_catalog));
+}
+
+void glass_catalog_free(glass_catalog *cat)
+{
+    if (!cat)
+        return;
+    free(cat->g);
+    free(cat->sources);
+    free(cat);
+}
+
+int glass_catalog_add(glass_catalog *cat, const glass_t *g, lens_err *err)
+{
+    if (!g->name[0]) {
+        lens_errf(err, NULL, 0, "a catalog glass needs a name");
+        return -1;
+    }
+    if (cat->n == cat->cap) {
+        size_t cap = cat->cap ? 2 * cat->cap : 64;
+        glass_t *ng = realloc(cat->g, cap * sizeof *ng);
+        if (!ng) {
+            lens_errf(err, NULL, 0, "out of memory");
+            return -1;
+        }
+        cat->g = ng;
+        cat->cap = cap;
+    }
+    cat->g[cat->n++] = *g;
+    return 0;
+}
+
+int glass_catalog_add_source(glass_catalog *cat, const char *path)
+{
+    size_t old = cat->sources ? strlen(cat->sources) : 0;
+    char *s = realloc(cat->sources, old + strlen(path) + 3);
+    if (!s)
+        return -1;
+    if (old)
+        strcpy(s + old, ", ");
+    strcpy(s + old + (old ? 2 : 0), path);
+    cat->sources = s;
+    return 0;
+}
+
+const glass_t *glass_catalog_find(const glass_catalog *cat, const char *name)
+{
+    if (!cat)
+        return NULL;
+    for (size_t i = 0; i < cat->n; i++)
+        if (strcasecmp(cat->g[i].name, name) == 0)
+            return &cat->g[i];
+    return NULL;
+}
+
+size_t glass_catalog_size(const glass_catalog *cat)
+{
+    return cat ? cat->n : 0;
+}
+
+const glass_t *glass_catalog_at(const glass_catalog *cat, size_t i)
+{
+    return cat && i < cat->n ? &cat->g[i] : NULL;
+}
+
+const char *glass_catalog_sources(const glass_catalog *cat)
+{
+    return cat && cat->sources ? cat->sources : "";
+}
+
+/* Keywords of the .catalog format, indexed by AGF formula number. */
+static const char *const formula_keyword[] = {
+    [GLASS_F_SCHOTT] = "schott",         [GLASS_F_SELLMEIER1] = "sellmeier1",
+    [GLASS_F_HERZBERGER] = "herzberger", [GLASS_F_SELLMEIER2] = "sellmeier2",
+    [GLASS_F_CONRADY] = "conrady",       [GLASS_F_SELLMEIER3] = "sellmeier3",
+    [GLASS_F_HANDBOOK1] = "handbook1",   [GLASS_F_HANDBOOK2] = "handbook2",
+    [GLASS_F_SELLMEIER4] = "sellmeier4", [GLASS_F_EXTENDED1] = "extended1",
+    [GLASS_F_SELLMEIER5] = "sellmeier5", [GLASS_F_EXTENDED2] = "extended2",
+    [GLASS_F_EXTENDED3] = "extended3",
+};
+
+static int formula_from_token(const char *t)
+{
+    for (int f = GLASS_F_SCHOTT; f <= GLASS_F_EXTENDED3; f++)
+        if (strcasecmp(t, formula_keyword[f]) == 0)
+            return f;
+    long v;
+    if (parse_long(t, &v) == 0 && v >= GLASS_F_SCHOTT && v <= GLASS_F_EXTENDED3)
+        return (int)v;
+    return 0;
+}
+
+/* A catalog's nominal n_d must agree with its own formula; a coefficient typed in the
+ * wrong column shows up here rather than as a subtly wrong lens. */
+#define CATALOG_ND_TOLERANCE 1e-3
+
+static int parse_catalog_line(char *line, const char *path, long lineno, glass_t *g,
+                              lens_err *err)
+{
+    char *tok[GLASS_MAX_COEF + 8];
+    int nt = 0;
+    char *save = NULL;
+    for (char *t = strtok_r(line, " \t\r\n", &save); t; t = strtok_r(NULL, " \t\r\n", &save)) {
+        if (nt == (int)(sizeof tok / sizeof *tok)) {
+            lens_errf(err, path, lineno, "too many fields");
+            return -1;
+        }
+        tok[nt++] = t;
+    }
+    if (nt < 2) {
+        lens_errf(err, path, lineno, "expected: name formula coefficients... lambda_min "
+                                     "lambda_max nd vd");
+        return -1;
+    }
+    memset(g, 0, sizeof *g);
+    g->kind = GLASS_FORMULA;
+    if (strlen(tok[0]) >= sizeof g->name) {
+        lens_errf(err, path, lineno, "glass name '%s' is too long", tok[0]);
+        return -1;
+    }
+    strcpy(g->name, tok[0]);
+    g->formula = formula_from_token(tok[1]);
+    if (!g->formula) {
+        lens_errf(err, path, lineno, "unknown dispersion formula '%s' (sellmeier1, schott, "
+                                     "... or an AGF formula number 1-13)", tok[1]);
+        return -1;
+    }
+    int nc = glass_formula_ncoef(g->formula);
+    if (nt != 2 + nc + 4) {
+        lens_errf(err, path, lineno,
+                  "glass %s: formula %s takes %d coefficients, then lambda_min lambda_max "
+                  "nd vd (%d fields expected, %d found)",
+                  g->name, glass_formula_name(g->formula), nc, 2 + nc + 4, nt);
+        return -1;
+    }
+    double v[GLASS_MAX_COEF + 4];
+    for (int i = 0; i < nc + 4; i++)
+        if (parse_double(tok[2 + i], &v[i]) != 0) {
+            lens_errf(err, path, lineno, "glass %s: '%s' is not a finite number", g->name,
+                      tok[2 + i]);
+            return -1;
+        }
+    memcpy(g->coef, v, (size_t)nc * sizeof *v);
+    g->lambda_min = v[nc];
+    g->lambda_max = v[nc + 1];
+    g->nd = v[nc + 2];
+    g->vd = v[nc + 3];
+    if (!(g->lambda_min > 0 && g->lambda_max > g->lambda_min)) {
+        lens_errf(err, path, lineno, "glass %s: wavelength range %g..%g um is empty", g->name,
+                  g->lambda_min, g->lambda_max);
+        return -1;
+    }
+    if (!(g->nd >= 1) || !(g->vd >= 0)) {
+        lens_errf(err, path, lineno, "glass %s: nd %g must be >= 1 and vd %g >= 0", g->name,
+                  g->nd, g->vd);
+        return -1;
+    }
+    if (GLASS_D_LINE >= g->lambda_min && GLASS_D_LINE <= g->lambda_max) {
+        double n = glass_formula_eval(g->formula, g->coef, GLASS_D_LINE);
+        if (!(fabs(n - g->nd) <= CATALOG_ND_TOLERANCE)) {
+            lens_errf(err, path, lineno,
+                      "glass %s: the formula gives n_d %.6f, the catalog says nd %.6f "
+                      "(coefficients in the wrong order?)",
+                      g->name, n, g->nd);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static int ends_with_ci(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && strcasecmp(s + n - m, suffix) == 0;
+}
+
+static int load_text_catalog(glass_catalog *cat, FILE *f, const char *path, lens_err *err)
+{
+    size_t first = cat->n;
+    char buf[4096];
+    long lineno = 0;
+    while (fgets(buf, sizeof buf, f)) {
+        lineno++;
+        if (!strchr(buf, '\n') && !feof(f)) {
+            lens_errf(err, path, lineno, "line too long");
+            return -1;
+        }
+        char *hash = strchr(buf, '#');
+        if (hash)
+            *hash = '\0';
+        char *p = buf;
+        while (isspace((unsigned char)*p))
+            p++;
+        if (!*p)
+            continue;
+        glass_t g;
+        if (parse_catalog_line(p, path, lineno, &g, err) != 0)
+            return -1;
+        for (size_t i = first; i < cat->n; i++)
+            if (strcasecmp(cat->g[i].name, g.name) == 0) {
+                lens_errf(err, path, lineno, "glass %s is listed twice in this file", g.name);
+                return -1;
+            }
+        if (glass_catalog_add(cat, &g, err) != 0)
+            return -1;
+    }
+    if (ferror(f)) {
+        lens_errf(err, path, 0, "read error");
+        return -1;
+    }
+    return 0;
+}
+
+/* agf.c hands each glass to a callback; this is it. */
+static int agf_add(void *cat, const glass_t *g, lens_err *err)
+{
+    return glass_catalog_add(cat, g, err);
+}
+
+int glass_catalog_load(glass_catalog **catp, const char *path, lens_err *err)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        lens_errf(err, path, 0, "cannot open the glass catalog");
+        return -1;
+    }
+    int created = 0;
+    if (!*catp) {
+        *catp = glass_catalog_new();
+        created = 1;
+        if (!*catp) {
+            fclose(f);
+            lens_errf(err, path, 0, "out of memory");
+            return -1;
+        }
+    }
+    size_t before = (*catp)->n;
+    /* AGF catalogs (Zemax's format) are read by agf.c, one glass_catalog_add each. */
+    int rc = ends_with_ci(path, ".agf") ? agf_read(path, agf_add, *catp, err)
+                                        : load_text_catalog(*catp, f, path, err);
+    fclose(f);
+    if (rc == 0 && glass_catalog_add_source(*catp, path) != 0) {
+        lens_errf(err, path, 0, "out of memory");
+        rc = -1;
+    }
+    if (rc != 0) {
+        /* Leave the catalog as it was before this file. */
+        (*catp)->n = before;
+        if (created) {
+            glass_catalog_free(*catp);
+            *catp = NULL;
+        }
+    }
+    return rc;
+}
+
+static int readable(const char *p)
+{
+    return access(p, R_OK) == 0;
+}
+
+const char *glass_default_catalog_path(void)
+{
+    /* One buffer per thread: the answer depends only on the environment and the
+     * executable's location, so recomputing it per call is harmless. */
+    static _Thread_local char buf[PATH_MAX + 64];
+    const char *env = getenv("SPARSELENS_GLASS_CATALOG");
+    if (env && *env)
+        return readable(env) ? env : NULL;
+    char exe[PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n > 0) {
+        exe[n] = '\0';
+        char *slash = strrchr(exe, '/');
+        if (slash) {
+            *slash = '\0';
+            /* bin/ of the source tree, an installed prefix, and build/tests/. */
+            static const char *const rel[] = {"/../lenses/glass.catalog",
+                                              "/../share/sparselens/lenses/glass.catalog",
+                                              "/../../lenses/glass.catalog"};
+            for (size_t i = 0; i < sizeof rel / sizeof *rel; i++) {
+                char cand[PATH_MAX + 64];
+                snprintf(cand, sizeof cand, "%s%s", exe, rel[i]);
+                if (readable(cand)) {
+                    /* "/x/bin/../lenses/..." reads badly in messages. */
+                    if (!realpath(cand, buf))
+                        snprintf(buf, sizeof buf, "%s", cand);
+                    return buf;
+                }
+            }
+        }
+    }
+    return NULL;
+}

@@ -1,0 +1,137 @@
+#ifndef SPARSELENS_IMPORT_COMMON_H
+#define SPARSELENS_IMPORT_COMMON_H
+/* Machinery shared by the .zmx, .seq and .agf readers: whole-file text in the
+ * encodings design programs write (UTF-16 with a byte-order mark, UTF-8, 8-bit),
+ * line and token splitting, the "skipped: ..." note, and glass look-up across the
+ * user's catalogs and the shipped one. Internal to the importers. */
+#include <stddef.h>
+#include <stdio.h>
+
+#include "sparselens/diag.h"
+#include "sparselens/glass.h"
+#include "sparselens/lens.h"
+#include "sparselens/lens_import.h"
+
+/* Decodes data into a fresh NUL-terminated 8-bit/UTF-8 buffer (caller frees).
+ * UTF-16 LE/BE with BOM, or LE without BOM when it is plainly so, become UTF-8; a
+ * UTF-8 BOM is dropped; anything else is taken byte for byte. NULL when out of memory. */
+char *import_decode(const char *data, size_t len);
+
+/* Reads a whole file or stream (at most 64 MB; path names it in messages). 0 on success. */
+int import_read_file(const char *path, char **data, size_t *len, lens_err *err);
+int import_read_stream(FILE *f, const char *path, char **data, size_t *len, lens_err *err);
+
+/* A lens_read_* over a lens_parse_*: reads the whole stream f, then parses it. */
+typedef int (*import_parser)(const char *data, size_t len, const char *path,
+                             const lens_load_options *opt, lens_t *lens, lens_err *err);
+int import_read_parse(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
+                      lens_err *err, import_parser parse);
+
+/* Grows an array of *cap elements of size bytes so that it holds n + 1 (doubling, from
+ * 16). 0, or -1 when out of memory (the array is kept). */
+int import_grow(void **array, size_t *cap, size_t n, size_t size);
+
+/* True when any of tok[from..n) is a non-zero number (a tilt, a decentre, a factor). */
+int import_any_nonzero(char **tok, int n, int from);
+
+/* Next line of a decoded buffer, split in place (\n, \r\n or \r); NULL at the end. */
+typedef struct {
+    char *p;
+    long line;
+} import_lines;
+char *import_next_line(import_lines *it);
+
+/* Splits a line in place into at most max tokens at blanks. Text in double
+ * or single quotes is one token, quotes removed. Returns the count; tokens past max are
+ * dropped. */
+int import_tokens(char *line, char **tok, int max);
+
+/* Case-insensitive string equality (keywords are upper case in files, but not always). */
+int import_eq(const char *a, const char *b);
+
+/* Things read but not modelled, counted by a human-readable label, for the notes. */
+#define IMPORT_MAX_SKIPS 24
+typedef struct {
+    char label[IMPORT_MAX_SKIPS][40];
+    int count[IMPORT_MAX_SKIPS];
+    int n;
+} import_skips;
+void import_skip(import_skips *sk, const char *label);
+/* Appends "skipped: a (2), b" to lens->notes (nothing when there is nothing). */
+void import_skips_note(const import_skips *sk, lens_t *lens);
+
+/* What both design-file parsers keep about the whole system while they read. */
+typedef struct {
+    const char *path;  /* for messages */
+    lens_t *lens;      /* being built */
+    import_skips skips;
+    double unit;       /* mm per length unit of the file */
+    double epd;        /* entrance pupil diameter, file units; NAN if not given */
+    double fno;        /* f-number; NAN if not given */
+} import_system;
+
+/* The start of every design-file parser: *lens emptied, lens->path = path, lens->source =
+ * "PROGRAM file BASENAME", *sys set for it (mm, no aperture yet), and data decoded
+ * (import_decode) into the returned text, which the caller frees. NULL (err set) when out
+ * of memory. */
+char *import_begin(const char *data, size_t len, const char *path, const char *program,
+                   lens_t *lens, import_system *sys, lens_err *err);
+
+
+/* Appends "; "-separated text to lens->notes, ending in "..." if it does not fit. */
+void import_note(lens_t *lens, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Radius in mm of a curvature c given per lens unit (unit mm long); INFINITY for c = 0.
+ * Of the decimal radii whose reciprocal is c exactly, the shortest: a file written from
+ * R = -435.7604 stores c = 1/R, and this gives back -435.7604, not -435.76040000000006. */
+double import_radius(double c, double unit);
+
+/* Makes the name, source and each note line writable and readable back unchanged in
+ * the native format's header: control characters become '?', end blanks go. */
+void import_clean_text(lens_t *lens);
+
+/* The system aperture of a design file, applied to a finished lens: the stop's
+ * semi-diameter is scaled so that the paraxial f-number (d line, object at infinity) is
+ * fnumber, or efl / epd_mm when fnumber is 0 (design programs derive the stop size from
+ * these, so the file's stop semi-diameter may be stale). hard: the stop's semi-diameter
+ * is a clear aperture the file sets (Zemax CLAP, CODE V CIR), which is never enlarged.
+ * Sets lens->fnumber (the nominal one); notes a change of the stop, or a kept hard
+ * aperture; -1 (err) when the stop surface cannot be that large. */
+int import_set_aperture(lens_t *lens, double fnumber, double epd_mm, const char *what,
+                        int hard, lens_err *err);
+
+/* The steps both design-file readers end with: the skipped-keyword note, cleaned
+ * header text, lens_finish, then the system aperture (an f-number when fnumber > 0,
+ * else an entrance pupil when epd_mm > 0; fno_name/epd_name are the file's keywords,
+ * for the notes). */
+int import_finish(lens_t *lens, const import_skips *skips, double fnumber, const char *fno_name,
+                  double epd_mm, const char *epd_name, int hard, lens_err *err);
+
+/* Glass look-up through lens_import.h's material_ctx: the extra catalogs
+ * (opt->catalogs), glass.catalog beside the lens, then the shipped one. */
+typedef struct {
+    const lens_load_options *opt;
+    material_ctx m;      /* the catalogs, in lens_load's order, read on first use */
+    char fallbacks[200]; /* glasses that fell back to nd/Vd, for the note */
+    char maker_catalogs[100]; /* catalogs the file names (Zemax GCAT), for the message */
+} import_glass_ctx;
+
+void import_glass_init(import_glass_ctx *g, const lens_load_options *opt, const char *lens_path);
+void import_glass_free(import_glass_ctx *g);
+
+/* Resolves a named glass into s->medium and s->material. nd, vd: the values the file
+ * gives beside the name (NAN when none), used only for the nd/Vd fallback. Tries the
+ * name as given, then case-insensitively and without hyphens (CODE V writes NBK7 for
+ * N-BK7), then with a trailing "_MAKER" or ".MAKER" removed. */
+int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double vd,
+                        const char *file, long line, lens_surface *s, lens_err *err);
+
+/* A model glass from n_d and V_d (vd 0 or not finite: a bare index) into s->medium and
+ * s->material; -1 (err at file:line) when glass_check_ndvd refuses them. */
+int import_glass_model(lens_surface *s, double nd, double vd, const char *file, long line,
+                       lens_err *err);
+
+/* Appends the fallbacks (if any) to the notes. */
+void import_glass_note(const import_glass_ctx *g, lens_t *lens);
+
+#endif

@@ -1,0 +1,285 @@
+/* Evaluation of polynomial systems: one ray, batches, and the Jacobian (the core in the
+ * system's frame; poly_frame.c wraps it into the public functions).
+ * Every path runs the plan of poly_impl.h with the same products and the same order of
+ * additions, so scalar and batch results are bit-identical. */
+#include "poly/poly_impl.h"
+
+#include <immintrin.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Rays per block in the batch path. The values of a block's rays for one monomial lie
+ * side by side, so every product and every term is one operation on BLK lanes, which
+ * the compiler splits into as many hardware vectors as the clone has (2 on AVX-512). A
+ * block's values must stay in the L1 cache: 16 rays x 8 bytes x ~140 kept values of a
+ * 5 x 40 term system is 18 KiB. Larger blocks measured slower, smaller ones pay the
+ * per-term index and coefficient loads on fewer rays. */
+#define BLK 16
+/* Rays whose parts are sorted out together in the batch path (bounds the index buffer). */
+#define CHUNK 2048
+
+int poly_passes(const poly_system *s, const double *out)
+{
+    for (int o = 0; o < s->nout; o++)
+        if (!isfinite(out[o]))
+            return 0;
+    for (int c = 0; c < s->ncircles; c++) {
+        double a = out[s->circles[c].a], b = out[s->circles[c].b], r = s->circles[c].radius;
+        if (!(a * a + b * b <= r * r))
+            return 0;
+    }
+    return 1;
+}
+
+static void fill_nan(double *out, int n)
+{
+    for (int o = 0; o < n; o++)
+        out[o] = NAN;
+}
+
+/* The plan's values for one ray into v[nvals]. */
+static void values_one(const poly_system *s, const poly_plan *pl, const double *in, double *v)
+{
+    v[0] = 1;
+    for (int i = 0; i < s->nin; i++) {
+        v[1 + i] = in[i];
+        poly_scale_column(s, i, &v[1 + i], 1);
+    }
+    const int *pr = pl->prod;
+    double *d = v + 1 + s->nin;
+    for (int j = 0; j < pl->nprod; j++)
+        d[j] = v[pr[2 * j]] * v[pr[2 * j + 1]];
+}
+
+/* The plan's sums for one ray (the same additions as the batch kernel's). */
+static void sums_one(const poly_plan *pl, const double *v, double *out)
+{
+    for (int o = 0; o < pl->nout; o++) {
+        const int t0 = pl->start[o], ns = pl->nsingle[o], nf = pl->start[o + 1] - t0 - ns;
+        const double *c = pl->coef + t0;
+        const int *fa = pl->fa + t0;
+        double a0 = 0, a1 = 0, a2 = 0, a3 = 0;
+        int t = 0;
+        for (; t + 4 <= ns; t += 4) {
+            a0 += c[t] * v[fa[t]];
+            a1 += c[t + 1] * v[fa[t + 1]];
+            a2 += c[t + 2] * v[fa[t + 2]];
+            a3 += c[t + 3] * v[fa[t + 3]];
+        }
+        if (t < ns)
+            a0 += c[t] * v[fa[t]];
+        if (t + 1 < ns)
+            a1 += c[t + 1] * v[fa[t + 1]];
+        if (t + 2 < ns)
+            a2 += c[t + 2] * v[fa[t + 2]];
+        c += ns;
+        fa += ns;
+        const int *fb = pl->fb + t0 + ns;
+        for (t = 0; t + 4 <= nf; t += 4) {
+            a0 += c[t] * (v[fa[t]] * v[fb[t]]);
+            a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
+            a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
+            a3 += c[t + 3] * (v[fa[t + 3]] * v[fb[t + 3]]);
+        }
+        if (t < nf)
+            a0 += c[t] * (v[fa[t]] * v[fb[t]]);
+        if (t + 1 < nf)
+            a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
+        if (t + 2 < nf)
+            a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
+        out[o] = (a0 + a1) + (a2 + a3);
+    }
+}
+
+/* Runs plan pl on one ray: out[pl->nout]. Returns -1 when out of memory. */
+static int run_one(const poly_system *s, const poly_plan *pl, const double *in, double *out)
+{
+    double buf[512];
+    double *v = pl->nvals <= 512 ? buf : malloc((size_t)pl->nvals * sizeof(double));
+    if (!v)
+        return -1;
+    values_one(s, pl, in, v);
+    sums_one(pl, v, out);
+    if (v != buf)
+        free(v);
+    return 0;
+}
+
+int poly_eval_part_core(const poly_system *s, int part, const double *in, double *out)
+{
+    if (part < 0 || part >= s->nparts || run_one(s, &s->parts[part].plan, in, out) != 0) {
+        fill_nan(out, s->nout);
+        return 0;
+    }
+    return poly_passes(s, out);
+}
+
+/* What a batch run computes: the outputs with the passage test, or the derivatives
+ * d out_o / d in_i of the derivative plan (chain rule applied). */
+enum { RUN_EVAL, RUN_JAC };
+
+/* The batch kernel once per instruction set, each with the vector width of its
+ * registers and a block that keeps its partial sums in registers (AVX-512: 16 rays in
+ * 2 x 8 lanes, AVX2: 8 in 2 x 4, SSE: 4 in 2 x 2); batch() picks one per call. -O3 for
+ * these alone: it unrolls the gathers and scatters of the rows, about 8 % faster on
+ * the fisheye-ii system; it never contracts into FMA (ISO C mode), so the bits stay. */
+#define KERNEL_NAME run_blocks_avx512
+#define KERNEL_TARGET __attribute__((target("avx512f"), optimize("O3")))
+#define KERNEL_SQRT(x) ((vn)_mm512_sqrt_pd((__m512d)(x)))
+#define VW 8
+#define KBLK 16
+#include "poly/poly_eval_kernel.h"
+#undef KERNEL_NAME
+#undef KERNEL_TARGET
+#undef VW
+#undef KBLK
+#undef KERNEL_SQRT
+#define KERNEL_NAME run_blocks_avx2
+#define KERNEL_TARGET __attribute__((target("avx2"), optimize("O3")))
+#define KERNEL_SQRT(x) ((vn)_mm256_sqrt_pd((__m256d)(x)))
+#define VW 4
+#define KBLK 8
+#include "poly/poly_eval_kernel.h"
+#undef KERNEL_NAME
+#undef KERNEL_TARGET
+#undef VW
+#undef KBLK
+#undef KERNEL_SQRT
+#define KERNEL_NAME run_blocks_sse
+#define KERNEL_TARGET __attribute__((optimize("O3")))
+#define KERNEL_SQRT(x) ((vn)_mm_sqrt_pd((__m128d)(x)))
+#define VW 2
+#define KBLK 4
+#include "poly/poly_eval_kernel.h"
+#undef KERNEL_NAME
+#undef KERNEL_TARGET
+#undef VW
+#undef KBLK
+#undef KERNEL_SQRT
+
+typedef void run_fn(const poly_system *, const poly_plan *const *, int, int, size_t,
+                    const size_t *, size_t, const double *, double *, unsigned char *, double *,
+                    double *, double *, int *);
+
+/* The plans the kernel runs for part p: the part's plan, or with outputs outside the frame
+ * the frame view's and the plain view's (poly_impl.h; the system itself for a view that
+ * could not be built, as poly_eval_part does). Returns how many. */
+static int part_plans(const poly_system *s, int what, int p, const poly_plan **pls)
+{
+    if (what == RUN_JAC) {
+        pls[0] = &s->parts[p].dplan;
+        return 1;
+    }
+    if (!(s->frame && s->nplain)) {
+        pls[0] = &s->parts[p].plan;
+        return 1;
+    }
+    pls[0] = &(s->vframe ? s->vframe : s)->parts[p].plan;
+    pls[1] = &(s->vplain ? s->vplain : s)->parts[p].plan;
+    return 2;
+}
+
+/* The batch driver of poly_eval_batch and poly_eval_jacobian_batch: rays in runs of one
+ * part (each chunk counting-sorted by part when there are several, the part chosen from
+ * the rays' own inputs as poly_eval does). RUN_EVAL applies the frame and transforms in
+ * the kernel; RUN_JAC runs the core alone. */
+static void batch(const poly_system *s, int what, size_t count, const double *in, double *out,
+                  unsigned char *pass)
+{
+    const int nw = what == RUN_JAC ? s->nout * s->nin : s->nout;
+    if (count == 0)
+        return;
+    int maxv = 0, maxo = nw;
+    size_t maxoff = 1;
+    for (int p = 0; p < s->nparts; p++) {
+        const poly_plan *pls[2];
+        const int nview = part_plans(s, what, p, pls);
+        size_t no = 0;
+        for (int w = 0; w < nview; w++) {
+            no += 2 * (size_t)pls[w]->nprod + 2 * (size_t)pls[w]->start[pls[w]->nout];
+            if (pls[w]->nvals > maxv)
+                maxv = pls[w]->nvals;
+        }
+        if (no > maxoff)
+            maxoff = no;
+    }
+    int *off = malloc(maxoff * sizeof(int));
+    run_fn *run = __builtin_cpu_supports("avx512f") ? run_blocks_avx512
+                  : __builtin_cpu_supports("avx2")  ? run_blocks_avx2
+                                                    : run_blocks_sse;
+    double *v = s->nparts ? aligned_alloc(64, (size_t)maxv * BLK * sizeof(double)) : NULL;
+    double *res = aligned_alloc(64, 2 * (size_t)maxo * BLK * sizeof(double));
+    double *fb = aligned_alloc(64, ((size_t)s->nin + 3) * BLK * sizeof(double));
+    size_t *idx = s->nparts > 1 ? malloc(CHUNK * sizeof(size_t)) : NULL;
+    int *part = s->nparts > 1 ? malloc(CHUNK * sizeof(int)) : NULL;
+    int *start = calloc((size_t)s->nparts + 1, sizeof(int));
+    int *cur = calloc((size_t)s->nparts + 1, sizeof(int));
+    if (!v || !res || !fb || !off || !start || !cur || (s->nparts > 1 && (!idx || !part))) {
+        /* no parts, or out of memory: the rays do not pass */
+        for (size_t r = 0; r < count; r++) {
+            fill_nan(out + r * (size_t)nw, nw);
+            if (pass)
+                pass[r] = 0;
+        }
+    } else if (s->nparts == 1) {
+        const poly_plan *pls[2];
+        const int nview = part_plans(s, what, 0, pls);
+        run(s, pls, nview, what, count, NULL, 0, in, out, pass, v, res, fb, off);
+    } else {
+        for (size_t c0 = 0; c0 < count; c0 += CHUNK) {
+            size_t n = count - c0 < CHUNK ? count - c0 : CHUNK;
+            memset(start, 0, ((size_t)s->nparts + 1) * sizeof(int));
+            for (size_t r = 0; r < n; r++) {
+                part[r] = poly_select_part(s, in + (c0 + r) * (size_t)s->nin);
+                start[part[r] + 1]++;
+            }
+            for (int q = 0; q < s->nparts; q++)
+                start[q + 1] += start[q];
+            memcpy(cur, start, (size_t)s->nparts * sizeof(int));
+            for (size_t r = 0; r < n; r++)
+                idx[cur[part[r]]++] = c0 + r;
+            for (int q = 0; q < s->nparts; q++) {
+                const poly_plan *pls[2];
+                const int nview = part_plans(s, what, q, pls);
+                if (start[q + 1] > start[q])
+                    run(s, pls, nview, what, (size_t)(start[q + 1] - start[q]), idx + start[q],
+                        0, in, out, pass, v, res, fb, off);
+            }
+        }
+    }
+    free(v);
+    free(res);
+    free(fb);
+    free(off);
+    free(idx);
+    free(part);
+    free(start);
+    free(cur);
+}
+
+void poly_eval_batch_core(const poly_system *s, size_t count, const double *in, double *out,
+                          unsigned char *pass)
+{
+    batch(s, RUN_EVAL, count, in, out, pass);
+}
+
+void poly_eval_jacobian_batch_core(const poly_system *s, size_t count, const double *in,
+                              double *jac)
+{
+    batch(s, RUN_JAC, count, in, jac, NULL);
+}
+
+int poly_eval_jacobian_core(const poly_system *s, const double *in, double *out, double *jac)
+{
+    const int nin = s->nin, nout = s->nout;
+    int pass = poly_eval_part_core(s, s->nparts ? poly_select_part(s, in) : -1, in, out);
+    if (s->nparts == 0 ||
+        run_one(s, &s->parts[poly_select_part(s, in)].dplan, in, jac) != 0) {
+        fill_nan(jac, nin * nout);
+        return 0;
+    }
+    for (int k = 0; k < nin * nout; k++)
+        jac[k] = poly_scale_chain(s, k % nin, in[k % nin], jac[k]);
+    return pass;
+}

@@ -1,0 +1,438 @@
+/* What evaluation does around the polynomial core (man 5 lens-poly, "frame" and
+ * "transform"): the meridional frame of a rotationally symmetric lens, per-input
+ * transforms, and the public poly_eval* functions that apply them.
+ *
+ * Why a frame: the outputs of a rotationally symmetric lens are rotation-equivariant
+ * functions of the ray. Rotating each ray so its sensor point lies on +x removes one
+ * input (y' = 0) and with it every term that only expresses the symmetry, so the term
+ * budget goes to the lens's real aberrations. The sensor radius r = x' is scaled
+ * without an offset by the fitter, since the outputs are odd or even in it.
+ *
+ * Every path (scalar, batch, Jacobian, emitted C) computes the same expressions in the
+ * same order (the batch path in its kernel, poly_eval_kernel.h, on columns of rays): r = sqrt(x*x + y*y), c = x * (1 / r), s = y * (1 / r) (c = 1, s = 0 on the axis),
+ * u' = c*u + s*v, v' = c*v - s*u; outputs a = c*a' - s*b', b = s*a' + c*b'. The pass
+ * test is made on the frame outputs (the rotation keeps the length of a pair). */
+#include "poly/poly_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *poly_frame_name(int frame)
+{
+    return frame == POLY_FRAME_NONE ? "none" : frame == POLY_FRAME_MERIDIONAL ? "meridional" : NULL;
+}
+
+const char *poly_xform_name(int xform)
+{
+    return xform == POLY_XFORM_IDENTITY         ? "identity"
+           : xform == POLY_XFORM_INVERSE_SQUARE ? "inverse-square"
+                                                : NULL;
+}
+
+int poly_frame_parse(const char *name)
+{
+    for (int f = 0; f <= POLY_FRAME_MERIDIONAL; f++)
+        if (strcmp(name, poly_frame_name(f)) == 0)
+            return f;
+    return -1;
+}
+
+int poly_xform_parse(const char *name)
+{
+    for (int x = 0; x <= POLY_XFORM_INVERSE_SQUARE; x++)
+        if (strcmp(name, poly_xform_name(x)) == 0)
+            return x;
+    return -1;
+}
+
+/* The partner of output o under the rotation ("out_x" -> "out_y"), -1 if o has none
+ * by name, -2 if it should have one that is missing. *first: o is the pair's a. */
+static int partner(const poly_system *s, int o, int *first)
+{
+    const char *n = s->outputs[o];
+    size_t len = strlen(n);
+    if (len < 2 || n[len - 2] != '_')
+        return -1;
+    char last = n[len - 1], other;
+    switch (last) {
+    case 'x': other = 'y'; *first = 1; break;
+    case 'y': other = 'x'; *first = 0; break;
+    case 'u': other = 'v'; *first = 1; break;
+    case 'v': other = 'u'; *first = 0; break;
+    default: return -1;
+    }
+    for (int q = 0; q < s->nout; q++)
+        if (q != o && strncmp(s->outputs[q], n, len - 1) == 0 && s->outputs[q][len - 1] == other &&
+            s->outputs[q][len] == '\0')
+            return q;
+    return -2;
+}
+
+/* The rotated pairs: outputs ..._x/..._y and ..._u/..._v computed in the frame.
+ * strict: -1 when an output in the frame lacks its partner in the frame. */
+static int rebuild_pairs(poly_system *s, int strict)
+{
+    int *pair = malloc((size_t)(s->nout + 1) * sizeof *pair);
+    if (!pair)
+        return -1;
+    int np = 0;
+    for (int o = 0; o < s->nout; o++) {
+        if (s->plain && s->plain[o])
+            continue;
+        int first = 0, q = partner(s, o, &first);
+        if (q == -1)
+            continue;
+        if (q == -2 || (s->plain && s->plain[q])) {
+            if (strict) {
+                free(pair);
+                return -1;
+            }
+            continue;
+        }
+        if (first) {
+            pair[2 * np] = o;
+            pair[2 * np + 1] = q;
+            np++;
+        }
+    }
+    free(s->pair);
+    s->pair = pair;
+    s->npairs = np;
+    return 0;
+}
+
+/* The views (poly_impl.h): copies of the inputs, scaling and parts, each with the
+ * terms of its own outputs. No frame, transform or pass circle: poly_eval_part and the
+ * batch kernel apply them. On failure there are no views, and evaluation runs the
+ * whole system twice. */
+static void rebuild_views(poly_system *s)
+{
+    poly_free(s->vframe);
+    poly_free(s->vplain);
+    s->vframe = s->vplain = NULL;
+    if (s->frame == POLY_FRAME_NONE || s->nplain == 0)
+        return;
+    poly_system *v[2];
+    for (int k = 0; k < 2; k++) {
+        v[k] = poly_new(s->lens_name, s->nin, (const char *const *)s->inputs, s->nout,
+                        (const char *const *)s->outputs);
+        if (!v[k]) {
+            poly_free(v[0]);
+            return;
+        }
+        for (int i = 0; i < s->nin; i++)
+            poly_set_scaling(v[k], i, s->offset[i], s->scale[i]);
+    }
+    int ok = 1;
+    for (int p = 0; ok && p < s->nparts; p++)
+        for (int k = 0; k < 2; k++)
+            ok &= poly_add_part(v[k], s->parts[p].rmin, s->parts[p].rmax) == p;
+    for (int p = 0; ok && p < s->nparts; p++)
+        for (int o = 0; ok && o < s->nout; o++) {
+            const poly_out_terms *ot = &s->parts[p].out[o];
+            for (int t = 0; ok && t < ot->nterms; t++)
+                ok &= poly_add_term(v[s->plain[o] ? 1 : 0], p, o, ot->exps + (size_t)t * s->nin,
+                                    ot->coef[t]) == 0;
+        }
+    if (!ok) {
+        poly_free(v[0]);
+        poly_free(v[1]);
+        return;
+    }
+    s->vframe = v[0];
+    s->vplain = v[1];
+}
+
+void poly_frame_on_change(poly_system *s)
+{
+    if (s->vframe || (s->frame != POLY_FRAME_NONE && s->nplain > 0))
+        rebuild_views(s);
+}
+
+void poly_frame_on_term(poly_system *s, int part, int o, const int *exps, double coef)
+{
+    if (!s->vframe)
+        return;
+    if (poly_add_term(s->plain[o] ? s->vplain : s->vframe, part, o, exps, coef) != 0)
+        rebuild_views(s); /* out of memory there: start over (or run without views) */
+}
+
+int poly_set_frame(poly_system *s, int frame)
+{
+    if (frame == POLY_FRAME_NONE) {
+        s->frame = frame;
+        s->npairs = 0;
+        s->nplain = 0;
+        free(s->plain);
+        s->plain = NULL;
+        rebuild_views(s);
+        return 0;
+    }
+    if (frame != POLY_FRAME_MERIDIONAL || s->ix < 0 || s->iy < 0 || s->iu < 0 || s->iv < 0)
+        return -1;
+    unsigned char *plain = s->plain ? s->plain : calloc((size_t)s->nout, 1);
+    if (!plain)
+        return -1;
+    s->plain = plain;
+    if (rebuild_pairs(s, 1) != 0)
+        return -1;
+    s->frame = frame;
+    rebuild_views(s);
+    return 0;
+}
+
+int poly_set_output_plain(poly_system *s, int o, int plain)
+{
+    if (s->frame == POLY_FRAME_NONE || o < 0 || o >= s->nout || !s->plain)
+        return -1;
+    s->nplain += (plain != 0) - (s->plain[o] != 0);
+    s->plain[o] = plain != 0;
+    rebuild_views(s);
+    return rebuild_pairs(s, 0);
+}
+
+int poly_get_output_plain(const poly_system *s, int o)
+{
+    return s->plain && o >= 0 && o < s->nout ? s->plain[o] : 0;
+}
+
+int poly_frame_check(const poly_system *s)
+{
+    if (s->frame == POLY_FRAME_NONE)
+        return 0;
+    return rebuild_pairs((poly_system *)s, 1);
+}
+
+int poly_get_frame(const poly_system *s) { return s->frame; }
+
+int poly_set_transform(poly_system *s, int i, int xform)
+{
+    if (i < 0 || i >= s->nin || !poly_xform_name(xform))
+        return -1;
+    s->nxform += (xform != POLY_XFORM_IDENTITY) - (s->xform[i] != POLY_XFORM_IDENTITY);
+    s->xform[i] = xform;
+    return 0;
+}
+
+int poly_get_transform(const poly_system *s, int i) { return s->xform[i]; }
+
+/* The rotation into the frame alone (t = in without a frame). */
+static void rotate_in(const poly_system *s, const double *in, double *t, double *cs)
+{
+    memcpy(t, in, (size_t)s->nin * sizeof *t);
+    cs[0] = 1;
+    cs[1] = 0;
+    if (s->frame == POLY_FRAME_MERIDIONAL) {
+        double x = in[s->ix], y = in[s->iy], u = in[s->iu], v = in[s->iv];
+        double r = sqrt(x * x + y * y);
+        double ir = 1 / r; /* one divide instead of two: the batch kernel does the same */
+        double c = r > 0 ? x * ir : 1, sn = r > 0 ? y * ir : 0;
+        t[s->ix] = r;
+        t[s->iy] = 0;
+        t[s->iu] = c * u + sn * v;
+        t[s->iv] = c * v - sn * u;
+        cs[0] = c;
+        cs[1] = sn;
+    }
+}
+
+void poly_frame_in(const poly_system *s, const double *in, double *t, double *cs)
+{
+    rotate_in(s, in, t, cs);
+    for (int i = 0; s->nxform && i < s->nin; i++)
+        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
+            t[i] = 1 / (t[i] * t[i]);
+}
+
+void poly_frame_out(const poly_system *s, const double *cs, double *out)
+{
+    const double c = cs[0], sn = cs[1];
+    for (int k = 0; k < s->npairs; k++) {
+        double a = out[s->pair[2 * k]], b = out[s->pair[2 * k + 1]];
+        out[s->pair[2 * k]] = c * a - sn * b;
+        out[s->pair[2 * k + 1]] = sn * a + c * b;
+    }
+}
+
+void poly_frame_out_inverse(const poly_system *s, const double *cs, double *out)
+{
+    const double c = cs[0], sn = cs[1];
+    for (int k = 0; k < s->npairs; k++) {
+        double a = out[s->pair[2 * k]], b = out[s->pair[2 * k + 1]];
+        out[s->pair[2 * k]] = c * a + sn * b;
+        out[s->pair[2 * k + 1]] = c * b - sn * a;
+    }
+}
+
+int poly_eval(const poly_system *s, const double *in, double *out)
+{
+    return poly_eval_part(s, s->nparts ? poly_select_part(s, in) : -1, in, out);
+}
+
+
+/* The inputs of the outputs outside the frame: the transforms alone. */
+static void plain_in(const poly_system *s, const double *in, double *t)
+{
+    memcpy(t, in, (size_t)s->nin * sizeof *t);
+    for (int i = 0; s->nxform && i < s->nin; i++)
+        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
+            t[i] = 1 / (t[i] * t[i]);
+}
+
+static void take_plain(const poly_system *s, const double *from, double *out)
+{
+    for (int o = 0; o < s->nout; o++)
+        if (s->plain[o])
+            out[o] = from[o];
+}
+
+int poly_eval_part(const poly_system *s, int part, const double *in, double *out)
+{
+    if (!poly_frame_active(s))
+        return poly_eval_part_core(s, part, in, out);
+    const int nin = s->nin, nout = s->nout, np = s->frame && s->nplain;
+    double cs[2], buf[64];
+    double *t = 2 * nin + nout <= 64 ? buf : malloc((size_t)(2 * nin + nout) * sizeof *t);
+    if (!t) {
+        for (int o = 0; o < nout; o++)
+            out[o] = NAN;
+        return 0;
+    }
+    double *tp = t + nin, *op = tp + nin;
+    poly_frame_in(s, in, t, cs);
+    poly_eval_part_core(s->vframe ? s->vframe : s, part, t, out);
+    if (np) {
+        plain_in(s, in, tp);
+        poly_eval_part_core(s->vplain ? s->vplain : s, part, tp, op);
+        take_plain(s, op, out);
+    }
+    poly_frame_out(s, cs, out);
+    if (t != buf)
+        free(t);
+    return poly_passes(s, out);  /* on the rotated-back values, as every path */
+}
+
+/* The batch kernel applies the frame and transforms itself, in the same order as
+ * poly_eval_part above (poly_eval_kernel.h), one pass over the rays for both views. */
+void poly_eval_batch(const poly_system *s, size_t count, const double *in, double *out,
+                     unsigned char *pass)
+{
+    poly_eval_batch_core(s, count, in, out, pass);
+}
+
+/* With a frame, ray by ray through poly_eval_jacobian (the same values). */
+void poly_eval_jacobian_batch(const poly_system *s, size_t count, const double *in, double *jac)
+{
+    if (!poly_frame_active(s)) {
+        poly_eval_jacobian_batch_core(s, count, in, jac);
+        return;
+    }
+    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout;
+    double buf[64];
+    double *o = nout <= 64 ? buf : malloc(nout * sizeof *o);
+    for (size_t r = 0; r < count; r++) {
+        if (o)
+            poly_eval_jacobian(s, in + r * nin, o, jac + r * nin * nout);
+        else
+            for (size_t k = 0; k < nin * nout; k++)
+                jac[r * nin * nout + k] = NAN;
+    }
+    if (o != buf)
+        free(o);
+}
+
+/* Chain rule: jac = d out / d in from the core's d out' / d t. With the frame, t
+ * depends on in through the rotation (c and s vary with x and y) and on the
+ * transforms; the outputs through the rotation back. On the axis (r = 0) the angle is
+ * undefined: there the frame is held fixed (the derivative along +x). */
+int poly_eval_jacobian(const poly_system *s, const double *in, double *out, double *jac)
+{
+    if (!poly_frame_active(s))
+        return poly_eval_jacobian_core(s, in, out, jac);
+    const int nin = s->nin, nout = s->nout, np = s->frame && s->nplain;
+    const size_t nn = (size_t)nin, no = (size_t)nout;
+    /* t, w: inputs of the core and the rotated inputs; T[i * nin + j] = dt_i / din_j;
+     * J: the core's Jacobian; op, Jp: the outputs outside the frame and theirs */
+    double *buf = calloc(2 * nn + nn * nn + 2 * nn * no + no, sizeof *buf);
+    if (!buf) {
+        for (int k = 0; k < nin * nout; k++)
+            jac[k] = NAN;
+        for (int o = 0; o < nout; o++)
+            out[o] = NAN;
+        return 0;
+    }
+    double *t = buf, *w = t + nn, *T = w + nn, *J = T + nn * nn, *Jp = J + nn * no, *op = Jp + nn * no;
+    double cs[2];
+    rotate_in(s, in, w, cs);
+    poly_frame_in(s, in, t, cs);
+    poly_eval_jacobian_core(s->vframe ? s->vframe : s, t, out, J);
+    const double c = cs[0], sn = cs[1];
+    /* derivatives of c and s with respect to x and y */
+    double dc[2] = {0, 0}, ds[2] = {0, 0};
+    for (int i = 0; i < nin; i++)
+        T[i * nin + i] = 1;
+    if (s->frame == POLY_FRAME_MERIDIONAL) {
+        const int ix = s->ix, iy = s->iy, iu = s->iu, iv = s->iv;
+        double x = in[ix], y = in[iy], u = in[iu], v = in[iv];
+        double r = sqrt(x * x + y * y);
+        double ir = r > 0 ? 1 / r : 0;
+        dc[0] = sn * sn * ir;
+        dc[1] = -c * sn * ir;
+        ds[0] = -c * sn * ir;
+        ds[1] = c * c * ir;
+        T[ix * nin + ix] = c;
+        T[ix * nin + iy] = sn;
+        T[iy * nin + iy] = 0;
+        T[iu * nin + ix] = dc[0] * u + ds[0] * v;
+        T[iu * nin + iy] = dc[1] * u + ds[1] * v;
+        T[iu * nin + iu] = c;
+        T[iu * nin + iv] = sn;
+        T[iv * nin + ix] = dc[0] * v - ds[0] * u;
+        T[iv * nin + iy] = dc[1] * v - ds[1] * u;
+        T[iv * nin + iu] = -sn;
+        T[iv * nin + iv] = c;
+    }
+    for (int i = 0; i < nin; i++)
+        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE) {
+            double g = -2 / (w[i] * w[i] * w[i]); /* d(1/w^2)/dw */
+            for (int j = 0; j < nin; j++)
+                T[i * nin + j] *= g;
+        }
+    /* jac = J T, then the rotation of the output pairs */
+    for (int o = 0; o < nout; o++)
+        for (int j = 0; j < nin; j++) {
+            double acc = 0;
+            for (int i = 0; i < nin; i++)
+                acc += J[o * nin + i] * T[i * nin + j];
+            jac[o * nin + j] = acc;
+        }
+    for (int k = 0; k < s->npairs; k++) {
+        int a = s->pair[2 * k], b = s->pair[2 * k + 1];
+        double A = out[a], B = out[b];
+        for (int j = 0; j < nin; j++) {
+            double dA = jac[a * nin + j], dB = jac[b * nin + j];
+            double dcj = j == s->ix ? dc[0] : j == s->iy ? dc[1] : 0;
+            double dsj = j == s->ix ? ds[0] : j == s->iy ? ds[1] : 0;
+            jac[a * nin + j] = c * dA - sn * dB + A * dcj - B * dsj;
+            jac[b * nin + j] = sn * dA + c * dB + A * dsj + B * dcj;
+        }
+    }
+    if (np) {
+        /* outside the frame: the transforms alone, diagonal */
+        plain_in(s, in, t);
+        poly_eval_jacobian_core(s->vplain ? s->vplain : s, t, op, Jp);
+        for (int o = 0; o < nout; o++) {
+            if (!s->plain[o])
+                continue;
+            out[o] = op[o];
+            for (int j = 0; j < nin; j++)
+                jac[o * nin + j] = Jp[o * nin + j] * (s->xform[j] == POLY_XFORM_INVERSE_SQUARE
+                                                          ? -2 / (in[j] * in[j] * in[j])
+                                                          : 1);
+        }
+    }
+    poly_frame_out(s, cs, out);
+    free(buf);
+    return poly_passes(s, out);
+}

@@ -1,0 +1,163 @@
+#ifndef SPARSELENS_POLY_IMPL_H
+#define SPARSELENS_POLY_IMPL_H
+/* The layout of a poly_system, shared by poly.c (building), poly_io.c (the text format),
+ * poly_eval.c and poly_emit_c.c. Nothing outside those files includes this.
+ *
+ * Monomials. Each part keeps a table of "slots", values computed once per ray:
+ *   slot 0          the constant 1
+ *   slot 1 + i      the scaled input s_i (poly_scale_column below)
+ *   later slots     products slot[a] * slot[b], appended in an order where a, b < slot.
+ * A monomial's value is defined canonically by its exponent tuple alone: a pure power
+ * s_i^k is s_i^(k-1) * s_i; a mixed monomial is (the monomial with its last non-zero
+ * exponent removed) * (that pure power). So the value of a term never depends on the
+ * order terms were added in, which is what makes a written and re-read system evaluate
+ * bit-identically, and lets the emitted C repeat the same products.
+ *
+ * Plan. Evaluation runs a flat program (poly_plan) built from the table and the terms:
+ * values are numbered compactly (0 the constant, 1 + i the inputs, then only the
+ * products that must be kept: a monomial that one term alone uses and nothing is built
+ * from is multiplied inside that term, coef * (v[a] * v[b]), the same product, without a
+ * store and a load). Each output then sums first its "single" terms, coef * v[x], in add
+ * order, then its "fused" terms, coef * (v[a] * v[b]), in add order; within each of the
+ * two runs term t goes to partial sum t % POLY_NSUMS, and the output is
+ * (s0 + s1) + (s2 + s3). Independent partial sums let the additions overlap. All paths
+ * (scalar, batch, Jacobian, emitted C) follow this plan, without contraction into FMA,
+ * so they give the same bits. */
+#include "sparselens/poly.h"
+
+#define POLY_NSUMS 4
+
+/* A monomial table (see above). */
+typedef struct {
+    int nslots, cap;
+    int *exps;            /* nslots x ninputs: the monomial each slot holds */
+    int *a, *b;           /* factors of product slots (-1 for slot 0 and the inputs) */
+    int *depth;           /* longest chain of products leading to the slot */
+} poly_mono;
+
+/* The flat program evaluating nout sums of terms over one monomial table. */
+typedef struct {
+    int nvals;            /* values per ray: 1 + ninputs + nprod */
+    int nprod;
+    int *prod;            /* 2 x nprod: value 1 + nin + j = v[prod[2j]] * v[prod[2j+1]] */
+    int *order;           /* nslots - 1 - nin: the product slots by depth (the emitter's
+                             order: neighbours rarely wait on each other) */
+    int nout;
+    int *start;           /* nout + 1: terms of output o are start[o] .. start[o+1] - 1 */
+    int *nsingle;         /* nout: the first nsingle[o] of them are single terms */
+    double *coef;         /* per planned term */
+    int *fa, *fb;         /* single: coef * v[fa]; fused: coef * (v[fa] * v[fb]) */
+    int *src;             /* per planned term: its index in the output's add order */
+} poly_plan;
+
+typedef struct {
+    int nterms, cap;
+    int *exps;    /* nterms x ninputs */
+    double *coef; /* nterms */
+    int *slot;    /* nterms: the slot holding the term's monomial */
+} poly_out_terms;
+
+typedef struct {
+    double rmin, rmax;
+    poly_out_terms *out; /* noutputs */
+    poly_mono mono;
+    poly_plan plan;
+    /* The Jacobian: per output o and input i (sum o * ninputs + i) the terms of
+     * d out_o / d s_i, coef * e_i times the monomial e - 1_i, over their own table,
+     * appended as terms are added (so derivative sums follow add order too). */
+    poly_out_terms *dout; /* noutputs x ninputs; exps unused */
+    poly_mono dmono;
+    poly_plan dplan;
+} poly_part;
+
+typedef struct {
+    int a, b;
+    double radius;
+} poly_circle;
+
+struct poly_system {
+    char *lens_name, *lens_path;
+    int nin, nout;
+    char **inputs, **outputs;
+    double *offset, *scale, *lo, *hi;
+    int ix, iy; /* inputs named x and y (part selection), -1 if absent */
+    /* Around the polynomial core (poly_frame.c): a frame rotation of the inputs and
+     * outputs, and per-input transforms. Both are off (POLY_FRAME_NONE, identity) in a
+     * system that does not ask for them, which then evaluates exactly as before. */
+    int frame;      /* POLY_FRAME_* */
+    int iu, iv;     /* inputs named u and v (the meridional frame), -1 if absent */
+    int *xform;     /* per input: POLY_XFORM_* */
+    int nxform;     /* inputs whose transform is not the identity */
+    unsigned char *plain; /* per output: 1 = computed outside the frame (at the inputs
+                             with their transforms only), as direction components
+                             that do not turn with the ray; NULL: none */
+    int nplain;
+    /* With outputs outside the frame, two views of the system that evaluation runs
+     * instead of it: vframe holds only the outputs in the frame, vplain only the others
+     * (the rest of their outputs have no terms), so each term is computed once.
+     * Kept in step by poly_frame_on_change / poly_frame_on_term (poly_frame.c). */
+    poly_system *vframe, *vplain;
+    int npairs;     /* output pairs rotated with the frame */
+    int *pair;      /* npairs x 2: outputs (a, b) = (..._x, ..._y) or (..._u, ..._v) */
+    int nparts;
+    poly_part *parts;
+    int ncircles;
+    poly_circle *circles;
+    int nmeta;
+    char **meta_key, **meta_val;
+};
+
+/* The pass test on final outputs (rotated back when there is a frame, so every path,
+ * scalar, batch and emitted C, agrees bit for bit): finite, and inside every circle. */
+int poly_passes(const poly_system *s, const double *out);
+
+/* The part a ray at sensor radius r belongs to (the nearest one if none contains r). */
+int poly_part_for_radius(const poly_system *sys, double r);
+int poly_select_part(const poly_system *sys, const double *in);
+
+/* The polynomial core of evaluation (poly_eval.c): the system's inputs are taken as
+ * already in the frame and transformed, the outputs are left in the frame. poly_frame.c
+ * wraps them into the public poly_eval* functions. Except poly_eval_batch_core: its
+ * kernel applies the frame and transforms of sys itself (per block, in vector
+ * registers), so poly_eval_batch is that function alone. */
+int poly_eval_part_core(const poly_system *sys, int part, const double *in, double *out);
+void poly_eval_batch_core(const poly_system *sys, size_t count, const double *in, double *out,
+                          unsigned char *pass);
+int poly_eval_jacobian_core(const poly_system *sys, const double *in, double *out, double *jac);
+void poly_eval_jacobian_batch_core(const poly_system *sys, size_t count, const double *in,
+                                   double *jac);
+
+/* Hooks of the builders in poly.c: a change of scaling or parts rebuilds the views, a
+ * new term is added to its view. */
+void poly_frame_on_change(poly_system *s);
+void poly_frame_on_term(poly_system *s, int part, int output, const int *exps, double coef);
+
+/* 1 when evaluation needs the frame or a transform around the core. */
+static inline int poly_frame_active(const poly_system *s) { return s->frame != 0 || s->nxform > 0; }
+
+/* Shortest decimal that reads back as v ("inf" / "-inf" for infinities); buf >= 32. */
+void poly_format_number(char *buf, size_t len, double v);
+/* "x^2*u" for exponents e ("1" for the constant). */
+void poly_format_monomial(FILE *f, const poly_system *s, const int *e);
+
+/* The scaled inputs of n rays: x[r] holds input i of ray r and becomes
+ * s_i = (x - offset_i) * (1 / scale_i): a multiply, where a divide per ray and input
+ * cost the batch path a fifth of its time; 1 / scale_i is rounded once, the same in every
+ * path (the emitted C folds the same constant). The only place that maps inputs to the polynomial's
+ * variables (with poly_scale_chain, its derivative): every path calls it, the batch path
+ * on a whole column of a block, where it compiles to vector code. */
+static inline void poly_scale_column(const poly_system *s, int i, double *x, int n)
+{
+    const double off = s->offset[i], inv = 1 / s->scale[i]; /* locals: x cannot alias them */
+    for (int r = 0; r < n; r++)
+        x[r] = (x[r] - off) * inv;
+}
+
+/* d out / d in_i from g = d out / d s_i (the chain rule through poly_scale_column). */
+static inline double poly_scale_chain(const poly_system *s, int i, double in_i, double g)
+{
+    (void)in_i;
+    return g / s->scale[i];
+}
+
+#endif

@@ -1,0 +1,161 @@
+/* Newton inversion of a polynomial system: object-space ray to sensor ray (see
+ * poly_solve.h). */
+#include "sparselens/poly_solve.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "sparselens/intersect.h"
+
+static const char *const in_names[5] = {"x", "y", "u", "v", "lambda"};
+static const char *const out_names[4] = {"out_x", "out_y", "out_u", "out_v"};
+
+int poly_solve_check(const poly_system *sys, lens_err *err)
+{
+    for (int i = 0; i < 5; i++)
+        if (poly_input_index(sys, in_names[i]) < 0) {
+            lens_errf(err, NULL, 0, "the system has no input '%s' (need x y u v lambda)", in_names[i]);
+            return -1;
+        }
+    if (poly_ninputs(sys) != 5) {
+        lens_errf(err, NULL, 0, "the system has %d inputs; need exactly x y u v lambda",
+                  poly_ninputs(sys));
+        return -1;
+    }
+    for (int i = 0; i < 4; i++)
+        if (poly_output_index(sys, out_names[i]) < 0) {
+            lens_errf(err, NULL, 0,
+                      "the system has no output '%s' (lens-spot and lens-distort need a system "
+                      "to the outer pupil)",
+                      out_names[i]);
+            return -1;
+        }
+    return 0;
+}
+
+int outer_of_object_ray(const lens_t *lens, const lens_ray *r, double outer[4])
+{
+    double t, p[3], nrm[3];
+    if (intersect_surface(&lens->surf[0], lens->vertex_z[0], r->o, r->d, INFINITY, &t, p, nrm) !=
+        ISECT_HIT)
+        return -1;
+    lens_ray back = {{p[0], p[1], p[2]}, {-r->d[0], -r->d[1], -r->d[2]}};
+    ray_to_outer(lens, &back, outer);
+    return isfinite(outer[0] + outer[1] + outer[2] + outer[3]) ? 0 : -1;
+}
+
+/* Solves the 4x4 system a x = b by Gaussian elimination with partial pivoting. */
+static int solve4(double a[4][4], double b[4], double x[4])
+{
+    for (int c = 0; c < 4; c++) {
+        int p = c;
+        for (int r = c + 1; r < 4; r++)
+            if (fabs(a[r][c]) > fabs(a[p][c]))
+                p = r;
+        if (!(fabs(a[p][c]) > 1e-300))
+            return -1;
+        if (p != c) {
+            for (int k = 0; k < 4; k++) {
+                double t = a[c][k];
+                a[c][k] = a[p][k];
+                a[p][k] = t;
+            }
+            double t = b[c];
+            b[c] = b[p];
+            b[p] = t;
+        }
+        for (int r = c + 1; r < 4; r++) {
+            double m = a[r][c] / a[c][c];
+            for (int k = c; k < 4; k++)
+                a[r][k] -= m * a[c][k];
+            b[r] -= m * b[c];
+        }
+    }
+    for (int c = 3; c >= 0; c--) {
+        double s = b[c];
+        for (int k = c + 1; k < 4; k++)
+            s -= a[c][k] * x[k];
+        x[c] = s / a[c][c];
+    }
+    return 0;
+}
+
+typedef struct {
+    const poly_system *sys;
+    int in[5], out[4], eta;
+    double lambda;
+    const double *target;
+    double buf_in[8], buf_out[16], jac[16 * 8];
+} solver;
+
+/* Residual F(s) = sys(s) - target, and its Jacobian d F / d (x, y, u, v). */
+static double residual(solver *sv, const double s[4], double f[4], double j[4][4], int *pass)
+{
+    int ni = poly_ninputs(sv->sys);
+    for (int i = 0; i < 4; i++)
+        sv->buf_in[sv->in[i]] = s[i];
+    sv->buf_in[sv->in[4]] = sv->lambda;
+    int p = poly_eval_jacobian(sv->sys, sv->buf_in, sv->buf_out, sv->jac);
+    if (pass)
+        *pass = p;
+    double nrm = 0;
+    for (int o = 0; o < 4; o++) {
+        f[o] = sv->buf_out[sv->out[o]] - sv->target[o];
+        nrm = fmax(nrm, fabs(f[o]));
+        if (j)
+            for (int i = 0; i < 4; i++)
+                j[o][i] = sv->jac[sv->out[o] * ni + sv->in[i]];
+    }
+    return isfinite(nrm) ? nrm : INFINITY;
+}
+
+int poly_solve_sensor(const poly_system *sys, double lambda, const double outer[4],
+                      const double *guess, double sensor[4], int *pass, double *eta)
+{
+    solver sv = {.sys = sys, .lambda = lambda, .target = outer};
+    if (poly_ninputs(sys) > 8 || poly_noutputs(sys) > 16)
+        return -1;
+    for (int i = 0; i < 5; i++)
+        if ((sv.in[i] = poly_input_index(sys, in_names[i])) < 0)
+            return -1;
+    for (int i = 0; i < 4; i++)
+        if ((sv.out[i] = poly_output_index(sys, out_names[i])) < 0)
+            return -1;
+    sv.eta = poly_output_index(sys, "out_eta");
+    double s[4] = {0, 0, 0, 0};
+    if (guess)
+        memcpy(s, guess, sizeof s);
+    double f[4], j[4][4];
+    double r = residual(&sv, s, f, j, NULL);
+    double tol = 1e-9 * (1 + fmax(fmax(fabs(outer[0]), fabs(outer[1])), 1.0));
+    for (int it = 0; it < 60 && r > tol; it++) {
+        double step[4], b[4] = {-f[0], -f[1], -f[2], -f[3]};
+        if (solve4(j, b, step) != 0)
+            return -1;
+        /* Backtracking keeps Newton from leaving the region where the fit is valid. */
+        double lam = 1, ns[4], nf[4], nj[4][4], nr = INFINITY;
+        for (int k = 0; k < 30; k++, lam *= 0.5) {
+            for (int i = 0; i < 4; i++)
+                ns[i] = s[i] + lam * step[i];
+            nr = residual(&sv, ns, nf, nj, NULL);
+            if (nr < r)
+                break;
+        }
+        if (!(nr < r))
+            return -1;
+        memcpy(s, ns, sizeof s);
+        memcpy(f, nf, sizeof f);
+        memcpy(j, nj, sizeof j);
+        r = nr;
+    }
+    if (!(r <= tol))
+        return -1;
+    int p = 0;
+    residual(&sv, s, f, NULL, &p);
+    memcpy(sensor, s, sizeof s);
+    if (pass)
+        *pass = p;
+    if (eta)
+        *eta = sv.eta >= 0 ? sv.buf_out[sv.eta] : 1.0;
+    return 0;
+}

@@ -1,0 +1,221 @@
+/* Lens maps for the renderer: exact tracing and polynomial systems (render_lens.h). */
+#include "sparselens/render_lens.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sparselens/glass.h"
+#include "sparselens/paraxial.h"
+#include "sparselens/trace.h"
+
+#define LAMBDA_CACHE 4 /* the d line and the three rgb band wavelengths */
+
+struct render_lens_ctx {
+    const lens_t *lens;
+    const poly_system *sys;
+    int nsurf;
+    /* exact: indices at the wavelengths used most (grey and rgb modes) */
+    double cache_lambda[LAMBDA_CACHE];
+    double *cache_n; /* LAMBDA_CACHE x nsurf */
+    /* poly: where the inputs and outputs are */
+    int nin, nout, in_idx[5], out_idx[5];
+};
+
+static void fill_camera(render_camera *cam, render_lens_ctx *c, render_map_fn fn,
+                        const lens_t *lens, double sw, double sh)
+{
+    memset(cam, 0, sizeof *cam);
+    cam->map = fn;
+    cam->ctx = c;
+    cam->sensor_w = sw;
+    cam->sensor_h = sh;
+    const lens_surface *rear = &lens->surf[lens->nsurf - 1];
+    cam->rear_dist = rear->thickness;
+    cam->rear_radius = rear->semi_diameter;
+    cam->lens = lens;
+}
+
+/* Indices at lambda: from the cache when it is one of the usual wavelengths. */
+static const double *indices(const render_lens_ctx *c, double lambda, double *scratch)
+{
+    for (int k = 0; k < LAMBDA_CACHE; k++)
+        if (c->cache_lambda[k] == lambda) return c->cache_n + (size_t)k * c->nsurf;
+    for (int i = 0; i < c->nsurf; i++)
+        scratch[i] = glass_index_unchecked(&c->lens->surf[i].medium, lambda);
+    return scratch;
+}
+
+static int map_exact(void *ctx, const double in[5], double org[3], double dir[3], double *eta)
+{
+    const render_lens_ctx *c = ctx;
+    double scratch[c->nsurf];
+    const double *n = indices(c, in[4], scratch);
+    lens_ray r;
+    ray_from_sensor(c->lens, in, &r);
+    trace_result res = trace_to_object(c->lens, n, &r, 0);
+    if (res.status != TRACE_PASSED) return 0;
+    memcpy(org, r.o, sizeof r.o);
+    memcpy(dir, r.d, sizeof r.d);
+    *eta = res.transmittance;
+    return 1;
+}
+
+static int map_poly(void *ctx, const double in[5], double org[3], double dir[3], double *eta)
+{
+    const render_lens_ctx *c = ctx;
+    double x[16], y[16];
+    for (int i = 0; i < c->nin; i++) x[i] = 0;
+    for (int k = 0; k < 5; k++)
+        if (c->in_idx[k] >= 0) x[c->in_idx[k]] = in[k];
+    if (!poly_eval(c->sys, x, y)) return 0; /* P_a from the system's pass circles */
+    double outer[4];
+    for (int k = 0; k < 4; k++) outer[k] = y[c->out_idx[k]];
+    *eta = c->out_idx[4] >= 0 ? y[c->out_idx[4]] : 1;
+    if (!(*eta > 0)) return 0;
+    if (*eta > 1) *eta = 1; /* a fitted transmittance may overshoot slightly */
+    lens_ray r;
+    if (ray_from_outer(c->lens, outer, &r)) return 0;
+    memcpy(org, r.o, sizeof r.o);
+    memcpy(dir, r.d, sizeof r.d);
+    return 1;
+}
+
+/* Outer-pupil coordinates and their Jacobian, for the full estimator (render.h).
+ * Exact: central differences of the tracer (steps 1e-5 mm in x, y and 1e-6 in u, v:
+ * rounding and truncation both near 1e-10 relative); a step the lens blocks leaves the
+ * Jacobian unknown (-1). */
+static int exact_outer(const render_lens_ctx *c, const double *n, const double in[4], double o[4],
+                       double *eta)
+{
+    trace_result r = trace_sample(c->lens, n, TRACE_TO_OUTER, in, o);
+    *eta = r.transmittance;
+    return r.status == TRACE_PASSED;
+}
+
+static int outer_exact(void *ctx, const double in[5], double o[4], double jac[16], double *eta)
+{
+    const render_lens_ctx *c = ctx;
+    double scratch[c->nsurf];
+    const double *n = indices(c, in[4], scratch);
+    if (!exact_outer(c, n, in, o, eta)) return 0;
+    if (!jac) return 1;
+    for (int i = 0; i < 4; i++) {
+        double h = i < 2 ? 1e-5 : 1e-6, a[4], b[4], e;
+        double ip[4] = {in[0], in[1], in[2], in[3]}, im[4] = {in[0], in[1], in[2], in[3]};
+        ip[i] += h, im[i] -= h;
+        if (!exact_outer(c, n, ip, a, &e) || !exact_outer(c, n, im, b, &e)) {
+            for (int k = 0; k < 16; k++) jac[k] = NAN;
+            return 1;
+        }
+        for (int k = 0; k < 4; k++) jac[4 * k + i] = (a[k] - b[k]) / (2 * h);
+    }
+    return 1;
+}
+
+/* Polynomial: poly_eval_jacobian, whose outputs and pass flag are poly_eval's. */
+static int outer_poly(void *ctx, const double in[5], double o[4], double jac[16], double *eta)
+{
+    const render_lens_ctx *c = ctx;
+    double x[16], y[16], J[16 * 16];
+    for (int i = 0; i < c->nin; i++) x[i] = 0;
+    for (int k = 0; k < 5; k++)
+        if (c->in_idx[k] >= 0) x[c->in_idx[k]] = in[k];
+    int pass = jac ? poly_eval_jacobian(c->sys, x, y, J) : poly_eval(c->sys, x, y);
+    for (int k = 0; k < 4; k++) o[k] = y[c->out_idx[k]];
+    *eta = c->out_idx[4] >= 0 ? y[c->out_idx[4]] : 1;
+    if (!pass || !(*eta > 0)) return 0;
+    if (*eta > 1) *eta = 1; /* as map_poly */
+    if (jac)
+        for (int k = 0; k < 4; k++)
+            for (int i = 0; i < 4; i++) jac[4 * k + i] = J[c->out_idx[k] * c->nin + c->in_idx[i]];
+    return 1;
+}
+
+render_lens_ctx *render_lens_exact(const lens_t *lens, double sw, double sh,
+                                   render_camera *cam, lens_err *err)
+{
+    render_lens_ctx *c = calloc(1, sizeof *c);
+    if (c) c->cache_n = malloc(LAMBDA_CACHE * lens->nsurf * sizeof *c->cache_n);
+    if (!c || !c->cache_n) {
+        render_lens_free(c);
+        lens_errf(err, lens->path, 0, "out of memory");
+        return NULL;
+    }
+    c->lens = lens;
+    c->nsurf = (int)lens->nsurf;
+    /* the d line is required; a band wavelength outside some glass's range is left out
+     * of the cache (render_run checks the range a colour scene needs) */
+    for (int k = 0; k < LAMBDA_CACHE; k++) {
+        double lam = k == 0 ? GLASS_D_LINE : render_channel_lambda(k - 1);
+        lens_err e2;
+        c->cache_lambda[k] = NAN;
+        if (lens_indices(lens, lam, c->cache_n + (size_t)k * c->nsurf, k == 0 ? err : &e2) == 0)
+            c->cache_lambda[k] = lam;
+        else if (k == 0) {
+            render_lens_free(c);
+            return NULL;
+        }
+    }
+    fill_camera(cam, c, map_exact, lens, sw, sh);
+    cam->outer = outer_exact;
+    return c;
+}
+
+render_lens_ctx *render_lens_poly(const poly_system *sys, const lens_t *lens, double sw,
+                                  double sh, render_camera *cam, lens_err *err)
+{
+    static const char *const in_names[5] = {"x", "y", "u", "v", "lambda"};
+    static const char *const out_names[5] = {"out_x", "out_y", "out_u", "out_v", "out_eta"};
+    render_lens_ctx *c = calloc(1, sizeof *c);
+    if (!c) {
+        lens_errf(err, NULL, 0, "out of memory");
+        return NULL;
+    }
+    c->lens = lens;
+    c->sys = sys;
+    c->nsurf = (int)lens->nsurf;
+    c->nin = poly_ninputs(sys);
+    c->nout = poly_noutputs(sys);
+    if (c->nin > 16 || c->nout > 16) {
+        lens_errf(err, poly_lens_path(sys), 0, "system has too many inputs or outputs to render");
+        free(c);
+        return NULL;
+    }
+    for (int k = 0; k < 5; k++) {
+        c->in_idx[k] = poly_input_index(sys, in_names[k]);
+        c->out_idx[k] = poly_output_index(sys, out_names[k]);
+        if (k < 4 && (c->in_idx[k] < 0 || c->out_idx[k] < 0)) {
+            lens_errf(err, NULL, 0, "the system lacks input '%s' or output '%s' (it must map "
+                      "the sensor to the outer pupil)", in_names[k], out_names[k]);
+            free(c);
+            return NULL;
+        }
+    }
+    fill_camera(cam, c, map_poly, lens, sw, sh);
+    cam->outer = outer_poly;
+    return c;
+}
+
+void render_lens_free(render_lens_ctx *c)
+{
+    if (!c) return;
+    free(c->cache_n);
+    free(c);
+}
+
+int render_lens_setup(lens_t *lens, double focus, double fstop, lens_err *err)
+{
+    if (!isnan(fstop) && lens_set_fnumber(lens, fstop, err)) return -1;
+    if (!isnan(focus)) {
+        double t;
+        if (paraxial_focus_thickness(lens, GLASS_D_LINE, focus, &t, err)) return -1;
+        if (!(t > 0)) {
+            lens_errf(err, lens->path, 0, "the lens cannot focus at %g mm", focus);
+            return -1;
+        }
+        lens->surf[lens->nsurf - 1].thickness = t;
+        if (lens_finish(lens, err)) return -1;
+    }
+    return 0;
+}

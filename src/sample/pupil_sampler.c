@@ -1,0 +1,430 @@
+/* Pupil-aware direction sampling (see pupil_sampler.h for the method). */
+#include "sparselens/pupil_sampler.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sparselens/trace.h"
+#include "sparselens/trace_packet.h"
+
+/* Probe wavelengths spread evenly over the range: the passing set moves with the
+ * wavelength, and where it is a thin crescent (fisheyes near the edge of the image
+ * circle) three probes left gaps between their sets wider than the dilation. */
+enum { MAX_LAMBDAS = 5, COARSE = 64 };
+
+typedef struct {
+    double u0, v0, du, dv; /* grid origin (lower corner) and cell size */
+    int g;                 /* cells per side */
+    unsigned char *occ;    /* g*g occupancy, row v, column u */
+    int *cells;            /* indices of the occupied cells */
+    int count;
+    double area; /* count * du * dv */
+} pupil_set;
+
+struct pupil_sampler {
+    int nr;
+    double rmax;
+    pupil_set *sets;
+};
+
+/* Whom build_set asks which directions pass: the exact lens (lens_probe, the packet
+ * tracer at the probe wavelengths) or a caller's function (pupil_sampler_build_probe). */
+typedef struct {
+    const lens_t *lens; /* NULL for a caller's probe: then fn, ctx, rear_dist, rear_radius */
+    int nl;
+    double *n[MAX_LAMBDAS];
+    pupil_probe_fn fn;
+    void *ctx;
+    double rear_dist, rear_radius;
+} prober;
+
+/* Marks pass[k] = 1 for the sensor rays (x, 0, u[k], v[k]), k < m, that pass at any of
+ * the probe wavelengths. Rays go through the packet tracer TRACE_LANES at a time. */
+static void lens_probe(const prober *p, double x, int m, const double *u, const double *v,
+                       unsigned char *pass)
+{
+    for (int k0 = 0; k0 < m; k0 += TRACE_LANES) {
+        int cnt = m - k0 < TRACE_LANES ? m - k0 : TRACE_LANES;
+        for (int l = 0; l < p->nl; l++) {
+            lens_ray r[TRACE_LANES];
+            trace_result res[TRACE_LANES];
+            const double *nl[TRACE_LANES];
+            int idx[TRACE_LANES], c = 0;
+            for (int k = k0; k < k0 + cnt; k++) {
+                if (pass[k])
+                    continue;
+                double in[4] = {x, 0, u[k], v[k]};
+                ray_from_sensor(p->lens, in, &r[c]);
+                nl[c] = p->n[l];
+                idx[c++] = k;
+            }
+            if (!c)
+                break;
+            trace_packet_to_object(p->lens, nl, c, r, 0, res, NULL);
+            for (int k = 0; k < c; k++)
+                if (res[k].status == TRACE_PASSED)
+                    pass[idx[k]] = 1;
+        }
+    }
+}
+
+static void probe(const prober *p, double x, int m, const double *u, const double *v,
+                  unsigned char *pass)
+{
+    if (p->lens)
+        lens_probe(p, x, m, u, v, pass);
+    else
+        p->fn(p->ctx, x, m, u, v, pass);
+}
+
+/* Probes the cell centres of a g x g grid at origin (u0, v0), cell (du, dv). */
+static void probe_grid(const prober *p, double x, int g, double u0, double v0, double du,
+                       double dv, unsigned char *pass)
+{
+    double u[g], v[g];
+    memset(pass, 0, (size_t)g * g);
+    for (int j = 0; j < g; j++) {
+        for (int i = 0; i < g; i++) {
+            u[i] = u0 + (i + 0.5) * du;
+            v[i] = v0 + (j + 0.5) * dv;
+        }
+        probe(p, x, g, u, v, pass + (size_t)j * g);
+    }
+}
+
+/* A box in (u, v) that holds every passing direction from (r, 0): a passing ray crosses
+ * the rear surface inside its semi-diameter, between the nearest and farthest z that
+ * surface reaches there (a caller's probe: the plane at rear_dist, within rear_radius). */
+static void outer_box(const prober *p, double r, double box[4])
+{
+    double sd, dmin, dmax;
+    if (p->lens) {
+        const lens_t *lens = p->lens;
+        size_t k = lens->nsurf - 1;
+        const lens_surface *s = &lens->surf[k];
+        double T = lens_total_track(lens);
+        double zmin = INFINITY, zmax = -INFINITY;
+        sd = s->semi_diameter;
+        for (int i = 0; i <= 32; i++) {
+            double h = sd * i / 32.0, z = lens->vertex_z[k] + lens_sag(s, h * h);
+            zmin = fmin(zmin, z);
+            zmax = fmax(zmax, z);
+        }
+        /* D = distance from the sensor to the crossing; guard a rear surface that nearly
+         * touches the sensor. */
+        dmin = fmax(T - zmax, 1e-3), dmax = fmax(T - zmin, 1e-3);
+    } else {
+        sd = p->rear_radius;
+        dmin = dmax = p->rear_dist;
+    }
+    box[0] = fmin((-sd - r) / dmin, (-sd - r) / dmax);
+    box[1] = fmax((sd - r) / dmin, (sd - r) / dmax);
+    box[2] = -sd / dmin;
+    box[3] = sd / dmin;
+}
+
+static int build_set(const prober *p, double r, int g, pupil_set *set)
+{
+    double box[4];
+    outer_box(p, r, box);
+    /* Coarse probe over the whole box for the extent of the passing set. */
+    double cu = (box[1] - box[0]) / COARSE, cv = (box[3] - box[2]) / COARSE;
+    int imin = COARSE, imax = -1, jmin = COARSE, jmax = -1;
+    unsigned char coarse[COARSE * COARSE];
+    probe_grid(p, r, COARSE, box[0], box[2], cu, cv, coarse);
+    for (int j = 0; j < COARSE; j++)
+        for (int i = 0; i < COARSE; i++)
+            if (coarse[j * COARSE + i]) {
+                imin = i < imin ? i : imin;
+                imax = i > imax ? i : imax;
+                jmin = j < jmin ? j : jmin;
+                jmax = j > jmax ? j : jmax;
+            }
+    memset(set, 0, sizeof *set);
+    set->g = g;
+    if (imax < 0)
+        return 0; /* nothing passes from this radius */
+    /* Fine grid over the extent grown by 1.5 coarse cells (partly covered cells). */
+    set->u0 = box[0] + (imin - 1.5) * cu;
+    set->v0 = box[2] + (jmin - 1.5) * cv;
+    set->du = (imax - imin + 4) * cu / g;
+    set->dv = (jmax - jmin + 4) * cv / g;
+    unsigned char *hit = calloc((size_t)g * g, 1);
+    set->occ = calloc((size_t)g * g, 1);
+    set->cells = malloc((size_t)g * g * sizeof *set->cells);
+    if (!hit || !set->occ || !set->cells) {
+        free(hit);
+        return -1;
+    }
+    probe_grid(p, r, g, set->u0, set->v0, set->du, set->dv, hit);
+    /* Dilate by one cell: a cell whose centre misses may still be partly inside. */
+    for (int j = 0; j < g; j++)
+        for (int i = 0; i < g; i++) {
+            int on = 0;
+            for (int b = j - 1; b <= j + 1 && !on; b++)
+                for (int a = i - 1; a <= i + 1 && !on; a++)
+                    on = a >= 0 && a < g && b >= 0 && b < g && hit[b * g + a];
+            if (on) {
+                set->occ[j * g + i] = 1;
+                set->cells[set->count++] = j * g + i;
+            }
+        }
+    free(hit);
+    set->area = set->count * set->du * set->dv;
+    return 0;
+}
+
+void pupil_sampler_free(pupil_sampler *ps)
+{
+    if (!ps)
+        return;
+    for (int i = 0; i < ps->nr && ps->sets; i++) {
+        free(ps->sets[i].occ);
+        free(ps->sets[i].cells);
+    }
+    free(ps->sets);
+    free(ps);
+}
+
+static int check_options(const pupil_sampler_options *opt, lens_err *err)
+{
+    if (!(opt->sensor_radius > 0) || !isfinite(opt->sensor_radius)) {
+        lens_errf(err, NULL, 0, "pupil sampler: sensor radius must be positive");
+        return -1;
+    }
+    if (!(opt->lambda_min > 0) || !(opt->lambda_max >= opt->lambda_min)) {
+        lens_errf(err, NULL, 0, "pupil sampler: bad wavelength range %g..%g", opt->lambda_min,
+                  opt->lambda_max);
+        return -1;
+    }
+    return 0;
+}
+
+/* The tabulated sets, one per radius, in parallel. */
+static pupil_sampler *build_sets(const prober *p, const pupil_sampler_options *opt,
+                                 lens_err *err)
+{
+    pupil_sampler *ps = calloc(1, sizeof *ps);
+    if (!ps) {
+        lens_errf(err, NULL, 0, "out of memory");
+        return NULL;
+    }
+    ps->nr = opt->radii > 1 ? opt->radii : 64;
+    ps->rmax = opt->sensor_radius;
+    int g = opt->grid > 0 ? opt->grid : 96;
+    ps->sets = calloc((size_t)ps->nr, sizeof *ps->sets);
+    int failed = !ps->sets;
+    if (!failed) {
+        int nth = opt->threads;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nth > 0 ? nth : omp_get_max_threads()) reduction(| : failed)
+        for (int i = 0; i < ps->nr; i++)
+            failed |= build_set(p, ps->rmax * i / (ps->nr - 1), g, &ps->sets[i]) != 0;
+    }
+    if (failed) {
+        lens_errf(err, NULL, 0, "out of memory");
+        pupil_sampler_free(ps);
+        return NULL;
+    }
+    return ps;
+}
+
+pupil_sampler *pupil_sampler_build(const lens_t *lens, const pupil_sampler_options *opt,
+                                   lens_err *err)
+{
+    if (check_options(opt, err))
+        return NULL;
+    prober p = {.lens = lens};
+    double lam[MAX_LAMBDAS];
+    for (int l = 0; l < MAX_LAMBDAS; l++)
+        lam[l] = opt->lambda_min + (opt->lambda_max - opt->lambda_min) * l / (MAX_LAMBDAS - 1);
+    p.nl = opt->lambda_max > opt->lambda_min ? MAX_LAMBDAS : 1;
+    pupil_sampler *ps = NULL;
+    int l = 0, bad = 0;
+    for (; l < p.nl && !bad; l++) {
+        p.n[l] = malloc(lens->nsurf * sizeof *p.n[l]);
+        if (!p.n[l])
+            lens_errf(err, NULL, 0, "out of memory");
+        bad = !p.n[l] || lens_indices(lens, lam[l], p.n[l], err);
+    }
+    if (!bad)
+        ps = build_sets(&p, opt, err);
+    for (int m = 0; m < l; m++)
+        free(p.n[m]);
+    return ps;
+}
+
+pupil_sampler *pupil_sampler_build_probe(pupil_probe_fn fn, void *ctx, double rear_dist,
+                                         double rear_radius, const pupil_sampler_options *opt,
+                                         lens_err *err)
+{
+    if (check_options(opt, err))
+        return NULL;
+    if (!fn || !(rear_dist > 0) || !(rear_radius > 0)) {
+        lens_errf(err, NULL, 0, "pupil sampler: no probe, or a bad rear plane (%g mm, radius %g mm)",
+                  rear_dist, rear_radius);
+        return NULL;
+    }
+    prober p = {.fn = fn, .ctx = ctx, .rear_dist = rear_dist, .rear_radius = rear_radius};
+    return build_sets(&p, opt, err);
+}
+
+/* The cache file: a magic line, then per set its grid and its occupancy as a bitmap
+ * (the cells are listed in index order, so the list is rebuilt as build_set made it),
+ * binary in the machine's byte order (a cache, read back on the machine that wrote it). */
+static const char cache_magic[16] = "pupil_sampler 2";
+
+int pupil_sampler_write(FILE *f, const pupil_sampler *ps)
+{
+    int ok = fwrite(cache_magic, sizeof cache_magic, 1, f) == 1 &&
+             fwrite(&ps->nr, sizeof ps->nr, 1, f) == 1 && fwrite(&ps->rmax, sizeof ps->rmax, 1, f) == 1;
+    for (int i = 0; ok && i < ps->nr; i++) {
+        const pupil_set *s = &ps->sets[i];
+        double w[4] = {s->u0, s->v0, s->du, s->dv};
+        int gc[2] = {s->g, s->count};
+        ok = fwrite(w, sizeof w, 1, f) == 1 && fwrite(gc, sizeof gc, 1, f) == 1;
+        if (!ok || !s->count)
+            continue;
+        size_t nb = ((size_t)s->g * s->g + 7) / 8;
+        unsigned char *bits = calloc(nb, 1);
+        if (!bits)
+            return -1;
+        for (int k = 0; k < s->count; k++)
+            bits[s->cells[k] / 8] |= (unsigned char)(1u << (s->cells[k] % 8));
+        ok = fwrite(bits, 1, nb, f) == nb;
+        free(bits);
+    }
+    return ok ? 0 : -1;
+}
+
+pupil_sampler *pupil_sampler_read(FILE *f, lens_err *err)
+{
+    char magic[sizeof cache_magic];
+    pupil_sampler *ps = calloc(1, sizeof *ps);
+    int ok = ps && fread(magic, sizeof magic, 1, f) == 1 && !memcmp(magic, cache_magic, sizeof magic) &&
+             fread(&ps->nr, sizeof ps->nr, 1, f) == 1 && fread(&ps->rmax, sizeof ps->rmax, 1, f) == 1 &&
+             ps->nr > 1 && ps->nr <= 1 << 16 && ps->rmax > 0 && isfinite(ps->rmax);
+    if (ok && !(ps->sets = calloc((size_t)ps->nr, sizeof *ps->sets)))
+        ok = 0;
+    for (int i = 0; ok && i < ps->nr; i++) {
+        pupil_set *s = &ps->sets[i];
+        double w[4];
+        int gc[2];
+        ok = fread(w, sizeof w, 1, f) == 1 && fread(gc, sizeof gc, 1, f) == 1 && gc[0] > 0 &&
+             gc[0] <= 4096 && gc[1] >= 0 && gc[1] <= gc[0] * gc[0] && w[2] > 0 && w[3] > 0 &&
+             isfinite(w[0]) && isfinite(w[1]) && isfinite(w[2]) && isfinite(w[3]);
+        if (!ok)
+            break;
+        s->u0 = w[0], s->v0 = w[1], s->du = w[2], s->dv = w[3], s->g = gc[0];
+        if (gc[1] == 0)
+            continue;
+        size_t n = (size_t)s->g * s->g, nb = (n + 7) / 8;
+        unsigned char *bits = malloc(nb);
+        s->occ = calloc(n, 1);
+        s->cells = malloc((size_t)gc[1] * sizeof *s->cells);
+        ok = bits && s->occ && s->cells && fread(bits, 1, nb, f) == nb;
+        for (size_t c = 0; ok && c < n; c++)
+            if (bits[c / 8] >> (c % 8) & 1) {
+                ok = s->count < gc[1];
+                if (ok) {
+                    s->occ[c] = 1;
+                    s->cells[s->count++] = (int)c;
+                }
+            }
+        ok = ok && s->count == gc[1];
+        free(bits);
+        s->area = s->count * s->du * s->dv;
+    }
+    if (!ok) {
+        lens_errf(err, NULL, 0, "pupil sampler: not a cached sampler, or a damaged one");
+        pupil_sampler_free(ps);
+        return NULL;
+    }
+    return ps;
+}
+
+/* 1 when (u, v), in the frame of the point (r, 0), lies in an occupied cell of set. */
+static int in_set(const pupil_set *set, double u, double v)
+{
+    if (!set->count)
+        return 0;
+    double fi = floor((u - set->u0) / set->du), fj = floor((v - set->v0) / set->dv);
+    if (!(fi >= 0 && fi < set->g && fj >= 0 && fj < set->g))
+        return 0;
+    return set->occ[(int)fj * set->g + (int)fi];
+}
+
+/* The two tabulated radii around r, and the rotation taking (r, 0) to (x, y). */
+static int locate(const pupil_sampler *ps, double x, double y, int *j, double *c, double *s)
+{
+    double r = hypot(x, y);
+    if (!(r <= ps->rmax * (1 + 1e-12)))
+        return -1;
+    double t = r / ps->rmax * (ps->nr - 1);
+    int k = (int)t;
+    *j = k > ps->nr - 2 ? ps->nr - 2 : k;
+    if (r > 0) {
+        *c = x / r;
+        *s = y / r;
+    } else {
+        *c = 1;
+        *s = 0;
+    }
+    return 0;
+}
+
+int pupil_sampler_sample(const pupil_sampler *ps, double x, double y, const double rnd[2],
+                         double *u, double *v, double *pdf)
+{
+    int j;
+    double c, s;
+    *u = *v = NAN;
+    *pdf = 0;
+    if (locate(ps, x, y, &j, &c, &s))
+        return -1;
+    const pupil_set *a = &ps->sets[j], *b = &ps->sets[j + 1];
+    double total = a->area + b->area;
+    if (!(total > 0))
+        return -1;
+    /* One number picks the set (in proportion to area), the cell and the position
+     * across it; the other the position along it. */
+    double t = rnd[0] * total;
+    const pupil_set *set = a;
+    if (t >= a->area || a->count == 0) {
+        set = b;
+        t = fmax(t - a->area, 0);
+    }
+    double ct = t / (set->du * set->dv);
+    int k = (int)ct;
+    if (k >= set->count)
+        k = set->count - 1;
+    double fu = ct - k;
+    if (fu > 1)
+        fu = 1;
+    int cell = set->cells[k];
+    double up = set->u0 + (cell % set->g + fu) * set->du;
+    double vp = set->v0 + (cell / set->g + rnd[1]) * set->dv;
+    *u = c * up - s * vp;
+    *v = s * up + c * vp;
+    /* The mixture's density: 1/total in each set that holds the point. */
+    *pdf = (1 + in_set(set == a ? b : a, up, vp)) / total;
+    return 0;
+}
+
+double pupil_sampler_pdf(const pupil_sampler *ps, double x, double y, double u, double v)
+{
+    int j;
+    double c, s;
+    if (locate(ps, x, y, &j, &c, &s) || !isfinite(u) || !isfinite(v))
+        return 0;
+    double up = c * u + s * v, vp = -s * u + c * v;
+    const pupil_set *sets[2] = {&ps->sets[j], &ps->sets[j + 1]};
+    double total = sets[0]->area + sets[1]->area, pdf = 0;
+    if (!(total > 0))
+        return 0;
+    for (int m = 0; m < 2; m++)
+        pdf += in_set(sets[m], up, vp) / total;
+    return pdf;
+}

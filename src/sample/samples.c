@@ -1,0 +1,240 @@
+/* Streaming reader and writer of sample files (man 5 lens-samples). */
+#include "sparselens/samples.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SAMPLES_MAX_COLS 64
+
+struct samples_reader {
+    FILE *f;
+    int owns;
+    char path[512];
+    long line;     /* current line number */
+    long row_line; /* line of the last row returned */
+    int ncols;
+    char *names[SAMPLES_MAX_COLS];
+    char *buf;
+    size_t cap;
+};
+
+static const char *display(const samples_reader *r)
+{
+    return r->path;
+}
+
+static ssize_t next_line(samples_reader *r)
+{
+    ssize_t n = getline(&r->buf, &r->cap, r->f);
+    if (n >= 0) {
+        r->line++;
+        while (n > 0 && (r->buf[n - 1] == '\n' || r->buf[n - 1] == '\r'))
+            r->buf[--n] = '\0';
+    }
+    return n;
+}
+
+static int is_blank(const char *s)
+{
+    return s[strspn(s, " \t")] == '\0';
+}
+
+static int parse_header(samples_reader *r, const char *text, lens_err *err)
+{
+    char *copy = strdup(text);
+    if (!copy) {
+        lens_errf(err, display(r), r->line, "out of memory");
+        return -1;
+    }
+    int n = 0;
+    for (char *save, *tok = strtok_r(copy, " \t", &save); tok; tok = strtok_r(NULL, " \t", &save)) {
+        if (n == SAMPLES_MAX_COLS) {
+            lens_errf(err, display(r), r->line, "more than %d columns", SAMPLES_MAX_COLS);
+            free(copy);
+            return -1;
+        }
+        for (int i = 0; i < n; i++)
+            if (strcmp(r->names[i], tok) == 0) {
+                lens_errf(err, display(r), r->line, "column '%s' named twice", tok);
+                free(copy);
+                return -1;
+            }
+        r->names[n] = strdup(tok);
+        if (!r->names[n]) {
+            free(copy);
+            lens_errf(err, display(r), r->line, "out of memory");
+            return -1;
+        }
+        r->ncols = ++n;
+    }
+    free(copy);
+    if (n == 0) {
+        lens_errf(err, display(r), r->line, "'# columns:' names no columns");
+        return -1;
+    }
+    return 0;
+}
+
+samples_reader *samples_open(const char *path, lens_err *err)
+{
+    samples_reader *r = calloc(1, sizeof *r);
+    if (!r) {
+        lens_errf(err, path, 0, "out of memory");
+        return NULL;
+    }
+    if (strcmp(path, "-") == 0) {
+        r->f = stdin;
+        snprintf(r->path, sizeof r->path, "<stdin>");
+    } else {
+        r->f = fopen(path, "r");
+        r->owns = 1;
+        snprintf(r->path, sizeof r->path, "%s", path);
+        if (!r->f) {
+            lens_errf(err, path, 0, "cannot open: %s", strerror(errno));
+            free(r);
+            return NULL;
+        }
+    }
+    for (;;) {
+        ssize_t n = next_line(r);
+        if (n < 0) {
+            lens_errf(err, display(r), 0,
+                      r->line == 0 ? "empty file: expected a '# columns:' header line"
+                                   : "no '# columns:' header line");
+            samples_close(r);
+            return NULL;
+        }
+        const char *s = r->buf + strspn(r->buf, " \t");
+        if (*s == '#') {
+            s++;
+            s += strspn(s, " \t");
+            if (strncmp(s, "columns:", 8) == 0) {
+                if (parse_header(r, s + 8, err) != 0) {
+                    samples_close(r);
+                    return NULL;
+                }
+                return r;
+            }
+            continue;
+        }
+        if (is_blank(s))
+            continue;
+        lens_errf(err, display(r), r->line,
+                  "data before the '# columns:' header line (sample files name their columns)");
+        samples_close(r);
+        return NULL;
+    }
+}
+
+int samples_ncols(const samples_reader *r) { return r->ncols; }
+const char *samples_colname(const samples_reader *r, int i) { return r->names[i]; }
+long samples_line(const samples_reader *r) { return r->row_line; }
+const char *samples_path(const samples_reader *r) { return r->path; }
+
+int samples_find(const samples_reader *r, const char *name)
+{
+    for (int i = 0; i < r->ncols; i++)
+        if (strcmp(r->names[i], name) == 0)
+            return i;
+    return -1;
+}
+
+int samples_map(const samples_reader *r, const char *const *names, int n, int *map, lens_err *err)
+{
+    for (int i = 0; i < n; i++) {
+        map[i] = samples_find(r, names[i]);
+        if (map[i] < 0) {
+            lens_errf(err, display(r), 0, "no column '%s' (columns are found by name)", names[i]);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+int samples_next(samples_reader *r, double *vals, lens_err *err)
+{
+    for (;;) {
+        ssize_t n = next_line(r);
+        if (n < 0)
+            return 0;
+        char *s = r->buf + strspn(r->buf, " \t");
+        if (*s == '#' || *s == '\0')
+            continue;
+        r->row_line = r->line;
+        int k = 0;
+        char *p = s;
+        while (*p) {
+            char *end;
+            errno = 0;
+            double v = strtod(p, &end);
+            if (end == p || (*end && *end != ' ' && *end != '\t')) {
+                char *tokend = p + strcspn(p, " \t");
+                *tokend = '\0';
+                for (int i = 0; i < r->ncols; i++)
+                    vals[i] = NAN;
+                lens_errf(err, display(r), r->line, "field %d ('%.40s') is not a number", k + 1, p);
+                return -1;
+            }
+            if (k < r->ncols)
+                vals[k] = v;
+            k++;
+            p = end + strspn(end, " \t");
+        }
+        if (k != r->ncols) {
+            for (int i = 0; i < r->ncols; i++)
+                vals[i] = NAN;
+            lens_errf(err, display(r), r->line, "%d fields, expected %d (%s ...)", k, r->ncols,
+                      r->names[0]);
+            return -1;
+        }
+        return 1;
+    }
+}
+
+void samples_close(samples_reader *r)
+{
+    if (!r)
+        return;
+    if (r->owns && r->f)
+        fclose(r->f);
+    for (int i = 0; i < r->ncols; i++)
+        free(r->names[i]);
+    free(r->buf);
+    free(r);
+}
+
+void samples_write_header(FILE *f, const char *const *names, int n)
+{
+    fputs("# columns:", f);
+    for (int i = 0; i < n; i++)
+        fprintf(f, " %s", names[i]);
+    fputc('\n', f);
+}
+
+/* The shortest of %.15g/%.17g that reads back to the same double: exact, and
+ * readable where the value is short (0.5 rather than 0.50000000000000000). */
+static void write_shortest(FILE *f, double v)
+{
+    char buf[32];
+    snprintf(buf, sizeof buf, "%.15g", v);
+    if (strtod(buf, NULL) != v)
+        snprintf(buf, sizeof buf, "%.17g", v);
+    fputs(buf, f);
+}
+
+void samples_write_row(FILE *f, const double *vals, int n)
+{
+    for (int i = 0; i < n; i++) {
+        if (i)
+            fputc(' ', f);
+        if (isnan(vals[i]))
+            fputs("nan", f);
+        else if (isinf(vals[i]))
+            fputs(vals[i] > 0 ? "inf" : "-inf", f);
+        else
+            write_shortest(f, vals[i]);
+    }
+    fputc('\n', f);
+}

@@ -1,0 +1,166 @@
+/* Sample-ray generation for lens-trace (strategies: sampling.h). */
+#include "sparselens/sampling.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sparselens/rng.h"
+#include "sparselens/trace.h"
+
+sampling_options sampling_defaults(void)
+{
+    sampling_options o;
+    memset(&o, 0, sizeof o);
+    o.strategy = SAMPLING_PUPIL;
+    o.sensor_w = o.sensor_h = NAN;
+    o.lambda_min = 0.4;
+    o.lambda_max = 0.7;
+    o.seed = 1;
+    return o;
+}
+
+int sampling_strategy_parse(const char *name, sampling_strategy *s)
+{
+    if (!strcmp(name, "pupil"))
+        *s = SAMPLING_PUPIL;
+    else if (!strcmp(name, "rear"))
+        *s = SAMPLING_REAR;
+    else
+        return -1;
+    return 0;
+}
+
+const char *sampling_strategy_name(sampling_strategy s)
+{
+    return s == SAMPLING_REAR ? "rear" : "pupil";
+}
+
+/* Distance from the sensor to the rear vertex plane, and the rear semi-diameter. */
+static void rear_disc(const lens_t *lens, double *D, double *sd)
+{
+    size_t k = lens->nsurf - 1;
+    *D = lens_total_track(lens) - lens->vertex_z[k];
+    *sd = lens->surf[k].semi_diameter;
+}
+
+void rear_sample(const lens_t *lens, double x, double y, const double rnd[2], double *u,
+                 double *v, double *pdf)
+{
+    double D, sd;
+    rear_disc(lens, &D, &sd);
+    double r = sd * sqrt(rnd[0]), a = 2 * M_PI * rnd[1];
+    *u = (r * cos(a) - x) / D;
+    *v = (r * sin(a) - y) / D;
+    /* uniform over a disc of radius sd/D in (u, v) */
+    *pdf = D * D / (M_PI * sd * sd);
+}
+
+double rear_pdf(const lens_t *lens, double x, double y, double u, double v)
+{
+    double D, sd;
+    rear_disc(lens, &D, &sd);
+    double px = x + u * D, py = y + v * D;
+    return px * px + py * py <= sd * sd ? D * D / (M_PI * sd * sd) : 0.0;
+}
+
+struct ray_generator {
+    const lens_t *lens;
+    sampling_options opt;
+    pupil_sampler *ps;
+};
+
+ray_generator *ray_generator_new(const lens_t *lens, const sampling_options *opt, lens_err *err)
+{
+    ray_generator *g = calloc(1, sizeof *g);
+    if (!g) {
+        lens_errf(err, NULL, 0, "out of memory");
+        return NULL;
+    }
+    g->lens = lens;
+    g->opt = *opt;
+    if (isnan(g->opt.sensor_w) || isnan(g->opt.sensor_h)) {
+        g->opt.sensor_w = lens->sensor_w;
+        g->opt.sensor_h = lens->sensor_h;
+    }
+    const char *file = lens->path[0] ? lens->path : NULL;
+    if (!(g->opt.sensor_w > 0 && g->opt.sensor_h > 0 && isfinite(g->opt.sensor_w) &&
+          isfinite(g->opt.sensor_h))) {
+        lens_errf(err, file, 0, "no sensor size (give one, or a '# sensor: WxH' header)");
+        free(g);
+        return NULL;
+    }
+    double *n = malloc(lens->nsurf * sizeof *n);
+    int bad = !n || !(g->opt.lambda_min <= g->opt.lambda_max) ||
+              lens_indices(lens, g->opt.lambda_min, n, err) ||
+              lens_indices(lens, g->opt.lambda_max, n, err);
+    if (bad && (!n || !(g->opt.lambda_min <= g->opt.lambda_max)))
+        lens_errf(err, file, 0, "bad wavelength range %g..%g", g->opt.lambda_min,
+                  g->opt.lambda_max);
+    free(n);
+    if (bad) {
+        free(g);
+        return NULL;
+    }
+    if (g->opt.strategy == SAMPLING_PUPIL) {
+        pupil_sampler_options po = {g->opt.lambda_min, g->opt.lambda_max,
+                                    0.5 * hypot(g->opt.sensor_w, g->opt.sensor_h),
+                                    g->opt.pupil_radii, g->opt.pupil_grid, g->opt.threads};
+        g->ps = pupil_sampler_build(lens, &po, err);
+        if (!g->ps) {
+            free(g);
+            return NULL;
+        }
+    }
+    return g;
+}
+
+const pupil_sampler *ray_generator_sampler(const ray_generator *g) { return g->ps; }
+
+void ray_generator_free(ray_generator *g)
+{
+    if (!g)
+        return;
+    pupil_sampler_free(g->ps);
+    free(g);
+}
+
+static void one_ray(const ray_generator *g, size_t i, double *row)
+{
+    const sampling_options *o = &g->opt;
+    rng_t r = rng_stream(o->seed, i);
+    double x = 0, y = 0, u = NAN, v = NAN, pdf;
+    for (int tries = 0; tries < 64; tries++) {
+        x = (rng_uniform(&r) - 0.5) * o->sensor_w;
+        y = (rng_uniform(&r) - 0.5) * o->sensor_h;
+        double rnd[2] = {rng_uniform(&r), rng_uniform(&r)};
+        if (o->strategy == SAMPLING_REAR || !g->ps) {
+            rear_sample(g->lens, x, y, rnd, &u, &v, &pdf);
+            break;
+        }
+        if (pupil_sampler_sample(g->ps, x, y, rnd, &u, &v, &pdf) == 0)
+            break;
+    }
+    if (isnan(u)) {
+        double rnd[2] = {rng_uniform(&r), rng_uniform(&r)};
+        rear_sample(g->lens, x, y, rnd, &u, &v, &pdf);
+    }
+    row[0] = x;
+    row[1] = y;
+    row[2] = u;
+    row[3] = v;
+    /* the wavelength comes last so that it never changes the geometry of a ray */
+    row[4] = o->lambda_min + rng_uniform(&r) * (o->lambda_max - o->lambda_min);
+}
+
+int ray_generator_fill(const ray_generator *g, size_t first, size_t count, double *rows,
+                       lens_err *err)
+{
+    (void)err;
+    int nth = g->opt.threads > 0 ? g->opt.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(static, 1024) num_threads(nth)
+    for (size_t i = 0; i < count; i++)
+        one_ray(g, first + i, rows + 5 * i);
+    return 0;
+}

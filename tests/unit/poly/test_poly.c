@@ -1,0 +1,313 @@
+/* Polynomial systems: the builder, scalar / batch / Jacobian evaluation, parts, passage. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sparselens/poly.h"
+#include "poly_fixture.h"
+
+static int nrays(int n)
+{
+    return getenv("SANITIZE") && *getenv("SANITIZE") ? n / 10 + 1 : n;
+}
+
+static const char *const xy_in[2] = {"x", "y"};
+static const char *const xy_out[2] = {"out_x", "out_y"};
+
+static void test_builder_rejects(void **st)
+{
+    (void)st;
+    const char *dup[2] = {"x", "x"};
+    const char *space[2] = {"x", "a b"};
+    assert_null(poly_new("l", 2, dup, 2, xy_out));
+    assert_null(poly_new("l", 2, space, 2, xy_out));
+    assert_null(poly_new("l", 0, xy_in, 2, xy_out));
+    poly_system *s = poly_new("l", 2, xy_in, 2, xy_out);
+    assert_non_null(s);
+    int e[2] = {1, 0};
+    assert_int_equal(poly_add_term(s, 0, 0, e, 1), -1); /* no part yet */
+    assert_int_equal(poly_add_part(s, 0, 5), 0);
+    assert_int_equal(poly_add_part(s, 4, 8), -1); /* overlaps */
+    assert_int_equal(poly_add_part(s, 5, INFINITY), 1);
+    assert_int_equal(poly_add_part(s, -1, 0), -1);
+    assert_int_equal(poly_add_term(s, 0, 0, e, 1), 0);
+    assert_int_equal(poly_add_term(s, 0, 0, e, 2), -1); /* same monomial twice */
+    assert_int_equal(poly_add_term(s, 0, 2, e, 1), -1); /* no such output */
+    assert_int_equal(poly_add_term(s, 0, 1, e, NAN), -1);
+    int big[2] = {POLY_MAX_DEGREE, 1};
+    assert_int_equal(poly_add_term(s, 0, 1, big, 1), -1);
+    int neg[2] = {-1, 0};
+    assert_int_equal(poly_add_term(s, 0, 1, neg, 1), -1);
+    assert_int_equal(poly_add_pass_circle(s, 0, 1, -1), -1);
+    assert_int_equal(poly_nterms(s, 0, 0), 1);
+    assert_int_equal(poly_nterms(s, 0, 1), 0);
+    poly_set_meta(s, "terms", "40");
+    poly_set_meta(s, "terms", "41\nx");
+    assert_string_equal(poly_get_meta(s, "terms"), "41 x");
+    assert_null(poly_get_meta(s, "nope"));
+    assert_int_equal(poly_input_index(s, "y"), 1);
+    assert_int_equal(poly_output_index(s, "out_z"), -1);
+    poly_free(s);
+    /* a part away from the axis needs inputs named x and y to select it by */
+    const char *uv[2] = {"u", "v"};
+    s = poly_new("l", 2, uv, 2, xy_out);
+    assert_int_equal(poly_add_part(s, 1, 2), -1);
+    poly_free(s);
+}
+
+/* out_x = 3 + 2 s_x - s_x^2 s_y^3, out_y = 0.5 s_y with s = (in - offset) / scale:
+ * values and derivatives by hand. */
+static void test_closed_form(void **st)
+{
+    (void)st;
+    poly_system *s = poly_new("l", 2, xy_in, 2, xy_out);
+    poly_set_scaling(s, 0, 1, 2);  /* s_x = (x - 1) / 2 */
+    poly_set_scaling(s, 1, -1, 4); /* s_y = (y + 1) / 4 */
+    int p = poly_add_part(s, 0, INFINITY);
+    int e0[2] = {0, 0}, e1[2] = {1, 0}, e2[2] = {2, 3}, e3[2] = {0, 1};
+    assert_int_equal(poly_add_term(s, p, 0, e0, 3), 0);
+    assert_int_equal(poly_add_term(s, p, 0, e1, 2), 0);
+    assert_int_equal(poly_add_term(s, p, 0, e2, -1), 0);
+    assert_int_equal(poly_add_term(s, p, 1, e3, 0.5), 0);
+    double in[2] = {5, 7}, out[2], jac[4]; /* s_x = 2, s_y = 2 */
+    assert_int_equal(poly_eval(s, in, out), 1);
+    assert_true(out[0] == 3 + 4 - 4 * 8);
+    assert_true(out[1] == 1);
+    poly_eval_jacobian(s, in, out, jac);
+    double jb[4];
+    poly_eval_jacobian_batch(s, 1, in, jb);
+    assert_memory_equal(jac, jb, sizeof jb);
+    /* d/dx = (2 - 2 s_x s_y^3) / 2 = (2 - 32) / 2; d/dy = (-3 s_x^2 s_y^2) / 4 = -48 / 4 */
+    assert_true(jac[0] == -15);
+    assert_true(jac[1] == -12);
+    assert_true(jac[2] == 0);
+    assert_true(jac[3] == 0.125);
+    assert_int_equal(poly_max_degree(s, 0), 5);
+    poly_free(s);
+}
+
+static double term_norm(const poly_system *s, const double *in, int o)
+{
+    int p = poly_part_of(s, in);
+    double acc = 0;
+    for (int t = 0; t < poly_nterms(s, p, o); t++) {
+        int e[5];
+        double c, m;
+        poly_get_term(s, p, o, t, e, &c);
+        m = fabs(c);
+        for (int i = 0; i < 5; i++) {
+            double off, sc;
+            poly_get_scaling(s, i, &off, &sc);
+            m *= pow(fabs((in[i] - off) / sc), e[i]);
+        }
+        acc += m;
+    }
+    return acc;
+}
+
+static void check_batch(int nparts)
+{
+    poly_system *s = fixture_system(40, 11, nparts, 7 + (uint64_t)nparts);
+    for (int p = 0; p < nparts; p++)
+        for (int o = 0; o < 5; o++)
+            assert_int_equal(poly_nterms(s, p, o), 40);
+    assert_int_equal(poly_max_degree(s, 4), 11);
+    int n = nrays(2000) + 3; /* not a multiple of the block size */
+    double *in = malloc((size_t)n * 5 * sizeof(double));
+    double *out = malloc((size_t)n * 5 * sizeof(double));
+    unsigned char *pass = malloc((size_t)n);
+    fixture_rng g = {99};
+    for (int r = 0; r < n; r++)
+        fixture_ray(&g, in + r * 5);
+    double *jac = malloc((size_t)n * 25 * sizeof(double));
+    poly_eval_batch(s, (size_t)n, in, out, pass);
+    poly_eval_jacobian_batch(s, (size_t)n, in, jac);
+    for (int r = 0; r < n; r++) {
+        double one[5], naive[5], o2[5], j1[25];
+        int ps = poly_eval(s, in + r * 5, one);
+        /* the Jacobian's outputs are poly_eval's; batch and scalar derivatives agree */
+        assert_int_equal(poly_eval_jacobian(s, in + r * 5, o2, j1), ps);
+        assert_memory_equal(one, o2, sizeof one);
+        assert_memory_equal(j1, jac + (size_t)r * 25, sizeof j1);
+        fixture_naive(s, in + r * 5, naive);
+        assert_int_equal(ps, pass[r]);
+        for (int o = 0; o < 5; o++) {
+            assert_memory_equal(&one[o], &out[r * 5 + o], sizeof(double)); /* bit-identical */
+            double tol = 1e-13 * term_norm(s, in + r * 5, o) + 1e-300;
+            if (fabs(one[o] - naive[o]) > tol)
+                fail_msg("ray %d output %d: %.17g vs naive %.17g", r, o, one[o], naive[o]);
+        }
+    }
+    free(in);
+    free(out);
+    free(pass);
+    free(jac);
+    poly_free(s);
+}
+
+static void test_batch_one_part(void **st)
+{
+    (void)st;
+    check_batch(1);
+}
+
+static void test_batch_three_parts(void **st)
+{
+    (void)st;
+    check_batch(3);
+}
+
+static void test_jacobian_fd(void **st)
+{
+    (void)st;
+    poly_system *s = fixture_system(40, 11, 1, 5);
+    fixture_rng g = {1234};
+    for (int r = 0; r < nrays(200); r++) {
+        double in[5], out[5], jac[25];
+        fixture_ray(&g, in);
+        poly_eval_jacobian(s, in, out, jac);
+        for (int i = 0; i < 5; i++) {
+            double lo, hi;
+            poly_get_domain(s, i, &lo, &hi);
+            double h = 1e-5 * (hi - lo), a[5], b[5], op[5], om[5];
+            memcpy(a, in, sizeof a);
+            memcpy(b, in, sizeof b);
+            a[i] += h;
+            b[i] -= h;
+            poly_eval(s, a, op);
+            poly_eval(s, b, om);
+            for (int o = 0; o < 5; o++) {
+                double fd = (op[o] - om[o]) / (2 * h);
+                /* central differences: O(h^2) truncation plus rounding of the outputs */
+                double tol = 1e-6 * (fabs(fd) + term_norm(s, in, o) / (hi - lo));
+                if (fabs(fd - jac[o * 5 + i]) > tol)
+                    fail_msg("d out%d / d in%d: %.10g vs fd %.10g", o, i, jac[o * 5 + i], fd);
+            }
+        }
+    }
+    poly_free(s);
+}
+
+/* Part 0 says 1, part 1 says 2, on [0, 5) and [5, 10); beyond 10 the nearest part. */
+static void test_part_selection(void **st)
+{
+    (void)st;
+    poly_system *s = poly_new("l", 2, xy_in, 2, xy_out);
+    int e0[2] = {0, 0};
+    assert_int_equal(poly_add_part(s, 0, 5), 0);
+    assert_int_equal(poly_add_part(s, 5, 10), 1);
+    for (int p = 0; p < 2; p++)
+        for (int o = 0; o < 2; o++)
+            poly_add_term(s, p, o, e0, p + 1);
+    struct {
+        double x, y, want;
+    } c[] = {{0, 0, 1}, {3, 3.9, 1}, {3, 4, 2}, {-6, 8, 2}, {30, 40, 2}, {0, -4.999, 1}};
+    double in[8 * 2], outb[8 * 2];
+    int n = (int)(sizeof c / sizeof c[0]);
+    for (int k = 0; k < n; k++) {
+        double out[2];
+        in[2 * k] = c[k].x;
+        in[2 * k + 1] = c[k].y;
+        poly_eval(s, in + 2 * k, out);
+        assert_true(out[0] == c[k].want && out[1] == c[k].want);
+    }
+    poly_eval_batch(s, (size_t)n, in, outb, NULL);
+    for (int k = 0; k < n; k++)
+        assert_true(outb[2 * k] == c[k].want);
+    poly_free(s);
+}
+
+/* out = (x, y) unscaled, a circle of radius 2 on (out_x, out_y). */
+static void test_pass_and_domain(void **st)
+{
+    (void)st;
+    poly_system *s = poly_new("l", 2, xy_in, 2, xy_out);
+    int p = poly_add_part(s, 0, INFINITY);
+    int ex[2] = {1, 0}, ey[2] = {0, 1};
+    poly_add_term(s, p, 0, ex, 1);
+    poly_add_term(s, p, 1, ey, 1);
+    assert_int_equal(poly_add_pass_circle(s, 0, 1, 2), 0);
+    poly_set_domain(s, 0, -1, 1);
+    double a[2] = {1, 1}, b[2] = {2, 1}, c[2] = {NAN, 0}, out[2];
+    assert_int_equal(poly_eval(s, a, out), 1);
+    assert_int_equal(poly_eval(s, b, out), 0);
+    assert_int_equal(poly_eval(s, c, out), 0);
+    assert_true(isnan(out[0]));
+    assert_int_equal(poly_in_domain(s, a), 1);
+    assert_int_equal(poly_in_domain(s, b), 0);
+    assert_int_equal(poly_in_domain(s, c), 0);
+    double in4[6] = {1, 1, 2, 1, 0, 1.9}, out4[6];
+    unsigned char ps[3];
+    poly_eval_batch(s, 3, in4, out4, ps);
+    assert_int_equal(ps[0], 1);
+    assert_int_equal(ps[1], 0);
+    assert_int_equal(ps[2], 1);
+    poly_free(s);
+}
+
+/* The batch kernel applies the frame and transforms itself (poly_eval_kernel.h); the
+ * scalar path applies them ray by ray in poly_frame.c: two implementations of the same
+ * expressions, which must agree bit for bit, for each layout lens-fit can write, with
+ * two parts, a pass circle, a count that leaves a partial block, rays on the axis and
+ * rays whose 1/lambda^2 is infinite (they must not pass). */
+static void test_batch_frame_layouts(void **st)
+{
+    (void)st;
+    enum { N = 203 };
+    double *in = malloc(N * 5 * sizeof *in), *outb = malloc(N * 5 * sizeof *outb);
+    unsigned char pb[N];
+    for (int layout = 0; layout < 4; layout++) {
+        poly_system *s = fixture_system(30, 9, 2, 40 + (uint64_t)layout);
+        assert_non_null(s);
+        if (layout != 2) /* 2: the transform without the frame */
+            assert_int_equal(poly_set_frame(s, POLY_FRAME_MERIDIONAL), 0);
+        if (layout == 0 || layout == 3) { /* lens-fit's default: out_u, out_v outside */
+            assert_int_equal(poly_set_output_plain(s, 2, 1), 0);
+            assert_int_equal(poly_set_output_plain(s, 3, 1), 0);
+        }
+        if (layout != 1) {
+            assert_int_equal(poly_set_transform(s, 4, POLY_XFORM_INVERSE_SQUARE), 0);
+            poly_set_scaling(s, 4, 4.25, 2.0);
+        }
+        if (layout == 3)
+            assert_int_equal(poly_add_pass_circle(s, 0, 1, 50), 0);
+        fixture_rng g = {90 + (uint64_t)layout};
+        for (int r = 0; r < N; r++)
+            fixture_ray(&g, in + r * 5);
+        in[0] = in[1] = 0;         /* on the axis */
+        in[5 * 7 + 1] = 0;         /* on +x: c = 1 exactly */
+        in[5 * 9 + 4] = 0;         /* 1/lambda^2 infinite */
+        in[5 * 200 + 4] = 0;       /* the same in the last, partial block */
+        poly_eval_batch(s, N, in, outb, pb);
+        int npass = 0;
+        for (int r = 0; r < N; r++) {
+            double o[5];
+            int p = poly_eval(s, in + r * 5, o);
+            assert_memory_equal(o, outb + r * 5, sizeof o);
+            assert_int_equal(p, pb[r]);
+            npass += p;
+        }
+        if (layout != 1)
+            assert_int_equal(pb[9], 0);
+        assert_true(npass > N / 2);
+        poly_free(s);
+    }
+    free(in);
+    free(outb);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_builder_rejects), cmocka_unit_test(test_closed_form),
+        cmocka_unit_test(test_batch_one_part),  cmocka_unit_test(test_batch_three_parts),
+        cmocka_unit_test(test_jacobian_fd),     cmocka_unit_test(test_part_selection),
+        cmocka_unit_test(test_pass_and_domain), cmocka_unit_test(test_batch_frame_layouts),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,155 @@
+/* Emitted C: compiled with the system's C compiler at test time and run on the same
+ * rays as poly_eval; the two must agree to 1e-12 relative (they repeat the same
+ * arithmetic, so in practice they agree exactly). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "sparselens/poly.h"
+#include "poly_fixture.h"
+
+/* Reads rays, prints NAME's result per ray, and exits 3 if NAME_batch on all the rays
+ * at once differs from NAME anywhere (bit for bit, and in the pass flag). */
+static const char *driver =
+    "#include <stddef.h>\n#include <stdio.h>\n#include <stdlib.h>\n#include <string.h>\n"
+    "int lens_poly_eval(const double in[5], double out[5]);\n"
+    "void lens_poly_eval_batch(size_t n, const double *in, double *out, unsigned char *pass);\n"
+    "int main(void) {\n"
+    "    size_t n = 0, cap = 1024;\n"
+    "    double *in = malloc(cap * 5 * sizeof(double)), out[5];\n"
+    "    while (in && scanf(\"%lf %lf %lf %lf %lf\", &in[5 * n], &in[5 * n + 1], &in[5 * n + 2],\n"
+    "                       &in[5 * n + 3], &in[5 * n + 4]) == 5) {\n"
+    "        int p = lens_poly_eval(in + 5 * n, out);\n"
+    "        printf(\"%d %a %a %a %a %a\\n\", p, out[0], out[1], out[2], out[3], out[4]);\n"
+    "        if (++n == cap && !(in = realloc(in, (cap *= 2) * 5 * sizeof(double))))\n"
+    "            return 2;\n"
+    "    }\n"
+    "    double *bo = malloc((n + 1) * 5 * sizeof(double));\n"
+    "    unsigned char *bp = malloc(n + 1);\n"
+    "    if (!in || !bo || !bp)\n"
+    "        return 2;\n"
+    "    lens_poly_eval_batch(n, in, bo, bp);\n"
+    "    for (size_t r = 0; r < n; r++) {\n"
+    "        int p = lens_poly_eval(in + 5 * r, out);\n"
+    "        if (p != bp[r] || memcmp(out, bo + 5 * r, sizeof out) != 0)\n"
+    "            return 3;\n"
+    "    }\n"
+    "    return 0;\n"
+    "}\n";
+
+static void check_emitted(poly_system *s, int nrays, unsigned long seed)
+{
+    const char *cc = getenv("CC");
+    if (!cc || !*cc)
+        cc = "cc";
+    char dir[] = "/tmp/test_poly_emit_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char gen[256], drv[256], bin[256], rays[256], outp[256], cmd[1400];
+    snprintf(gen, sizeof gen, "%s/gen.c", dir);
+    snprintf(drv, sizeof drv, "%s/driver.c", dir);
+    snprintf(bin, sizeof bin, "%s/prog", dir);
+    snprintf(rays, sizeof rays, "%s/rays.txt", dir);
+    snprintf(outp, sizeof outp, "%s/out.txt", dir);
+    FILE *f = fopen(gen, "w");
+    assert_int_equal(poly_emit_c(f, s, "lens_poly_eval"), 0);
+    fclose(f);
+    f = fopen(drv, "w");
+    fputs(driver, f);
+    fclose(f);
+    /* -Werror: the emitted code must also compile cleanly */
+    snprintf(cmd, sizeof cmd, "%s -std=c99 -O2 -Wall -Wextra -Werror %s %s -o %s -lm 2>&1", cc,
+             gen, drv, bin);
+    if (system(cmd) != 0) {
+        snprintf(cmd, sizeof cmd, "command -v %s >/dev/null", cc);
+        if (system(cmd) != 0)
+            skip(); /* no C compiler on this machine */
+        fail_msg("emitted code does not compile (%s)", gen);
+    }
+    double *in = malloc((size_t)nrays * 5 * sizeof(double));
+    fixture_rng g = {seed};
+    f = fopen(rays, "w");
+    for (int r = 0; r < nrays; r++) {
+        fixture_ray(&g, in + 5 * r);
+        if (r % 7 == 0) /* some rays far outside the domain, and with the largest radius */
+            in[5 * r] *= 3;
+        for (int i = 0; i < 5; i++)
+            fprintf(f, "%.17g%c", in[5 * r + i], i == 4 ? '\n' : ' ');
+    }
+    fclose(f);
+    snprintf(cmd, sizeof cmd, "%s < %s > %s", bin, rays, outp);
+    assert_int_equal(system(cmd), 0);
+    f = fopen(outp, "r");
+    int exact = 0;
+    for (int r = 0; r < nrays; r++) {
+        double want[5], got[5];
+        int pc, pw = poly_eval(s, in + 5 * r, want);
+        char tok[5][64];
+        assert_int_equal(fscanf(f, "%d %63s %63s %63s %63s %63s", &pc, tok[0], tok[1], tok[2],
+                                tok[3], tok[4]),
+                         6);
+        assert_int_equal(pc, pw);
+        int same = 1;
+        for (int o = 0; o < 5; o++) {
+            got[o] = strtod(tok[o], NULL);
+            double scale = fabs(want[o]) > 1e-300 ? fabs(want[o]) : 1;
+            if (!(fabs(got[o] - want[o]) <= 1e-12 * scale))
+                fail_msg("ray %d output %d: emitted %.17g, poly_eval %.17g", r, o, got[o],
+                         want[o]);
+            same &= memcmp(&got[o], &want[o], sizeof got[o]) == 0;
+        }
+        exact += same;
+    }
+    fclose(f);
+    print_message("emitted C: %d of %d rays bit-identical to poly_eval\n", exact, nrays);
+    free(in);
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
+static void test_emit_one_part(void **st)
+{
+    (void)st;
+    poly_system *s = fixture_system(40, 11, 1, 11);
+    assert_int_equal(poly_add_pass_circle(s, 0, 1, 0.5), 0);
+    check_emitted(s, 500, 1);
+    poly_free(s);
+}
+
+static void test_emit_parts(void **st)
+{
+    (void)st;
+    poly_system *s = fixture_system(20, 8, 3, 12);
+    check_emitted(s, 500, 2);
+    poly_free(s);
+}
+
+static void test_emit_bad_name(void **st)
+{
+    (void)st;
+    poly_system *s = fixture_system(3, 2, 1, 13);
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    assert_int_equal(poly_emit_c(f, s, "2bad"), -1);
+    assert_int_equal(poly_emit_c(f, s, "a-b"), -1);
+    fclose(f);
+    free(buf);
+    poly_free(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_emit_one_part),
+        cmocka_unit_test(test_emit_parts),
+        cmocka_unit_test(test_emit_bad_name),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

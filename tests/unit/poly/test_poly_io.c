@@ -1,0 +1,216 @@
+/* The .poly text format: bit-identical round trips and FILE:LINE errors. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "sparselens/poly.h"
+#include "poly_fixture.h"
+
+static char *to_text(const poly_system *s, size_t *len)
+{
+    char *buf = NULL;
+    FILE *f = open_memstream(&buf, len);
+    assert_int_equal(poly_write(f, s), 0);
+    fclose(f);
+    return buf;
+}
+
+static poly_system *from_text(const char *text, lens_err *err)
+{
+    FILE *f = fmemopen((void *)text, strlen(text), "r");
+    poly_system *s = NULL;
+    int rc = poly_read_stream(f, "t.poly", &s, err);
+    fclose(f);
+    if (rc != 0)
+        assert_null(s);
+    return s;
+}
+
+static void test_round_trip(void **st)
+{
+    (void)st;
+    poly_system *a = fixture_system(40, 11, 3, 42);
+    poly_set_lens_path(a, "lenses/fisheye-ii.lens");
+    poly_set_meta(a, "fit.terms", "40 per output");
+    poly_set_meta(a, "odd", "  two\nlines\t ");
+    assert_int_equal(poly_add_pass_circle(a, 0, 1, 17.25), 0);
+    size_t la, lb;
+    char *ta = to_text(a, &la);
+    lens_err err = {{0}};
+    poly_system *b = from_text(ta, &err);
+    if (!b)
+        fail_msg("%s", err.msg);
+    assert_string_equal(poly_lens_name(b), "fixture");
+    assert_string_equal(poly_lens_path(b), "lenses/fisheye-ii.lens");
+    assert_string_equal(poly_get_meta(b, "fit.terms"), "40 per output");
+    assert_string_equal(poly_get_meta(b, "odd"), "two lines");
+    assert_int_equal(poly_nparts(b), 3);
+    assert_int_equal(poly_npass_circles(b), 1);
+    /* writing the re-read system gives the same text */
+    char *tb = to_text(b, &lb);
+    assert_int_equal(la, lb);
+    assert_memory_equal(ta, tb, la);
+    /* and the same bits on rays in every part */
+    fixture_rng g = {3};
+    for (int r = 0; r < 2000; r++) {
+        double in[5], oa[5], ob[5], ja[25], jb[25];
+        fixture_ray(&g, in);
+        assert_int_equal(poly_eval(a, in, oa), poly_eval(b, in, ob));
+        assert_memory_equal(oa, ob, sizeof oa);
+        poly_eval_jacobian(a, in, oa, ja);
+        poly_eval_jacobian(b, in, ob, jb);
+        assert_memory_equal(ja, jb, sizeof ja);
+    }
+    free(ta);
+    free(tb);
+    poly_free(a);
+    poly_free(b);
+}
+
+/* A term added after others that share its factors must not change how the re-read
+ * system builds it: the plan is canonical, so interleaved additions still match. */
+static void test_interleaved_build(void **st)
+{
+    (void)st;
+    const char *in[3] = {"x", "y", "u"}, *out[2] = {"a", "b"};
+    poly_system *s = poly_new("l", 3, in, 2, out);
+    poly_set_scaling(s, 0, 0.1, 3.3);
+    poly_set_scaling(s, 1, -0.2, 1.7);
+    poly_set_scaling(s, 2, 0.3, 0.9);
+    poly_add_part(s, 0, INFINITY);
+    int e[][3] = {{3, 2, 1}, {0, 2, 1}, {3, 0, 0}, {1, 1, 5}, {3, 2, 0}, {0, 0, 7}};
+    for (int k = 0; k < 6; k++)
+        poly_add_term(s, 0, k % 2, e[k], 0.1 * (k + 1) + 1.0 / 3);
+    size_t len;
+    char *t = to_text(s, &len);
+    lens_err err;
+    poly_system *r = from_text(t, &err);
+    assert_non_null(r);
+    double x[3] = {0.77, -1.3, 0.41}, o1[2], o2[2];
+    poly_eval(s, x, o1);
+    poly_eval(r, x, o2);
+    assert_memory_equal(o1, o2, sizeof o1);
+    free(t);
+    poly_free(s);
+    poly_free(r);
+}
+
+static const char *good_head = "lens-poly 1\n"
+                               "lens test lens\n"
+                               "inputs x y\n"
+                               "outputs out_x out_y\n"
+                               "scaling x 0 2 -1 1\n"
+                               "part 0 inf\n"
+                               "output out_x 2\n";
+
+static void expect_error(const char *tail, const char *line, const char *words)
+{
+    char text[2048];
+    snprintf(text, sizeof text, "%s%s", good_head, tail);
+    lens_err err = {{0}};
+    poly_system *s = from_text(text, &err);
+    if (s)
+        fail_msg("accepted: %s", tail);
+    char want[64];
+    snprintf(want, sizeof want, "t.poly:%s: ", line);
+    if (strncmp(err.msg, want, strlen(want)) != 0 || !strstr(err.msg, words))
+        fail_msg("message '%s' lacks '%s' and '%s'", err.msg, want, words);
+}
+
+static void test_errors(void **st)
+{
+    (void)st;
+    /* a good file first, with a hex-float coefficient, which must read exactly */
+    char text[1024];
+    snprintf(text, sizeof text, "%s  1 0 0x1.8p+1 # 3 s_x\n  0 0 -0.25\nend\n", good_head);
+    lens_err err = {{0}};
+    poly_system *s = from_text(text, &err);
+    if (!s)
+        fail_msg("%s", err.msg);
+    assert_string_equal(poly_lens_name(s), "test lens");
+    double in[2] = {1, 0}, out[2];
+    poly_eval(s, in, out);
+    assert_true(out[0] == 3 * 0.5 - 0.25);
+    assert_true(out[1] == 0); /* an output without terms is 0 */
+    poly_free(s);
+
+    expect_error("  1 0 nan\n  0 0 1\nend\n", "8", "coefficient");
+    expect_error("  1 0 1\n  30 0 1\nend\n", "9", "degree past the limit");
+    expect_error("  1 0 1\n  20 20 1\nend\n", "9", "degree past the limit");
+    expect_error("  1 0 1\n  -1 0 1\nend\n", "9", "exponent");
+    expect_error("  1 0 1\n  1.5 0 1\nend\n", "9", "exponent");
+    expect_error("  1 0 1\n  1 0 2\nend\n", "9", "same monomial");
+    expect_error("  1 0 1 7\n", "8", "2 exponents and a coefficient");
+    expect_error("  1 0 1\n", "9", "end of file inside the terms");
+    expect_error("  1 0 1\n  0 0 1\n", "10", "without 'end'");
+    expect_error("  1 0 1\n  0 0 1\nscaling z 0 1 0 1\nend\n", "10", "unknown input 'z'");
+    expect_error("  1 0 1\n  0 0 1\noutput out_z 0\nend\n", "10", "unknown output 'out_z'");
+    expect_error("  1 0 1\n  0 0 1\noutput out_x 0\nend\n", "10", "given twice");
+    expect_error("  1 0 1\n  0 0 1\npass out_x out_y 0\nend\n", "10", "radius");
+    expect_error("  1 0 1\n  0 0 1\npart 0 3\nend\n", "10", "bad part");
+    expect_error("  1 0 1\n  0 0 1\nwhatever 3\nend\n", "10", "unknown keyword");
+    expect_error("  1 0 1\n  0 0 1\nend\npart 0 1\n", "11", "after 'end'");
+    expect_error("  1 0 1\n  0 0 1\ninputs a b\nend\n", "10", "must come before");
+
+    /* header errors */
+    const struct {
+        const char *text, *line, *words;
+    } h[] = {
+        {"lens-poly 2\n", "1", "version"},
+        {"hello\n", "1", "not a polynomial system"},
+        {"lens-poly 1\ninputs x\npart 0 inf\n", "3", "before the outputs"},
+        {"lens-poly 1\ninputs x x\n", "2", "named twice"},
+        {"lens-poly 1\ninputs x\noutputs a\nscaling x 0 0 0 1\n", "4", "scale of 'x' is 0"},
+        {"lens-poly 1\ninputs x\noutputs a\nscaling x 0 1 2 1\n", "4", "empty"},
+        {"lens-poly 1\ninputs x\noutputs a\nend\n", "4", "no part"},
+    };
+    for (size_t k = 0; k < sizeof h / sizeof h[0]; k++) {
+        poly_system *q = from_text(h[k].text, &err);
+        assert_null(q);
+        char want[64];
+        snprintf(want, sizeof want, "t.poly:%s: ", h[k].line);
+        if (strncmp(err.msg, want, strlen(want)) != 0 || !strstr(err.msg, h[k].words))
+            fail_msg("case %zu: '%s'", k, err.msg);
+    }
+    assert_null(from_text("", &err));
+    assert_non_null(strstr(err.msg, "empty"));
+}
+
+static void test_read_file(void **st)
+{
+    (void)st;
+    poly_system *s = NULL;
+    lens_err err;
+    assert_int_not_equal(poly_read("/nonexistent/x.poly", &s, &err), 0);
+    assert_non_null(strstr(err.msg, "/nonexistent/x.poly: "));
+    char path[] = "/tmp/test_poly_io_XXXXXX";
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    FILE *f = fdopen(fd, "w");
+    poly_system *a = fixture_system(10, 5, 1, 1);
+    poly_write(f, a);
+    fclose(f);
+    assert_int_equal(poly_read(path, &s, &err), 0);
+    assert_int_equal(poly_nterms(s, 0, 3), 10);
+    unlink(path);
+    poly_free(a);
+    poly_free(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_round_trip),
+        cmocka_unit_test(test_interleaved_build),
+        cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_read_file),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
