@@ -25,8 +25,9 @@ fd=$(run "$info" lenses/dgauss.50mm.lens --focus inf | run "$info" - 2>/dev/null
 if [ "$fd" = inf ] || awk -v d="$fd" 'BEGIN { exit !(d > 1e9 || d < -1e9) }'; then ok "focus inf"; else fail "focus inf" "focus_distance $fd"; fi
 
 # Conversion round trip: the converted file has the same first-order data.
-run "$info" ../shared/reference/lenses/pbrt/telephoto.250mm.dat --format lens > "$T/tele.lens" 2>/dev/null &&
-  a=$(run "$info" ../shared/reference/lenses/pbrt/telephoto.250mm.dat 2>/dev/null | value efl) &&
+a=unset b=unset
+run "$info" lenses/reference/pbrt/telephoto.250mm.dat --format lens > "$T/tele.lens" 2>/dev/null &&
+  a=$(run "$info" lenses/reference/pbrt/telephoto.250mm.dat 2>/dev/null | value efl) &&
   b=$(run "$info" "$T/tele.lens" 2>/dev/null | value efl) && near "$a" "$b" 1e-9 &&
   ok "format lens round trip" || fail "format lens round trip" "$a vs $b"
 
