@@ -21,7 +21,8 @@ BIN   := bin-san
 OPT   := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
 endif
 
-CPPFLAGS += -Iinclude -Isrc -I/usr/include/OpenEXR -D_DEFAULT_SOURCE
+VERSION  := $(shell cat VERSION)
+CPPFLAGS += -Iinclude -Isrc -I/usr/include/OpenEXR -D_DEFAULT_SOURCE -MMD -MP
 CFLAGS   += -std=c11 $(OPT) -Wall -Wextra -fopenmp -march=x86-64-v2
 CXXFLAGS += -std=c++17 $(OPT) -Wall -Wextra -I/usr/include/opencv4
 LDFLAGS  += $(OPT) -fopenmp
@@ -30,7 +31,6 @@ LDLIBS   := -lopencv_calib3d -lopencv_imgcodecs -lopencv_imgproc -lopencv_core \
 
 LIB_C    := $(wildcard src/*/*.c)
 LIB_CXX  := $(wildcard src/*/*.cpp)
-HEADERS  := $(wildcard include/sparselens/*.h src/*/*.h)
 TEST_SRC := $(wildcard tests/unit/*/test_*.c)
 LIB_OBJ  := $(LIB_C:src/%.c=$(BUILD)/src/%.o) $(LIB_CXX:src/%.cpp=$(BUILD)/src/%.o)
 CMDS     := $(patsubst cmd/%.c,$(BIN)/%,$(wildcard cmd/lens-*.c))
@@ -44,11 +44,15 @@ all: $(CMDS) $(TESTS) $(BENCHES)
 deps:
 	@tools/install-deps.sh
 
-$(BUILD)/src/%.o: src/%.c $(HEADERS)
+# Header dependencies come from the compiler (-MMD -MP: a .d file beside each object);
+# the flags live here, so a changed Makefile rebuilds the objects too.
+$(LIB_OBJ): Makefile
+
+$(BUILD)/src/%.o: src/%.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
-$(BUILD)/src/%.o: src/%.cpp $(HEADERS)
+$(BUILD)/src/%.o: src/%.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c $< -o $@
 
@@ -56,18 +60,24 @@ $(LIB): $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
+# The version (one place: the VERSION file) reaches the commands through options.c.
+$(BUILD)/src/app/options.o: CPPFLAGS += -DSPARSELENS_VERSION='"$(VERSION)"'
+$(BUILD)/src/app/options.o: VERSION
+
 $(BIN)/lens-%: cmd/lens-%.c $(LIB)
-	@mkdir -p $(BIN)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+	@mkdir -p $(BIN) $(BUILD)/cmd
+	$(CC) $(CPPFLAGS) -MF $(BUILD)/cmd/lens-$*.d -MT $@ $(CFLAGS) $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
 vpath test_%.c $(sort $(dir $(TEST_SRC)))
-$(BUILD)/tests/test_%: test_%.c $(LIB) $(wildcard tests/unit/*.h)
+$(BUILD)/tests/test_%: test_%.c $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) -Itests/unit $(CFLAGS) $< $(LIB) $(LDFLAGS) -lcmocka $(LDLIBS) -o $@
+	$(CC) $(CPPFLAGS) -MF $@.d -MT $@ -Itests/unit $(CFLAGS) $< $(LIB) $(LDFLAGS) -lcmocka $(LDLIBS) -o $@
 
 $(BUILD)/bench/%: bench/%.c $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -O3 $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+	$(CC) $(CPPFLAGS) -MF $@.d -MT $@ $(CFLAGS) -O3 $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+
+-include $(LIB_OBJ:.o=.d) $(patsubst $(BIN)/%,$(BUILD)/cmd/%.d,$(CMDS)) $(TESTS:=.d) $(BENCHES:=.d)
 
 # The whole suite: unit tests, command-line tests, hard cases, short fuzz runs.
 test: deps
