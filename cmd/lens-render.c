@@ -48,9 +48,10 @@ int main(int argc, char **argv)
         diag_print(prog, &err);
         return 1;
     }
-    if (!quiet)
+    if (!quiet) {
         fprintf(stderr, "time %.3f s, %.4g camera rays/s, %.1f%% of camera rays passed the lens\n",
                 st.seconds, st.camera_rays / (st.seconds > 0 ? st.seconds : 1e-9),
                 st.camera_rays > 0 ? 100 * st.passed_rays / st.camera_rays : 0);
+    }
     return 0;
 }

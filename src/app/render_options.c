@@ -23,6 +23,11 @@ static const opt_spec render_table[] = {
      .help = "draw directions over the rear element instead of the line pupil"},
     {0, "reference", "FILE", OPT_STRING, OPT_AT(render_cli, run.reference),
      .help = "print the RMS error against this image (same size)"},
+    {0, "seed", "N", OPT_INT, OPT_AT(render_cli, run.seed), .lo = 1, .hi = 4611686018427387904.0,
+     .help = "random seed", .def = "the scene's"},
+    {0, "noise-against", "FILE", OPT_STRING, OPT_AT(render_cli, run.noise_against),
+     .help = "print the noise figure against FILE, a render of the same scene with another "
+             "seed"},
     {0, "estimator", NULL, OPT_CHOICE, OPT_AT(render_cli, run.estimator), .choices = estimators,
      .help = "eq13: the simplified weight of Eq. 13; full: Eq. 3 with G-bar (Eq. 12) and "
              "p_A(s1) (Eq. 8) evaluated, |A| from the system's Jacobian (the same image, "
