@@ -11,6 +11,7 @@
 static const char *usage =
     "usage: lens-render SCENE -o IMAGE.exr [--png PREVIEW.png] [--exact] [--spp N]\n"
     "                   [--threads N] [--cache DIR] [--rear-sampling] [--reference REF.exr]\n"
+    "                   [--seed N] [--noise-against OTHER.exr]\n"
     "                   [--estimator eq13|full] [--quiet]\n"
     "Renders SCENE (man 5 lens-scene) through its lens with the Monte Carlo estimator of\n"
     "the supplement (Eq. 13): camera rays start on the pixel, take their direction from\n"
@@ -25,6 +26,8 @@ static const char *usage =
     "  --cache DIR        fitted systems (default $XDG_CACHE_HOME/sparselens)\n"
     "  --rear-sampling    draw directions over the rear element instead of the line pupil\n"
     "  --reference FILE   print the RMS error against this image (same size)\n"
+    "  --seed N           random seed (default: the scene's)\n"
+    "  --noise-against F  print the noise figure against F, a render with another seed\n"
     "  --estimator E      eq13 (default): the simplified weight of Eq. 13; full: Eq. 3 with\n"
     "                     G-bar (Eq. 12) and p_A(s1) (Eq. 8) evaluated, |A| from the\n"
     "                     system's Jacobian (the same image, slower: a check)\n"
@@ -64,6 +67,9 @@ int main(int argc, char **argv)
             o.threads = (int)cli_count(prog, "--threads", v, 1, 1024);
         else if (cli_opt(prog, argc, argv, &i, "--cache", &v)) o.cache_dir = v;
         else if (cli_opt(prog, argc, argv, &i, "--reference", &v)) o.reference = v;
+        else if (cli_opt(prog, argc, argv, &i, "--noise-against", &v)) o.noise_against = v;
+        else if (cli_opt(prog, argc, argv, &i, "--seed", &v))
+            o.seed = (unsigned long)cli_count(prog, "--seed", v, 1, 1L << 62);
         else if (cli_opt(prog, argc, argv, &i, "--estimator", &v)) {
             if (!strcmp(v, "full")) o.estimator = RENDER_ESTIMATOR_FULL;
             else if (!strcmp(v, "eq13")) o.estimator = RENDER_ESTIMATOR_EQ13;
@@ -93,9 +99,10 @@ int main(int argc, char **argv)
         diag_print(prog, &err);
         return 1;
     }
-    if (!quiet)
+    if (!quiet) {
         fprintf(stderr, "time %.3f s, %.4g camera rays/s, %.1f%% of camera rays passed the lens\n",
                 st.seconds, st.camera_rays / (st.seconds > 0 ? st.seconds : 1e-9),
                 st.camera_rays > 0 ? 100 * st.passed_rays / st.camera_rays : 0);
+    }
     return 0;
 }

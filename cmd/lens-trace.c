@@ -91,7 +91,6 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
             fprintf(f, " %d (%.3g%%)", a->clip[k] + 1, 100 * a->clip_share[a->clip[k]]);
         fprintf(f, "; stop %d (%.3g%%)\n", lens->stop + 1, 100 * a->clip_share[lens->stop]);
     }
-    samples_write_header(f, (const char *const *)a->names, ncols(a));
 }
 
 static void sampling_setup(const trace_args *a, sampling_options *so)
@@ -215,6 +214,7 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         ray_generator_free(g);
         return -1;
     }
+    samples_write_header(f, (const char *const *)a->names, ncols(a));
     int show = cli_progress_wanted() && a->count > 200000;
     long written = 0;
     size_t next = 0;
@@ -272,7 +272,8 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
 }
 
 /* Filter: one output row per input row; a bad row becomes a row of nan, is reported
- * with its line, and makes the exit status non-zero at the end. */
+ * with its line, and makes the exit status non-zero at the end. Input columns that the
+ * trace does not write (an id, say) follow the traced ones, as they were. */
 static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_rows, lens_err *err)
 {
     samples_reader *r = samples_open("-", err);
@@ -284,6 +285,8 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
         samples_close(r);
         return -1;
     }
+    samples_passthrough(r, (const char *const *)a->names, ncols(a));
+    samples_write_filter_header(f, (const char *const *)a->names, ncols(a), r);
     int nc = samples_ncols(r);
     double *vals = malloc((size_t)nc * sizeof *vals);
     double *n = malloc(lens->nsurf * sizeof *n);
@@ -298,7 +301,7 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
         if (st < 0) {
             diag_print(prog, err);
             ++*bad_rows;
-            samples_write_row(f, row, ncols(a));
+            samples_write_filter_row(f, row, ncols(a), r);
             continue;
         }
         for (int k = 0; k < 5; k++)
@@ -328,7 +331,7 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
                     trace_surface_hit(lens, a->clip[k], n, row, row + nb + 2 * k);
             }
         }
-        samples_write_row(f, row, ncols(a));
+        samples_write_filter_row(f, row, ncols(a), r);
     }
     int rc = (vals && n && row) ? 0 : -1;
     if (rc)

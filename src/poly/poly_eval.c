@@ -17,13 +17,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Rays per block in the batch path. The values of a block's rays for one monomial lie
- * side by side, so every product and every term is one operation on BLK lanes, which
- * the compiler splits into as many hardware vectors as the clone has (2 on AVX-512). A
- * block's values must stay in the L1 cache: 16 rays x 8 bytes x ~140 kept values of a
- * 5 x 40 term system is 18 KiB. Larger blocks measured slower, smaller ones pay the
- * per-term index and coefficient loads on fewer rays. */
-#define BLK 16
+/* Rays per block in the batch path (at most; each instruction set has its own KBLK
+ * below). The values of a block's rays for one monomial lie side by side, so every
+ * product and every term is one operation on KBLK lanes, which the compiler splits into
+ * hardware vectors. A block's values must stay in the L1 cache: 32 rays x 8 bytes x
+ * ~100 kept values of the framed 5 x 40 term fisheye-ii system is 25 KiB. */
+#define BLK 32
 /* Rays whose parts are sorted out together in the batch path (bounds the index buffer). */
 #define CHUNK 2048
 
@@ -128,17 +127,27 @@ int poly_eval_part_core(const poly_system *s, int part, const double *in, double
 enum { RUN_EVAL, RUN_JAC };
 
 /* The batch kernel once per instruction set, each with the vector width of its
- * registers and a block that keeps its partial sums in registers (AVX-512: 16 rays in
- * 2 x 8 lanes, AVX2: 8 in 2 x 4, SSE: 4 in 2 x 2); batch() picks one per call. -O3 for
- * these alone: it unrolls the gathers and scatters of the rows, about 8 % faster on
- * the fisheye-ii system; it never contracts into FMA (ISO C mode), so the bits stay. */
+ * registers and a block that keeps its partial sums in registers (AVX-512: 32 rays in
+ * 4 x 8 lanes, 16 accumulators of its 32 registers; AVX2: 8 in 2 x 4; SSE: 4 in 2 x 2);
+ * batch() picks one per call. The loop is bound by loads of values (two 64-byte loads a
+ * cycle), so a wider block pays the per-term index and coefficient loads on more rays:
+ * 32 rays measured 36 -> 29 ns a ray against 16 on the fisheye-ii system. AVX-512 also
+ * moves the rows in and out with gathers and scatters (the scalar copy out of a block
+ * just stored as vectors cost 4 ns a ray). -O3 for these alone: it unrolls the loops
+ * over lanes; it never contracts into FMA (ISO C mode), so the bits stay. */
 #if defined(POLY_X86)
 #define KERNEL_NAME run_blocks_avx512
 #define KERNEL_TARGET __attribute__((target("avx512f"), optimize("O3")))
 #define KERNEL_SQRT(x) ((vn)_mm512_sqrt_pd((__m512d)(x)))
 #define VW 8
-#define KBLK 16
+#define KBLK 32
+#define KERNEL_SCATTER(base, at, x) _mm512_i64scatter_pd((base), (__m512i)(at), (__m512d)(x), 8)
+#define KERNEL_GATHER(base, at) ((vn)_mm512_i64gather_pd((__m512i)(at), (base), 8))
+#define KERNEL_MASKBITS(ok) ((unsigned)_mm512_test_epi64_mask((__m512i)(ok), (__m512i)(ok)))
 #include "poly/poly_eval_kernel.h"
+#undef KERNEL_SCATTER
+#undef KERNEL_MASKBITS
+#undef KERNEL_GATHER
 #undef KERNEL_NAME
 #undef KERNEL_TARGET
 #undef VW
