@@ -4,7 +4,15 @@
  * additions, so scalar and batch results are bit-identical. */
 #include "poly/poly_impl.h"
 
+/* x86 has a kernel per instruction set below; elsewhere (arm64, ...) the 2-lane one
+ * alone, which GCC maps onto that machine's vectors. SPARSELENS_PORTABLE_KERNELS builds
+ * that path on x86 too, so the tests can check it where they run. */
+#if (defined(__x86_64__) || defined(__i386__)) && !defined(SPARSELENS_PORTABLE_KERNELS)
+#define POLY_X86 1
 #include <immintrin.h>
+#elif defined(__aarch64__) && !defined(SPARSELENS_PORTABLE_KERNELS)
+#include <arm_neon.h>
+#endif
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -127,6 +135,7 @@ enum { RUN_EVAL, RUN_JAC };
  * moves the rows in and out with gathers and scatters (the scalar copy out of a block
  * just stored as vectors cost 4 ns a ray). -O3 for these alone: it unrolls the loops
  * over lanes; it never contracts into FMA (ISO C mode), so the bits stay. */
+#if defined(POLY_X86)
 #define KERNEL_NAME run_blocks_avx512
 #define KERNEL_TARGET __attribute__((target("avx512f"), optimize("O3")))
 #define KERNEL_SQRT(x) ((vn)_mm512_sqrt_pd((__m512d)(x)))
@@ -155,9 +164,17 @@ enum { RUN_EVAL, RUN_JAC };
 #undef VW
 #undef KBLK
 #undef KERNEL_SQRT
+#endif
 #define KERNEL_NAME run_blocks_sse
 #define KERNEL_TARGET __attribute__((optimize("O3")))
+#if defined(POLY_X86)
 #define KERNEL_SQRT(x) ((vn)_mm_sqrt_pd((__m128d)(x)))
+#elif defined(__aarch64__) && !defined(SPARSELENS_PORTABLE_KERNELS)
+#define KERNEL_SQRT(x) ((vn)vsqrtq_f64((float64x2_t)(x)))
+#else
+/* IEEE square roots are correctly rounded, so lane by lane gives the vector's bits. */
+#define KERNEL_SQRT(x) ((vn){__builtin_sqrt((x)[0]), __builtin_sqrt((x)[1])})
+#endif
 #define VW 2
 #define KBLK 4
 #include "poly/poly_eval_kernel.h"
@@ -214,9 +231,13 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
             maxoff = no;
     }
     int *off = malloc(maxoff * sizeof(int));
+#if defined(POLY_X86)
     run_fn *run = __builtin_cpu_supports("avx512f") ? run_blocks_avx512
                   : __builtin_cpu_supports("avx2")  ? run_blocks_avx2
                                                     : run_blocks_sse;
+#else
+    run_fn *run = run_blocks_sse; /* the portable 2-lane kernel */
+#endif
     double *v = s->nparts ? aligned_alloc(64, (size_t)maxv * BLK * sizeof(double)) : NULL;
     double *res = aligned_alloc(64, 2 * (size_t)maxo * BLK * sizeof(double));
     double *fb = aligned_alloc(64, ((size_t)s->nin + 3) * BLK * sizeof(double));
