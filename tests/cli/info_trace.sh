@@ -71,7 +71,7 @@ if paste <(grep -v '^#' "$T/a.txt") <(grep -v '^#' "$T/c.txt") | awk '{ for (i =
 # Bad input: one-line errors naming file and line, non-zero exit, no partial file.
 expect_error "n 0" '^lens-trace: -n: 0 is out of range' "$trc" lenses/dgauss.50mm.lens -n 0
 expect_error "n 1e12" '^lens-trace: -n: 1e12 is out of range' "$trc" lenses/dgauss.50mm.lens -n 1e12
-expect_error "bad frame" "^lens-trace: --to: expected 'outer' or 'stop'" "$trc" lenses/dgauss.50mm.lens --to film
+expect_error "bad frame" "^lens-trace: --to: 'film' is not outer or stop" "$trc" lenses/dgauss.50mm.lens --to film
 expect_error "missing lens" '^lens-trace: nope.lens: ' "$trc" nope.lens
 expect_error "lambda out of range" '^lens-trace: .*(range|wavelength)' "$trc" lenses/fisheye-ii.lens -n 10 --lambda 2.5 -o "$T/never.txt"
 [ ! -e "$T/never.txt" ] && ok "no partial file" || fail "no partial file" "$T/never.txt exists"
