@@ -140,20 +140,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
     char lens_buf[1024];
     if (sc.camera_is_poly) {
         if (poly_read(sc.camera, &sys, err)) goto done;
-        const char *lp = poly_lens_path(sys);
-        if (!lp || !*lp) {
-            lens_errf(err, sc.camera, 0, "the system does not record its lens file");
-            goto done;
-        }
-        /* a relative path is relative to the .poly file */
-        const char *slash = strrchr(sc.camera, '/');
-        if (lp[0] != '/' && slash)
-            snprintf(lens_buf, sizeof lens_buf, "%.*s/%s", (int)(slash - sc.camera), sc.camera, lp);
-        else
-            snprintf(lens_buf, sizeof lens_buf, "%s", lp);
-        FILE *probe = fopen(lens_buf, "r");
-        if (probe) fclose(probe);
-        else snprintf(lens_buf, sizeof lens_buf, "%s", lp); /* as recorded, from the cwd */
+        if (poly_find_lens_file(sys, sc.camera, lens_buf, sizeof lens_buf, err)) goto done;
         lens_path = lens_buf;
     }
     if (lens_load(lens_path, o->load, &lens, err)) goto done;
