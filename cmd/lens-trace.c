@@ -53,6 +53,11 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
                 sampling_strategy_name(a->strategy), a->seed, a->lambda_min, a->lambda_max,
                 a->sensor_w, a->sensor_h);
     fputc('\n', f);
+    /* What lens-fit records in a system, so that the system finds its lens again; the
+     * path as given, so that the same command gives the same file anywhere. */
+    fprintf(f, "# lens: %s\n", lens->name[0] ? lens->name : "-");
+    if (strcmp(a->lens_path, "-") != 0 && !strchr(a->lens_path, '\n'))
+        fprintf(f, "# lens-path: %s\n", a->lens_path);
     if (a->clip_share) {
         fprintf(f, "# clip surfaces (>= %g%% of %d pilot rays blocked there):", 100 * CLIP_MIN_SHARE,
                 PILOT_RAYS);
@@ -264,7 +269,12 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
     int cached_ok = 0;
     lens_err cached_err = {{0}};
     int st;
+    int failed = 0;
     while (vals && n && row && (st = samples_next(r, vals, err)) != 0) {
+        if (st == SAMPLES_FAIL) {
+            failed = 1; /* the rest of the stream is lost: an error, not an end */
+            break;
+        }
         for (int k = 0; k < ncols(a); k++)
             row[k] = NAN;
         if (st < 0) {
@@ -302,8 +312,8 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
         }
         samples_write_filter_row(f, row, ncols(a), r);
     }
-    int rc = (vals && n && row) ? 0 : -1;
-    if (rc)
+    int rc = (vals && n && row && !failed) ? 0 : -1;
+    if (rc && !failed)
         lens_errf(err, NULL, 0, "out of memory");
     free(vals);
     free(n);
