@@ -13,35 +13,40 @@
 #include "sparselens/sampling.h"
 #include "sparselens/trace.h"
 #include "sparselens/trace_clip.h"
-#include "sparselens/trace_stop.h"
 
 static const char *prog = "lens-trace";
 
 static const char *usage =
-    "usage: lens-trace LENS [-n N] [--seed S] [--sampling pupil|rear] [--lambda A:B|L]\n"
-    "                  [--to outer|stop] [--all] [--stop-columns] [--clip-columns]\n"
-    "                  [--clip-surfaces LIST] [--sensor WxH]\n"
+    "usage: lens-trace LENS [-n N] [--seed S] [--sampling pupil|rear|full] [--lambda A:B|L]\n"
+    "                  [--to outer|stop] [--all|--passing-only] [--stop-columns]\n"
+    "                  [--clip-surfaces LIST] [--no-passage-columns] [--sensor WxH]\n"
     "                  [--threads T] [-o FILE] [-]\n"
-    "Generates N rays from the sensor and traces them through LENS, writing a sample file\n"
-    "with columns x y u v lambda out_x out_y out_u out_v out_eta. With '-', traces the rays\n"
-    "read from stdin (columns x y u v lambda, found by name) instead: one output row per\n"
-    "input row, rays that do not pass with out_eta 0, bad rows as nan (exit status 1).\n"
-    "  -n N             rays to write (default 10000): passing rays, or all rays with --all\n"
+    "Generates rays from the sensor and traces them through LENS, writing a sample file\n"
+    "with columns x y u v lambda out_x out_y out_u out_v out_eta, and the passage columns\n"
+    "ap_x ap_y sN_x sN_y. With '-', traces the rays read from stdin (columns x y u v\n"
+    "lambda, found by name) instead: one output row per input row, rays that do not pass\n"
+    "with out_eta 0, bad rows as nan (exit status 1).\n"
+    "  -n N             rays to write (default 10000), as drawn: blocked ones too (out_eta\n"
+    "                   0, outputs nan), so that fits and tests see both sides of each rim\n"
+    "  --passing-only   N rays that pass (blocked ones left out)\n"
+    "  --all            the default (kept for old scripts)\n"
     "  --seed S         random seed (default 1); the same seed gives the same file\n"
     "  --sampling STR   pupil: directions that pass from each sensor point (default);\n"
-    "                   rear: aimed at the rear element (the usual way, a baseline)\n"
+    "                   rear: aimed at the rear element (the usual way, a baseline);\n"
+    "                   full: uniform over every direction that can pass (test sets that\n"
+    "                   measure passage as a share of the light)\n"
     "  --lambda A:B     wavelengths uniform in A..B um, or one wavelength (default 0.4:0.7)\n"
     "  --to outer|stop  output frame: the outer pupil (default) or the aperture stop\n"
-    "  --all            also write rays that do not pass (out_eta 0, other outputs nan)\n"
-    "  --stop-columns   add columns ap_x ap_y: the ray's hit on the aperture stop (nan when\n"
-    "                   it does not get through to the stop); lens-fit then fits a stop\n"
-    "                   pass circle\n"
-    "  --clip-columns   ap_x ap_y, plus sN_x sN_y for every other surface N (numbered as in\n"
-    "                   lens-info) that blocks >= 0.5%% of a pilot trace of 65536 rays\n"
-    "                   (same sampling, fixed seed): the hit on surface N, nan when the ray\n"
-    "                   does not get there within its semi-diameter; lens-fit fits a pass\n"
-    "                   circle for each\n"
-    "  --clip-surfaces LIST  as --clip-columns, for the surfaces N,N,... given (no pilot)\n"    "  --sensor WxH     sensor size in mm (default: the lens header)\n"
+    "  passage columns (default): ap_x ap_y, the ray's hit on the aperture stop, and sN_x\n"
+    "                   sN_y on every other surface N (numbered as in lens-info) that a\n"
+    "                   pilot of 65536 rays over the full ray space (fixed seed) finds\n"
+    "                   limiting the beam (>= 0.05%% of the light); hits of the ray traced\n"
+    "                   with every rim extended, so also outside the rim (nan only where\n"
+    "                   the ray misses the surface); lens-fit fits a pass circle for each\n"
+    "  --stop-columns   ap_x ap_y only (no pilot)\n"
+    "  --clip-surfaces LIST  ap_x ap_y and the surfaces N,N,... given (no pilot)\n"
+    "  --no-passage-columns  none of them\n"
+    "  --sensor WxH     sensor size in mm (default: the lens header)\n"
     "  --threads T      threads (default: all)\n"
     "  -o FILE          write FILE (complete or not at all) instead of stdout\n"
     LENS_CLI_OPTIONS_HELP
@@ -52,9 +57,11 @@ static const char *const base_columns[] = {"x", "y", "u", "v", "lambda",
                                            "ap_x", "ap_y"};
 enum { NCOLS = 10, NCOLS_STOP = 12 };
 /* Rays of the pilot trace that picks the clip surfaces, and its seed: fixed, so that a
- * training and a test set traced with different --seed get the same columns. */
-enum { PILOT_RAYS = 65536, PILOT_SEED = 20161 };
-#define CLIP_MIN_SHARE 0.005
+ * training and a test set traced with different --seed get the same columns. A surface
+ * is modelled while it alone would let through >= CLIP_MIN_SHARE of the light: a tenth
+ * of the 0.5 % a system may disagree on in all (reports/vignetting.md). */
+enum { PILOT_RAYS = 65536, PILOT_SEED = 20161, MAX_CLIP = 8 };
+#define CLIP_MIN_SHARE 0.0005
 
 typedef struct {
     const char *lens_path, *out_path;
@@ -66,7 +73,9 @@ typedef struct {
     int all, threads, from_stdin, stop_columns, clip_columns;
     const char *clip_list;
     int nclip, *clip;        /* clip surfaces, 0-based (besides the stop) */
-    double *clip_share;      /* pilot: blocked share per surface, or NULL */
+    int *sel;                /* the stop, then the clip surfaces (clip = sel + 1) */
+    double *clip_share;      /* pilot: light share per surface (trace_clip.h), or NULL */
+    double clip_leak;        /* pilot: light no modelled surface blocks */
     char **names;            /* column names */
 } trace_args;
 
@@ -84,12 +93,20 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
                 sampling_strategy_name(a->strategy), a->seed, a->lambda_min, a->lambda_max,
                 a->sensor_w, a->sensor_h);
     fputc('\n', f);
+    /* lens-fit reads this line: a system's passage is complete only from a pilot */
     if (a->clip_share) {
-        fprintf(f, "# clip surfaces (>= %g%% of %d pilot rays blocked there):", 100 * CLIP_MIN_SHARE,
-                PILOT_RAYS);
+        fprintf(f, "# passage: full (pilot of %d rays over the full ray space, shares of the "
+                "light the lens passes): stop %d blocks %.3g%%", PILOT_RAYS, lens->stop + 1,
+                100 * a->clip_share[lens->stop]);
+        if (a->target == TRACE_TO_OUTER)
+            fprintf(f, ", front 1 %.3g%%", 100 * a->clip_share[0]);
         for (int k = 0; k < a->nclip; k++)
-            fprintf(f, " %d (%.3g%%)", a->clip[k] + 1, 100 * a->clip_share[a->clip[k]]);
-        fprintf(f, "; stop %d (%.3g%%)\n", lens->stop + 1, 100 * a->clip_share[lens->stop]);
+            fprintf(f, ", %d +%.3g%%", a->clip[k] + 1, 100 * a->clip_share[a->clip[k]]);
+        fprintf(f, "; unmodelled %.3g%%\n", 100 * a->clip_leak);
+    } else {
+        fprintf(f, "# passage: partial (%s)\n", a->clip_list ? "clip surfaces given, no pilot"
+                                                : a->stop_columns ? "stop columns only"
+                                                                  : "no passage columns");
     }
     samples_write_header(f, (const char *const *)a->names, ncols(a));
 }
@@ -109,11 +126,6 @@ static void sampling_setup(const trace_args *a, sampling_options *so)
 /* The clip surfaces: those given, or those a pilot trace finds blocking rays. */
 static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
 {
-    a->clip = malloc(lens->nsurf * sizeof *a->clip);
-    if (!a->clip) {
-        lens_errf(err, NULL, 0, "out of memory");
-        return -1;
-    }
     if (a->clip_list) {
         const char *p = a->clip_list;
         while (*p) {
@@ -133,10 +145,9 @@ static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
         }
         return 0;
     }
-    if (isnan(a->sensor_w)) {
-        lens_errf(err, a->lens_path, 0, "--clip-columns: no sensor size for the pilot trace; "
-                  "give --sensor WxH or --clip-surfaces");
-        return -1;
+    if (isnan(a->sensor_w)) { /* filter mode on a lens without a sensor: the stop alone */
+        a->clip_columns = 0;
+        return 0;
     }
     sampling_options so;
     sampling_setup(a, &so);
@@ -147,7 +158,7 @@ static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
         return -1;
     }
     int k = trace_clip_pilot(lens, &so, PILOT_RAYS, CLIP_MIN_SHARE, a->target == TRACE_TO_OUTER,
-                             a->clip_share, a->clip, err);
+                             MAX_CLIP, a->clip_share, a->clip, &a->clip_leak, err);
     if (k < 0)
         return -1;
     a->nclip = k;
@@ -182,7 +193,7 @@ static void free_names(trace_args *a)
             free(a->names[nb + k]);
     }
     free(a->names);
-    free(a->clip);
+    free(a->sel);
     free(a->clip_share);
 }
 
@@ -202,14 +213,13 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         return -1;
     const size_t chunk = 1 << 16;
     double *in = malloc(chunk * 5 * sizeof *in), *out = malloc(chunk * 5 * sizeof *out);
-    double *ap = a->stop_columns ? malloc(chunk * 2 * sizeof *ap) : NULL;
-    double *hits = a->nclip ? malloc(chunk * 2 * (size_t)a->nclip * sizeof *hits) : NULL;
+    int nsel = a->stop_columns + a->nclip; /* the stop, then the clip surfaces */
+    double *hits = malloc(chunk * 2 * (size_t)(nsel ? nsel : 1) * sizeof *hits);
     double *row = malloc((size_t)ncols(a) * sizeof *row);
-    if (!in || !out || (a->stop_columns && !ap) || (a->nclip && !hits) || !row) {
+    if (!in || !out || !hits || !row) {
         lens_errf(err, NULL, 0, "out of memory");
         free(in);
         free(out);
-        free(ap);
         free(hits);
         free(row);
         ray_generator_free(g);
@@ -232,28 +242,21 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         size_t n = chunk;
         if (a->all && (size_t)(a->count - written) < n)
             n = (size_t)(a->count - written);
+
         if (ray_generator_fill(g, next, n, in, err) != 0 ||
             trace_batch(lens, a->target, n, in, out, NULL, a->threads, err) != 0 ||
-            (ap && trace_stop_batch(lens, n, in, ap, a->threads, err) != 0)) {
+            (nsel && trace_surfaces_batch(lens, nsel, a->sel + !a->stop_columns, n, in, hits,
+                                          a->threads, err) != 0)) {
             rc = -1;
             break;
         }
-        for (int k = 0; k < a->nclip && rc == 0; k++)
-            if (trace_surface_batch(lens, a->clip[k], n, in, hits + 2 * chunk * (size_t)k,
-                                    a->threads, err) != 0)
-                rc = -1;
-        if (rc)
-            break;
         next += n;
         for (size_t i = 0; i < n && written < a->count; i++) {
             if (!a->all && !(out[5 * i + 4] > 0))
                 continue;
             memcpy(row, in + 5 * i, 5 * sizeof *row);
             memcpy(row + 5, out + 5 * i, 5 * sizeof *row);
-            if (ap)
-                memcpy(row + NCOLS, ap + 2 * i, 2 * sizeof *row);
-            for (int k = 0, nb = ap ? NCOLS_STOP : NCOLS; k < a->nclip; k++)
-                memcpy(row + nb + 2 * k, hits + 2 * chunk * (size_t)k + 2 * i, 2 * sizeof *row);
+            memcpy(row + NCOLS, hits + 2 * (size_t)nsel * i, 2 * (size_t)nsel * sizeof *row);
             samples_write_row(f, row, ncols(a));
             written++;
         }
@@ -264,7 +267,6 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         fputc('\n', stderr);
     free(in);
     free(out);
-    free(ap);
     free(hits);
     free(row);
     ray_generator_free(g);
@@ -323,7 +325,7 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
                 trace_result res = trace_sample(lens, n, a->target, row, row + 5);
                 row[9] = res.status == TRACE_PASSED ? res.transmittance : 0.0;
                 if (a->stop_columns)
-                    trace_stop_hit(lens, n, row, row + NCOLS);
+                    trace_surface_hit(lens, lens->stop, n, row, row + NCOLS);
                 for (int k = 0, nb = a->stop_columns ? NCOLS_STOP : NCOLS; k < a->nclip; k++)
                     trace_surface_hit(lens, a->clip[k], n, row, row + nb + 2 * k);
             }
@@ -342,8 +344,11 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
 
 int main(int argc, char **argv)
 {
-    trace_args a = {NULL, "-", 10000, 1, SAMPLING_PUPIL, 0.4, 0.7, NAN, NAN,
-                    TRACE_TO_OUTER, 0, 0, 0, 0, 0, NULL, 0, NULL, NULL, NULL};
+    trace_args a = {0};
+    a.out_path = "-", a.count = 10000, a.seed = 1, a.strategy = SAMPLING_PUPIL;
+    a.lambda_min = 0.4, a.lambda_max = 0.7, a.sensor_w = a.sensor_h = NAN;
+    a.target = TRACE_TO_OUTER, a.all = 1;
+    enum { COLS_FULL, COLS_STOP, COLS_NONE } passage = COLS_FULL;
     const char *v;
     lens_cli_options lopt;
     lens_cli_options_init(&lopt);
@@ -356,7 +361,7 @@ int main(int argc, char **argv)
             a.seed = (unsigned long)cli_count(prog, "--seed", v, 0, 4000000000000000L);
         else if (cli_opt(prog, argc, argv, &i, "--sampling", &v)) {
             if (sampling_strategy_parse(v, &a.strategy) != 0)
-                diag_die(prog, "--sampling: expected 'pupil' or 'rear', not '%s'", v);
+                diag_die(prog, "--sampling: expected 'pupil', 'rear' or 'full', not '%s'", v);
         } else if (cli_opt(prog, argc, argv, &i, "--lambda", &v)) {
             if (strchr(v, ':'))
                 cli_pair(prog, "--lambda", v, ':', &a.lambda_min, &a.lambda_max);
@@ -373,12 +378,16 @@ int main(int argc, char **argv)
                 diag_die(prog, "--to: expected 'outer' or 'stop', not '%s'", v);
         } else if (!strcmp(argv[i], "--all"))
             a.all = 1;
+        else if (!strcmp(argv[i], "--passing-only"))
+            a.all = 0;
         else if (!strcmp(argv[i], "--stop-columns"))
-            a.stop_columns = 1;
-        else if (!strcmp(argv[i], "--clip-columns"))
-            a.stop_columns = a.clip_columns = 1;
+            passage = COLS_STOP, a.clip_list = NULL;
+        else if (!strcmp(argv[i], "--clip-columns")) /* the default, kept for old scripts */
+            passage = COLS_FULL, a.clip_list = NULL;
+        else if (!strcmp(argv[i], "--no-passage-columns"))
+            passage = COLS_NONE, a.clip_list = NULL;
         else if (cli_opt(prog, argc, argv, &i, "--clip-surfaces", &v))
-            a.clip_list = v, a.stop_columns = a.clip_columns = 1;
+            a.clip_list = v, passage = COLS_FULL;
         else if (cli_opt(prog, argc, argv, &i, "--sensor", &v)) {
             cli_pair(prog, "--sensor", v, 'x', &a.sensor_w, &a.sensor_h);
             if (!(a.sensor_w > 0 && a.sensor_h > 0))
@@ -408,7 +417,14 @@ int main(int argc, char **argv)
     if (!a.from_stdin && isnan(a.sensor_w))
         diag_die(prog, "%s: no sensor size in the lens header; give --sensor WxH", a.lens_path);
 
+    a.stop_columns = passage != COLS_NONE;
+    a.clip_columns = passage == COLS_FULL;
     lens_err err;
+    a.sel = malloc((lens.nsurf + 1) * sizeof *a.sel);
+    if (!a.sel)
+        diag_die(prog, "out of memory");
+    a.sel[0] = lens.stop;
+    a.clip = a.sel + 1;
     if ((a.clip_columns && choose_clip(&lens, &a, &err) != 0) || make_names(&a, &err) != 0) {
         diag_print(prog, &err);
         free_names(&a);

@@ -25,6 +25,10 @@ int samples_map(const samples_reader *r, const char *const *names, int n, int *m
  * the caller may go on reading. "nan" and "inf" fields are numbers here; callers that
  * need finite inputs check them. */
 int samples_next(samples_reader *r, double *vals, lens_err *err);
+/* The value of a comment line "# key: value" before the header (the first of the
+ * first 16 comment lines that names key), or NULL: what the writer said about the
+ * rays (lens-trace's "# passage: full ..."). */
+const char *samples_note(const samples_reader *r, const char *key);
 long samples_line(const samples_reader *r); /* line number of the last row read */
 const char *samples_path(const samples_reader *r);
 void samples_close(samples_reader *r);

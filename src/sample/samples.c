@@ -7,6 +7,7 @@
 #include <string.h>
 
 #define SAMPLES_MAX_COLS 64
+#define SAMPLES_MAX_NOTES 16
 
 struct samples_reader {
     FILE *f;
@@ -18,6 +19,8 @@ struct samples_reader {
     char *names[SAMPLES_MAX_COLS];
     char *buf;
     size_t cap;
+    int nnotes;
+    char *notes[SAMPLES_MAX_NOTES]; /* comment lines before the header, without '#' */
 };
 
 static const char *display(const samples_reader *r)
@@ -117,6 +120,10 @@ samples_reader *samples_open(const char *path, lens_err *err)
                 }
                 return r;
             }
+            if (r->nnotes < SAMPLES_MAX_NOTES && (r->notes[r->nnotes] = strdup(s)) != NULL) {
+                char *e = r->notes[r->nnotes++];
+                e[strcspn(e, "\r\n")] = '\0';
+            }
             continue;
         }
         if (is_blank(s))
@@ -193,8 +200,19 @@ int samples_next(samples_reader *r, double *vals, lens_err *err)
     }
 }
 
+const char *samples_note(const samples_reader *r, const char *key)
+{
+    size_t n = strlen(key);
+    for (int i = 0; i < r->nnotes; i++)
+        if (strncmp(r->notes[i], key, n) == 0 && r->notes[i][n] == ':')
+            return r->notes[i] + n + 1 + strspn(r->notes[i] + n + 1, " \t");
+    return NULL;
+}
+
 void samples_close(samples_reader *r)
 {
+    for (int i = 0; r && i < r->nnotes; i++)
+        free(r->notes[i]);
     if (!r)
         return;
     if (r->owns && r->f)
