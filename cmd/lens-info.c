@@ -5,23 +5,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sparselens/cli.h"
-#include "sparselens/lens_cli_options.h"
+#include "sparselens/info_cli.h"
 #include "sparselens/field_of_view.h"
 #include "sparselens/paraxial.h"
 
 static const char *prog = "lens-info";
-
-static const char *usage =
-    "usage: lens-info LENS [--wavelength UM] [--sensor WxH] [--format keys|lens] [--focus MM]\n"
-    "Prints first-order data of LENS (.lens, .fx, .dat, ...) as 'key value' lines.\n"
-    "  --wavelength UM   wavelength in micrometres (default: d line, 0.5875618)\n"
-    "  --sensor WxH      sensor size in mm for field_of_view_deg (default: the lens header)\n"
-    "  --format lens     print the lens in the project's format instead (converts importers' files)\n"
-    "  --focus MM        print the lens refocused on an object MM in front of its first surface\n"
-    "                    ('inf' for infinity): the last thickness changes\n"
-    LENS_CLI_OPTIONS_HELP
-    "See lens-info(1).\n";
 
 static void print_key(const char *key, double v)
 {
@@ -33,41 +21,19 @@ static void print_key(const char *key, double v)
 
 int main(int argc, char **argv)
 {
-    const char *path = NULL, *v;
-    double lambda = GLASS_D_LINE, sw = NAN, sh = NAN, focus = NAN;
-    int as_lens = 0;
-    lens_cli_options lopt;
-    lens_cli_options_init(&lopt);
-    for (int i = 1; i < argc; i++) {
-        if (lens_cli_common_take(prog, usage, argc, argv, &i, &lopt))
-            continue;
-        if (cli_opt(prog, argc, argv, &i, "--wavelength", &v))
-            lambda = cli_positive(prog, "--wavelength", v);
-        else if (cli_opt(prog, argc, argv, &i, "--sensor", &v)) {
-            cli_pair(prog, "--sensor", v, 'x', &sw, &sh);
-            if (!(sw > 0 && sh > 0))
-                diag_die(prog, "--sensor: sizes must be positive");
-        } else if (cli_opt(prog, argc, argv, &i, "--format", &v)) {
-            if (!strcmp(v, "lens"))
-                as_lens = 1;
-            else if (strcmp(v, "keys"))
-                diag_die(prog, "--format: expected 'keys' or 'lens', not '%s'", v);
-        } else if (cli_opt(prog, argc, argv, &i, "--focus", &v)) {
-            focus = !strcmp(v, "inf") ? INFINITY : cli_positive(prog, "--focus", v);
-        } else if (argv[i][0] == '-' && argv[i][1] != '\0')
-            diag_die(prog, "unknown option '%s' (see --help)", argv[i]);
-        else if (path)
-            diag_die(prog, "one lens at a time ('%s' and '%s')", path, argv[i]);
-        else
-            path = argv[i];
-    }
-    if (!path)
+    info_cli o;
+    info_cli_default(&o);
+    const char *operand[1];
+    if (opt_parse(&info_command, argc, argv, &o, operand, 1) == 0)
         diag_die(prog, "no lens given (see --help)");
+    const char *path = operand[0];
+    double lambda = o.lambda, sw = o.sensor.w, sh = o.sensor.h, focus = o.focus;
+    int as_lens = o.as_lens;
 
     lens_t lens;
     lens_err err;
-    cli_load_lens(prog, path, lens_cli_options_get(&lopt), &lens);
-    lens_cli_options_free(&lopt);
+    cli_load_lens(prog, path, lens_cli_options_get(&o.lens), &lens);
+    lens_cli_options_free(&o.lens);
     if (!isnan(sw)) {
         lens.sensor_w = sw;
         lens.sensor_h = sh;

@@ -6,8 +6,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "sparselens/cli.h"
-#include "sparselens/lens_cli_options.h"
+#include "sparselens/trace_cli.h"
 #include "sparselens/outfile.h"
 #include "sparselens/samples.h"
 #include "sparselens/sampling.h"
@@ -15,42 +14,6 @@
 #include "sparselens/trace_clip.h"
 
 static const char *prog = "lens-trace";
-
-static const char *usage =
-    "usage: lens-trace LENS [-n N] [--seed S] [--sampling pupil|rear|full] [--lambda A:B|L]\n"
-    "                  [--to outer|stop] [--all|--passing-only] [--stop-columns]\n"
-    "                  [--clip-surfaces LIST] [--no-passage-columns] [--sensor WxH]\n"
-    "                  [--threads T] [-o FILE] [-]\n"
-    "Generates rays from the sensor and traces them through LENS, writing a sample file\n"
-    "with columns x y u v lambda out_x out_y out_u out_v out_eta, and the passage columns\n"
-    "ap_x ap_y sN_x sN_y. With '-', traces the rays read from stdin (columns x y u v\n"
-    "lambda, found by name) instead: one output row per input row, rays that do not pass\n"
-    "with out_eta 0, bad rows as nan (exit status 1).\n"
-    "  -n N             rays to write (default 10000), as drawn: blocked ones too (out_eta\n"
-    "                   0, outputs nan), so that fits and tests see both sides of each rim\n"
-    "  --passing-only   N rays that pass (blocked ones left out)\n"
-    "  --all            the default (kept for old scripts)\n"
-    "  --seed S         random seed (default 1); the same seed gives the same file\n"
-    "  --sampling STR   pupil: directions that pass from each sensor point (default);\n"
-    "                   rear: aimed at the rear element (the usual way, a baseline);\n"
-    "                   full: uniform over every direction that can pass (test sets that\n"
-    "                   measure passage as a share of the light)\n"
-    "  --lambda A:B     wavelengths uniform in A..B um, or one wavelength (default 0.4:0.7)\n"
-    "  --to outer|stop  output frame: the outer pupil (default) or the aperture stop\n"
-    "  passage columns (default): ap_x ap_y, the ray's hit on the aperture stop, and sN_x\n"
-    "                   sN_y on every other surface N (numbered as in lens-info) that a\n"
-    "                   pilot of 65536 rays over the full ray space (fixed seed) finds\n"
-    "                   limiting the beam (>= 0.05%% of the light); hits of the ray traced\n"
-    "                   with every rim extended, so also outside the rim (nan only where\n"
-    "                   the ray misses the surface); lens-fit fits a pass circle for each\n"
-    "  --stop-columns   ap_x ap_y only (no pilot)\n"
-    "  --clip-surfaces LIST  ap_x ap_y and the surfaces N,N,... given (no pilot)\n"
-    "  --no-passage-columns  none of them\n"
-    "  --sensor WxH     sensor size in mm (default: the lens header)\n"
-    "  --threads T      threads (default: all)\n"
-    "  -o FILE          write FILE (complete or not at all) instead of stdout\n"
-    LENS_CLI_OPTIONS_HELP
-    "See lens-trace(1) and lens-samples(5).\n";
 
 static const char *const base_columns[] = {"x", "y", "u", "v", "lambda",
                                            "out_x", "out_y", "out_u", "out_v", "out_eta",
@@ -70,7 +33,7 @@ typedef struct {
     sampling_strategy strategy;
     double lambda_min, lambda_max, sensor_w, sensor_h;
     trace_target target;
-    int all, threads, from_stdin, stop_columns, clip_columns;
+    int all, threads, from_stdin, stop_columns, clip_columns, quiet;
     const char *clip_list;
     int nclip, *clip;        /* clip surfaces, 0-based (besides the stop) */
     int *sel;                /* the stop, then the clip surfaces (clip = sel + 1) */
@@ -108,7 +71,6 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
                                                 : a->stop_columns ? "stop columns only"
                                                                   : "no passage columns");
     }
-    samples_write_header(f, (const char *const *)a->names, ncols(a));
 }
 
 static void sampling_setup(const trace_args *a, sampling_options *so)
@@ -225,7 +187,8 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         ray_generator_free(g);
         return -1;
     }
-    int show = cli_progress_wanted() && a->count > 200000;
+    samples_write_header(f, (const char *const *)a->names, ncols(a));
+    int show = !a->quiet && cli_progress_wanted() && a->count > 200000;
     long written = 0;
     size_t next = 0;
     /* A lens that passes almost nothing would loop for ever: give up after 1000 rays
@@ -274,7 +237,8 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
 }
 
 /* Filter: one output row per input row; a bad row becomes a row of nan, is reported
- * with its line, and makes the exit status non-zero at the end. */
+ * with its line, and makes the exit status non-zero at the end. Input columns that the
+ * trace does not write (an id, say) follow the traced ones, as they were. */
 static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_rows, lens_err *err)
 {
     samples_reader *r = samples_open("-", err);
@@ -286,6 +250,8 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
         samples_close(r);
         return -1;
     }
+    samples_passthrough(r, (const char *const *)a->names, ncols(a));
+    samples_write_filter_header(f, (const char *const *)a->names, ncols(a), r);
     int nc = samples_ncols(r);
     double *vals = malloc((size_t)nc * sizeof *vals);
     double *n = malloc(lens->nsurf * sizeof *n);
@@ -300,7 +266,7 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
         if (st < 0) {
             diag_print(prog, err);
             ++*bad_rows;
-            samples_write_row(f, row, ncols(a));
+            samples_write_filter_row(f, row, ncols(a), r);
             continue;
         }
         for (int k = 0; k < 5; k++)
@@ -330,7 +296,7 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
                     trace_surface_hit(lens, a->clip[k], n, row, row + nb + 2 * k);
             }
         }
-        samples_write_row(f, row, ncols(a));
+        samples_write_filter_row(f, row, ncols(a), r);
     }
     int rc = (vals && n && row) ? 0 : -1;
     if (rc)
@@ -344,72 +310,32 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
 
 int main(int argc, char **argv)
 {
-    trace_args a = {0};
-    a.out_path = "-", a.count = 10000, a.seed = 1, a.strategy = SAMPLING_PUPIL;
-    a.lambda_min = 0.4, a.lambda_max = 0.7, a.sensor_w = a.sensor_h = NAN;
-    a.target = TRACE_TO_OUTER, a.all = 1;
-    enum { COLS_FULL, COLS_STOP, COLS_NONE } passage = COLS_FULL;
-    const char *v;
-    lens_cli_options lopt;
-    lens_cli_options_init(&lopt);
-    for (int i = 1; i < argc; i++) {
-        if (lens_cli_common_take(prog, usage, argc, argv, &i, &lopt))
-            continue;
-        if (cli_opt(prog, argc, argv, &i, "-n", &v))
-            a.count = cli_count(prog, "-n", v, 1, 1000000000L);
-        else if (cli_opt(prog, argc, argv, &i, "--seed", &v))
-            a.seed = (unsigned long)cli_count(prog, "--seed", v, 0, 4000000000000000L);
-        else if (cli_opt(prog, argc, argv, &i, "--sampling", &v)) {
-            if (sampling_strategy_parse(v, &a.strategy) != 0)
-                diag_die(prog, "--sampling: expected 'pupil', 'rear' or 'full', not '%s'", v);
-        } else if (cli_opt(prog, argc, argv, &i, "--lambda", &v)) {
-            if (strchr(v, ':'))
-                cli_pair(prog, "--lambda", v, ':', &a.lambda_min, &a.lambda_max);
-            else
-                a.lambda_min = a.lambda_max = cli_double(prog, "--lambda", v);
-            if (!(a.lambda_min > 0 && a.lambda_max >= a.lambda_min))
-                diag_die(prog, "--lambda: need 0 < A <= B (micrometres), got '%s'", v);
-        } else if (cli_opt(prog, argc, argv, &i, "--to", &v)) {
-            if (!strcmp(v, "outer"))
-                a.target = TRACE_TO_OUTER;
-            else if (!strcmp(v, "stop"))
-                a.target = TRACE_TO_STOP;
-            else
-                diag_die(prog, "--to: expected 'outer' or 'stop', not '%s'", v);
-        } else if (!strcmp(argv[i], "--all"))
-            a.all = 1;
-        else if (!strcmp(argv[i], "--passing-only"))
-            a.all = 0;
-        else if (!strcmp(argv[i], "--stop-columns"))
-            passage = COLS_STOP, a.clip_list = NULL;
-        else if (!strcmp(argv[i], "--clip-columns")) /* the default, kept for old scripts */
-            passage = COLS_FULL, a.clip_list = NULL;
-        else if (!strcmp(argv[i], "--no-passage-columns"))
-            passage = COLS_NONE, a.clip_list = NULL;
-        else if (cli_opt(prog, argc, argv, &i, "--clip-surfaces", &v))
-            a.clip_list = v, passage = COLS_FULL;
-        else if (cli_opt(prog, argc, argv, &i, "--sensor", &v)) {
-            cli_pair(prog, "--sensor", v, 'x', &a.sensor_w, &a.sensor_h);
-            if (!(a.sensor_w > 0 && a.sensor_h > 0))
-                diag_die(prog, "--sensor: sizes must be positive");
-        } else if (cli_opt(prog, argc, argv, &i, "--threads", &v))
-            a.threads = (int)cli_count(prog, "--threads", v, 1, 1024);
-        else if (cli_opt(prog, argc, argv, &i, "-o", &v))
-            a.out_path = v;
-        else if (!strcmp(argv[i], "-"))
+    trace_cli o;
+    trace_cli_default(&o);
+    const char *operand[2];
+    int nop = opt_parse(&trace_command, argc, argv, &o, operand, 2);
+    /* the passage columns: all the pilot finds unless less is asked for */
+    int cols_none = o.no_passage_columns, cols_stop = o.stop_columns && !o.clip_columns;
+    trace_args a = {.out_path = o.out_path, .count = o.count, .seed = o.seed,
+                    .strategy = o.strategy, .lambda_min = o.lambda[0], .lambda_max = o.lambda[1],
+                    .sensor_w = o.sensor.w, .sensor_h = o.sensor.h, .target = o.target,
+                    .all = !o.passing_only, .threads = o.threads, .quiet = o.quiet,
+                    .stop_columns = !cols_none || o.clip_list,
+                    .clip_columns = (!cols_none && !cols_stop) || o.clip_list,
+                    .clip_list = o.clip_list};
+    for (int k = 0; k < nop; k++) {
+        if (strcmp(operand[k], "-") == 0)
             a.from_stdin = 1;
-        else if (argv[i][0] == '-')
-            diag_die(prog, "unknown option '%s' (see --help)", argv[i]);
         else if (a.lens_path)
-            diag_die(prog, "one lens at a time ('%s' and '%s')", a.lens_path, argv[i]);
+            diag_die(prog, "one lens at a time ('%s' and '%s')", a.lens_path, operand[k]);
         else
-            a.lens_path = argv[i];
+            a.lens_path = operand[k];
     }
     if (!a.lens_path)
         diag_die(prog, "no lens given (see --help)");
     lens_t lens;
-    cli_load_lens(prog, a.lens_path, lens_cli_options_get(&lopt), &lens);
-    lens_cli_options_free(&lopt);
+    cli_load_lens(prog, a.lens_path, lens_cli_options_get(&o.lens), &lens);
+    lens_cli_options_free(&o.lens);
     if (isnan(a.sensor_w)) {
         a.sensor_w = lens.sensor_w;
         a.sensor_h = lens.sensor_h;
@@ -417,8 +343,6 @@ int main(int argc, char **argv)
     if (!a.from_stdin && isnan(a.sensor_w))
         diag_die(prog, "%s: no sensor size in the lens header; give --sensor WxH", a.lens_path);
 
-    a.stop_columns = passage != COLS_NONE;
-    a.clip_columns = passage == COLS_FULL;
     lens_err err;
     a.sel = malloc((lens.nsurf + 1) * sizeof *a.sel);
     if (!a.sel)

@@ -129,6 +129,15 @@ double render_channel_lambda(int c); /* 0 r, 1 g, 2 b */
 int render_image(const render_job *job, float *rgb, float *var, render_stats *st,
                  lens_err *err);
 
+/* The noise figure of two renders a and b of the same scene with different seeds (3
+ * floats per pixel): per pixel and lit channel, the variance of one render's estimate,
+ * (a - b)^2 / 2, over the squared mean of the two; averaged over the lit channels and
+ * over the 3x3 neighbourhood (a single pair is a one-degree-of-freedom estimate); the
+ * median over lit pixels. From independent renders, it holds for any sampler (a sample
+ * variance within a pixel does not, once samples are stratified). Times render time, it
+ * is what equal-time comparisons divide (variance falls as 1/spp). NAN if nothing is lit. */
+double render_noise(int width, int height, const float *a, const float *b);
+
 /* The weight of one camera ray, P_a T_r cos^4(theta_s0) / p(u, v) without L (see
  * render.c): exposed so that tests can check it against an independent derivation. */
 double render_ray_weight(double u, double v, double pdf_uv, double eta);

@@ -29,6 +29,17 @@ int samples_next(samples_reader *r, double *vals, lens_err *err);
  * first 16 comment lines that names key), or NULL: what the writer said about the
  * rays (lens-trace's "# passage: full ..."). */
 const char *samples_note(const samples_reader *r, const char *key);
+/* Filters carry the columns they do not write through to their output, as GeodSolve and
+ * cs2cs pass the rest of a line: the input columns whose names are not among the
+ * `written` ones become pass-through columns, taken as text (any token, never parsed;
+ * nan in vals) and returned in input order. Returns how many. Call before the first row. */
+int samples_passthrough(samples_reader *r, const char *const *written, int nwritten);
+const char *samples_passthrough_name(const samples_reader *r, int k);
+/* The last row's pass-through fields, each with a leading space ("nan" for a field a
+ * short row lacks): written to f, or formatted into buf (snprintf-style: returns the
+ * length it needs, writes at most cap bytes). */
+void samples_write_passthrough(FILE *f, const samples_reader *r);
+size_t samples_passthrough_text(const samples_reader *r, char *buf, size_t cap);
 long samples_line(const samples_reader *r); /* line number of the last row read */
 const char *samples_path(const samples_reader *r);
 void samples_close(samples_reader *r);
@@ -37,5 +48,11 @@ void samples_close(samples_reader *r);
 void samples_write_header(FILE *f, const char *const *names, int n);
 /* One row, %.17g, non-finite values as nan/inf. */
 void samples_write_row(FILE *f, const double *vals, int n);
+/* A filter's header and rows: its own columns, then the pass-through columns of its
+ * input r (samples_passthrough). */
+void samples_write_filter_header(FILE *f, const char *const *names, int n, const samples_reader *r);
+void samples_write_filter_row(FILE *f, const double *vals, int n, const samples_reader *r);
+/* The same with the pass-through fields kept earlier (samples_passthrough_text). */
+void samples_write_filter_row_text(FILE *f, const double *vals, int n, const char *passthrough);
 
 #endif

@@ -72,38 +72,53 @@ static int write_exr(const char *path, int w, int h, const float *rgb, lens_err 
     return rc;
 }
 
-int render_compare(const char *ref, int w, int h, const float *rgb, double *rms, double *rel,
-                   lens_err *err)
+int render_read_rgb(const char *path, int w, int h, float **rgb, lens_err *err)
 {
     exr_image im;
-    if (exr_read_float(ref, &im, err)) return -1;
+    *rgb = NULL;
+    if (exr_read_float(path, &im, err)) return -1;
     const char *names[3] = {"R", "G", "B"};
     const float *pl[3];
     int rc = -1;
     if (im.width != w || im.height != h) {
-        lens_errf(err, ref, 0, "reference is %dx%d, the render %dx%d", im.width, im.height, w, h);
+        lens_errf(err, path, 0, "the image is %dx%d, the render %dx%d", im.width, im.height, w, h);
         goto done;
     }
     for (int k = 0; k < 3; k++)
         if (!(pl[k] = exr_image_channel(&im, names[k]))) {
-            lens_errf(err, ref, 0, "reference has no channel %s", names[k]);
+            lens_errf(err, path, 0, "the image has no channel %s", names[k]);
             goto done;
         }
-    double se = 0, mean = 0;
     size_t n = (size_t)w * h;
+    if (!(*rgb = malloc(3 * n * sizeof **rgb))) {
+        lens_errf(err, path, 0, "out of memory");
+        goto done;
+    }
     for (size_t i = 0; i < n; i++)
-        for (int k = 0; k < 3; k++) {
-            double d = rgb[3 * i + k] - pl[k][i];
-            se += d * d;
-            mean += pl[k][i];
-        }
-    *rms = sqrt(se / (3.0 * n));
-    mean /= 3.0 * n;
-    *rel = mean > 0 ? *rms / mean : NAN;
+        for (int k = 0; k < 3; k++) (*rgb)[3 * i + k] = pl[k][i];
     rc = 0;
 done:
     exr_image_free(&im);
     return rc;
+}
+
+int render_compare(const char *ref, int w, int h, const float *rgb, double *rms, double *rel,
+                   lens_err *err)
+{
+    float *r;
+    if (render_read_rgb(ref, w, h, &r, err)) return -1;
+    double se = 0, mean = 0;
+    size_t n = (size_t)w * h;
+    for (size_t i = 0; i < 3 * n; i++) {
+        double d = rgb[i] - r[i];
+        se += d * d;
+        mean += r[i];
+    }
+    free(r);
+    *rms = sqrt(se / (3.0 * n));
+    mean /= 3.0 * n;
+    *rel = mean > 0 ? *rms / mean : NAN;
+    return 0;
 }
 
 int render_run(const render_options *o, render_stats *st, lens_err *err)
@@ -118,6 +133,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
     lens_init(&lens);
     if (scene_load(o->scene, &sc, err)) return -1;
     if (o->spp > 0) sc.spp = o->spp;
+    if (o->seed) sc.seed = o->seed;
 
     /* the lens: the scene's lens file, or the lens a given system was fitted to */
     const char *lens_path = sc.camera;
@@ -235,6 +251,16 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         if (render_compare(o->reference, sc.width, sc.height, img, &rms, &rel, err)) goto done;
         if (o->log) fprintf(o->log, "error vs %s: rms %.4g (%.2f%% of its mean)\n", o->reference, rms,
                             100 * rel);
+    }
+    if (o->noise_against) {
+        float *other = NULL;
+        if (render_read_rgb(o->noise_against, sc.width, sc.height, &other, err)) goto done;
+        double nz = render_noise(sc.width, sc.height, img, other);
+        free(other);
+        if (o->log)
+            fprintf(o->log, "noise: median per-pixel relative variance %.4g against %s "
+                    "(times this render's time: %.4g s)\n", nz, o->noise_against,
+                    st ? nz * st->seconds : NAN);
     }
     rc = 0;
 done:

@@ -11,7 +11,7 @@ const char *fit_passage_gap(const char *note, int nout, const char *const *outpu
     for (int o = 0; o < nout; o++)
         stop |= strcmp(outputs[o], "ap_x") == 0;
     if (!stop)
-        snprintf(buf, len, "the stop is not modelled (no outputs ap_x ap_y)");
+        snprintf(buf, len, "the stop is not modelled (its hit is not among the outputs)");
     else if (unfitted)
         snprintf(buf, len, "%d passage column%s of the samples not among the outputs", unfitted,
                  unfitted == 1 ? "" : "s");

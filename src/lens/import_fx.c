@@ -1,4 +1,4 @@
-/* Reader of the .fx prescriptions of the EGSR 2016 lens set (../shared/reference/lenses/fx):
+/* Reader of the .fx prescriptions of the EGSR 2016 lens set (lenses/reference/fx):
  *
  *   radius thickness material [n_d V_d] housing-radius [more columns]   [// or # comment]
  *

@@ -1,4 +1,4 @@
-/* Reader of pbrt's RealisticCamera lens files (the .dat files in ../shared/reference/lenses/pbrt):
+/* Reader of pbrt's RealisticCamera lens files (the .dat files in lenses/reference/pbrt):
  *
  *   radius thickness n aperture-diameter
  *

@@ -360,3 +360,51 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
     }
     return 0;
 }
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+double render_noise(int width, int height, const float *a, const float *b)
+{
+    size_t n = (size_t)width * height, m = 0;
+    double *r = malloc((n ? n : 1) * sizeof *r), *rv = malloc((n ? n : 1) * sizeof *rv);
+    if (!r || !rv) {
+        free(r);
+        free(rv);
+        return NAN;
+    }
+    for (size_t i = 0; i < n; i++) {
+        double s = 0;
+        int lit = 0;
+        for (int c = 0; c < 3; c++) {
+            double x = a[3 * i + c], y = b[3 * i + c], mean = 0.5 * (x + y);
+            if (mean > 0) s += 0.5 * (x - y) * (x - y) / (mean * mean), lit++;
+        }
+        r[i] = lit ? s / lit : -1;
+    }
+    for (int py = 0; py < height; py++)
+        for (int px = 0; px < width; px++) {
+            if (r[(size_t)py * width + px] < 0) continue;
+            double s = 0;
+            int k = 0;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    int x = px + dx, y = py + dy;
+                    if (x < 0 || y < 0 || x >= width || y >= height) continue;
+                    double q = r[(size_t)y * width + x];
+                    if (q >= 0) s += q, k++;
+                }
+            rv[m++] = s / k;
+        }
+    double med = NAN;
+    if (m) {
+        qsort(rv, m, sizeof *rv, cmp_double);
+        med = m % 2 ? rv[m / 2] : 0.5 * (rv[m / 2 - 1] + rv[m / 2]);
+    }
+    free(r);
+    free(rv);
+    return med;
+}
