@@ -66,8 +66,17 @@ TESTS    := $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(TEST_SRC)))
 BENCHES  := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/bench_*.c))
 LIB      := $(BUILD)/liblens.a
 
-.PHONY: all deps test check demo bench reports install fuzz clean
-all: $(CMDS) $(TESTS) $(BENCHES)
+.PHONY: all deps test check demo bench reports install fuzz clean man
+all: $(CMDS) $(TESTS) $(BENCHES) man
+
+# The OPTIONS section of each command's man page is generated from its option table
+# (lens-x --help-man, spliced in by tools/man-options.sh): rebuilt with the command.
+MAN_STAMPS := $(patsubst $(BIN)/%,$(BUILD)/man/%.stamp,$(CMDS))
+man: $(MAN_STAMPS)
+$(BUILD)/man/%.stamp: $(BIN)/% man/%.1 tools/man-options.sh
+	@mkdir -p $(dir $@)
+	tools/man-options.sh man/$*.1 $(BIN)/$*
+	@touch $@
 
 deps:
 	@tools/install-deps.sh

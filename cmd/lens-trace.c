@@ -260,7 +260,12 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
     int cached_ok = 0;
     lens_err cached_err = {{0}};
     int st;
+    int failed = 0;
     while (vals && n && row && (st = samples_next(r, vals, err)) != 0) {
+        if (st == SAMPLES_FAIL) {
+            failed = 1; /* the rest of the stream is lost: an error, not an end */
+            break;
+        }
         for (int k = 0; k < ncols(a); k++)
             row[k] = NAN;
         if (st < 0) {
@@ -298,8 +303,8 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
         }
         samples_write_filter_row(f, row, ncols(a), r);
     }
-    int rc = (vals && n && row) ? 0 : -1;
-    if (rc)
+    int rc = (vals && n && row && !failed) ? 0 : -1;
+    if (rc && !failed)
         lens_errf(err, NULL, 0, "out of memory");
     free(vals);
     free(n);

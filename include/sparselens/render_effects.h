@@ -12,7 +12,9 @@
 #include "sparselens/scene.h"
 
 typedef struct {
-    int dispersion;       /* lambda is an input: only rgb and spectral scenes */
+    int dispersion;       /* lambda is an input: rgb and spectral scenes through a lens
+                           * whose glasses disperse */
+    int disperses;        /* the lens's indices change over the render's wavelengths */
     int transmittance;    /* out_eta is an output and weights the rays */
     int vignetting;       /* pass circles on the front element as well as the stop */
     double domain_radius; /* sensor radius in use, mm (the fit's domain) */
@@ -26,6 +28,9 @@ typedef struct {
     double noise;             /* relative noise of an 8x8-pixel mean at the scene's spp */
     double eta_centre;        /* mean transmittance on the axis: used when transmittance is off */
 } render_effects;
+
+/* 1 when some medium of the lens has different indices at RENDER_LAMBDA_MIN and _MAX. */
+int render_lens_disperses(const lens_t *lens);
 
 /* Decides from the scene and a quick exact probe of the lens (at the d line). */
 int render_effects_decide(const scene_t *s, const lens_t *lens, double sensor_w,

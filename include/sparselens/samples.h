@@ -20,10 +20,13 @@ int samples_find(const samples_reader *r, const char *name); /* column index or 
 int samples_map(const samples_reader *r, const char *const *names, int n, int *map,
                 lens_err *err);
 /* Next data row into vals[ncols].
- * Returns 1 for a row, 0 at end of file, and -1 for a malformed row (wrong number of
- * fields, or a field that is not a number): err says FILE:LINE, vals are all nan, and
- * the caller may go on reading. "nan" and "inf" fields are numbers here; callers that
+ * Returns 1 for a row, 0 at end of file, -1 for a malformed row (wrong number of
+ * fields, a field that is not a number, a line longer than 64 KiB or holding a NUL
+ * byte): err says FILE:LINE, vals are all nan, and the caller may go on reading; and
+ * SAMPLES_FAIL when the stream cannot be read (a read error, out of memory): err says
+ * so, and the rest of the stream is lost, so the caller stops with an error. "nan" and "inf" fields are numbers here; callers that
  * need finite inputs check them. */
+#define SAMPLES_FAIL (-2)
 int samples_next(samples_reader *r, double *vals, lens_err *err);
 /* The value of a comment line "# key: value" before the header (the first of the
  * first 16 comment lines that names key), or NULL: what the writer said about the

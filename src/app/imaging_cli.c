@@ -13,11 +13,22 @@ const opt_spec imaging_cli_table[] = {
     {0, "focus", "file|paraxial|best", OPT_STRING, OPT_AT(imaging_cli, focus),
      .help = "the sensor plane: as in the lens file, the paraxial focus, or the plane of "
              "least RMS spot radius",
-     .def = "file"},
+     .def = "file",
+     .man =
+     "The paraxial focus is that of the primary wavelength for the object distance; the best\n"
+     "plane minimises the sum over fields and wavelengths of the squared RMS radius about the\n"
+     "centroid (closed form, since every ray moves linearly with the plane).\n"
+     "With\n"
+     ".BR \\-\\-compare ,\n"
+     "both models are shown on the lens's plane.\n"},
     {0, "compare", "SYSTEM.poly", OPT_STRING, OPT_AT(imaging_cli, compare),
-     .help = "also through a fitted system, shown beside the lens"},
+     .help = "also through a fitted system, shown beside the lens",
+     .man =
+     "Its inputs must be x y u v lambda and its outputs include out_x out_y out_u out_v.\n"},
     {0, "lens", "LENS", OPT_STRING, OPT_AT(imaging_cli, lens),
-     .help = "the lens of a SYSTEM.poly given as the first argument"},
+     .help = "the lens of a SYSTEM.poly given as the first argument",
+     .man =
+     "Use it when the path the system records is not right.\n"},
     {.type = OPT_GROUP, OPT_AT(imaging_cli, lopt), .group = lens_cli_table},
     {0}};
 

@@ -182,7 +182,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
             goto done;
     }
 
-    int use_eta = 1;
+    int use_eta = 1, achromatic = sc.mode == SCENE_GREY || !render_lens_disperses(&lens);
     double eta_const = 1;
     render_camera cam;
     if (o->exact) {
@@ -202,10 +202,14 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
             if (!sys) goto done;
             use_eta = e.transmittance;
             eta_const = e.eta_centre;
+            achromatic = !e.dispersion;
         } else {
             if (o->log) fprintf(o->log, "lens: polynomial system %s\n", sc.camera);
-            if (sc.mode != SCENE_GREY && poly_input_index(sys, "lambda") < 0 && o->log)
-                fprintf(o->log, "note: the system has no lambda input: no dispersion\n");
+            if (poly_input_index(sys, "lambda") < 0) {
+                if (sc.mode != SCENE_GREY && !achromatic && o->log)
+                    fprintf(o->log, "note: the system has no lambda input: no dispersion\n");
+                achromatic = 1;
+            }
             use_eta = sc.transmittance != EFFECT_OFF;
         }
         lc = render_lens_poly(sys, &lens, sw, sh, &cam, err);
@@ -235,7 +239,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
                 o->estimator == RENDER_ESTIMATOR_FULL ? "full estimator (Eq. 3, 8, 12)"
                                                       : "estimator of Eq. 13");
     render_job job = {.scene = &sc, .cam = &cam, .sampler = &smp, .estimator = o->estimator,
-                      .use_eta = use_eta,
+                      .use_eta = use_eta, .achromatic = achromatic,
                       .eta_const = eta_const, .spp = sc.spp, .threads = o->threads, .progress = o->progress,
                       .progress_ctx = o->progress_ctx};
     if (render_image(&job, img, NULL, st, err)) goto done;

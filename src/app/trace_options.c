@@ -38,9 +38,14 @@ static const opt_spec trace_table[] = {
              "can pass (test sets that measure passage as a share of the light)",
      .def = "pupil"},
     {0, "lambda", "A:B|L", OPT_CALL, OPT_AT(trace_cli, lambda), .set = set_lambda,
-     .help = "wavelengths uniform in A..B um, or one wavelength L", .def = "0.4:0.7"},
+     .help = "wavelengths uniform in A..B um, or one wavelength L", .def = "0.4:0.7",
+     .man =
+     "A wavelength outside a glass's range is an error, not an extrapolation.\n"},
     {0, "to", NULL, OPT_CHOICE, OPT_AT(trace_cli, target), .choices = targets,
-     .help = "the output frame: the outer pupil or the aperture stop", .def = "outer"},
+     .help = "the output frame: the outer pupil or the aperture stop", .def = "outer",
+     .man =
+     "See\n"
+     ".BR lens-samples (5).\n"},
     {0, "passing-only", NULL, OPT_FLAG, OPT_AT(trace_cli, passing_only),
      .help = "write N rays that pass, leaving the blocked ones out"},
     {0, "all", NULL, OPT_FLAG, OPT_AT(trace_cli, all),
@@ -49,14 +54,13 @@ static const opt_spec trace_table[] = {
      .help = "of the passage columns only ap_x ap_y, the ray's hit on the aperture stop (no "
              "pilot)"},
     {0, "clip-columns", NULL, OPT_FLAG, OPT_AT(trace_cli, clip_columns),
-     .help = "the default passage columns: ap_x ap_y, the hit on the aperture stop, and sN_x "
-             "sN_y on every other surface N (numbered as in lens-info) that a pilot of 65536 "
-             "rays over the whole ray space (fixed seed) finds limiting the beam (while one "
-             "would let through >= 0.05% of the light); hits of the ray traced with every rim "
-             "extended, so also outside the rim (nan only where the ray misses the surface); "
-             "lens-fit fits a pass circle for each"},
+     .help = "the default passage columns (see PASSAGE in lens-trace(1)); kept for old "
+             "scripts"},
     {0, "clip-surfaces", "LIST", OPT_STRING, OPT_AT(trace_cli, clip_list),
-     .help = "ap_x ap_y and the surfaces N,N,... given (no pilot)"},
+     .help = "ap_x ap_y and the surfaces N,N,... given (no pilot)",
+     .man =
+     "The stop's own number is ignored: it has\n"
+     ".IR \"ap_x ap_y\" .\n"},
     {0, "no-passage-columns", NULL, OPT_FLAG, OPT_AT(trace_cli, no_passage_columns),
      .help = "no passage columns: the ten default columns alone"},
     {0, "sensor", "WxH", OPT_CALL, OPT_AT(trace_cli, sensor), .set = cli_set_size,
@@ -64,7 +68,10 @@ static const opt_spec trace_table[] = {
     {0, "threads", "T", OPT_INT, OPT_AT(trace_cli, threads), .lo = 1, .hi = 1024,
      .help = "threads", .def = "all"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(trace_cli, out_path),
-     .help = "write FILE (complete or not at all) instead of standard output"},
+     .help = "write FILE (complete or not at all) instead of standard output",
+     .man =
+     "The file is written through a temporary name and renamed when complete: an error or an\n"
+     "interrupt leaves no partial file.\n"},
     {'q', "quiet", NULL, OPT_FLAG, OPT_AT(trace_cli, quiet),
      .help = "no progress line on stderr (shown only on a terminal, for more than 200000 rays)"},
     {.type = OPT_GROUP, OPT_AT(trace_cli, lens), .group = lens_cli_table},
@@ -74,7 +81,7 @@ const opt_command trace_command = {
     "lens-trace", "LENS [options] [-]",
     "Generates N rays from the sensor and traces them through LENS, writing a sample file "
     "(man 5 lens-samples) with columns x y u v lambda out_x out_y out_u out_v out_eta and the "
-    "passage columns ap_x ap_y sN_x sN_y. With "
+    "passage columns ap_x ap_y sN_x sN_y (the hits on the surfaces that limit the beam). With "
     "'-', traces the rays read from standard input (columns x y u v lambda, found by name) "
     "instead: one output row per input row, rays that do not pass with out_eta 0, bad rows "
     "as nan (exit status 1).",

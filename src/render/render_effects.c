@@ -63,6 +63,16 @@ static void probe_field(const lens_t *lens, const double *n, double r, double *l
     *eta_mean = passed ? eta / passed : 0;
 }
 
+int render_lens_disperses(const lens_t *lens)
+{
+    for (size_t i = 0; i < lens->nsurf; i++) {
+        double a = glass_index_unchecked(&lens->surf[i].medium, RENDER_LAMBDA_MIN),
+               b = glass_index_unchecked(&lens->surf[i].medium, RENDER_LAMBDA_MAX);
+        if (fabs(a - b) > 1e-9) return 1;
+    }
+    return 0;
+}
+
 int render_effects_decide(const scene_t *s, const lens_t *lens, double sw, double sh,
                           render_effects *e, lens_err *err)
 {
@@ -71,7 +81,8 @@ int render_effects_decide(const scene_t *s, const lens_t *lens, double sw, doubl
     if (paraxial_compute(lens, GLASS_D_LINE, &p, err)) return -1;
     e->efl = fabs(p.efl);
     e->focus = isnan(s->focus) ? p.focus_distance : s->focus;
-    e->dispersion = s->mode != SCENE_GREY;
+    e->disperses = render_lens_disperses(lens);
+    e->dispersion = s->mode != SCENE_GREY && e->disperses;
     e->domain_radius = 0.5 * hypot(sw, sh);
     e->pixel_pitch = fmin(sw / s->width, sh / s->height);
     e->tolerance = 0.1 * e->pixel_pitch / e->efl;

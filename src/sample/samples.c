@@ -1,6 +1,8 @@
 /* Streaming reader and writer of sample files (man 5 lens-samples). */
 #include "sparselens/samples.h"
 
+#include "base/line_reader.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -17,8 +19,8 @@ struct samples_reader {
     long row_line; /* line of the last row returned */
     int ncols;
     char *names[SAMPLES_MAX_COLS];
-    char *buf;
-    size_t cap;
+    line_reader lr;
+    char *buf; /* the current line (lr.buf) */
     int nnotes;
     char *notes[SAMPLES_MAX_NOTES]; /* comment lines before the header, without '#' */
     /* The fields of the last row: where each starts in buf, and its length. */
@@ -36,15 +38,13 @@ static const char *display(const samples_reader *r)
     return r->path;
 }
 
-static ssize_t next_line(samples_reader *r)
+/* line_next's codes; r->buf is the line when LINE_OK. */
+static int next_line(samples_reader *r, lens_err *err)
 {
-    ssize_t n = getline(&r->buf, &r->cap, r->f);
-    if (n >= 0) {
-        r->line++;
-        while (n > 0 && (r->buf[n - 1] == '\n' || r->buf[n - 1] == '\r'))
-            r->buf[--n] = '\0';
-    }
-    return n;
+    int st = line_next(&r->lr, err);
+    r->line = r->lr.line;
+    r->buf = r->lr.buf;
+    return st;
 }
 
 static int is_blank(const char *s)
@@ -108,9 +108,14 @@ samples_reader *samples_open(const char *path, lens_err *err)
             return NULL;
         }
     }
+    line_reader_init(&r->lr, r->f, r->path, LINE_MAX_BYTES);
     for (;;) {
-        ssize_t n = next_line(r);
-        if (n < 0) {
+        int st = next_line(r, err);
+        if (st < 0) {
+            samples_close(r);
+            return NULL;
+        }
+        if (st == LINE_END) {
             lens_errf(err, display(r), 0,
                       r->line == 0 ? "empty file: expected a '# columns:' header line"
                                    : "no '# columns:' header line");
@@ -196,9 +201,16 @@ static int parse_field(const samples_reader *r, int k, double *v)
 int samples_next(samples_reader *r, double *vals, lens_err *err)
 {
     for (;;) {
-        ssize_t n = next_line(r);
-        if (n < 0)
+        int st = next_line(r, err);
+        if (st == LINE_END)
             return 0;
+        if (st != LINE_OK) {
+            r->row_line = r->line;
+            r->nfields = 0; /* pass-through columns of this row: nan */
+            for (int i = 0; i < r->ncols; i++)
+                vals[i] = NAN;
+            return st == LINE_FAIL ? SAMPLES_FAIL : -1;
+        }
         char *s = r->buf + strspn(r->buf, " \t");
         if (*s == '#' || *s == '\0')
             continue;
@@ -289,7 +301,7 @@ void samples_close(samples_reader *r)
         fclose(r->f);
     for (int i = 0; i < r->ncols; i++)
         free(r->names[i]);
-    free(r->buf);
+    line_reader_free(&r->lr);
     free(r);
 }
 
