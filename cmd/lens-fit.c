@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <time.h>
 
 #include "sparselens/fit_cli.h"
@@ -43,9 +44,67 @@ static void lens_name_from(const char *path, char *buf, size_t len)
     char *dot = strrchr(buf, '.');
     if (dot && dot != buf)
         *dot = '\0';
-    for (char *p = buf; *p; p++)
-        if (*p == ' ' || *p == '\t' || *p == '#')
-            *p = '_';
+}
+
+/* A lens path relative to the working directory, made relative to the directory of the
+ * system written to out_path, so that it is found beside the system from anywhere (the
+ * path stays as it is when out_path is in the working directory, is stdout, or when
+ * either cannot be resolved; it becomes absolute when the two share no directory). */
+static void lens_path_for_output(char *lpath, size_t plen, const char *out_path)
+{
+    const char *slash = strrchr(out_path, '/');
+    if (!lpath[0] || lpath[0] == '/' || !slash)
+        return;
+    char dir[4096], lens[4096], cwd[4096];
+    snprintf(dir, sizeof dir, "%.*s", (int)(slash - out_path), out_path);
+    if (!realpath(dir[0] ? dir : "/", dir) || !realpath(lpath, lens) || !getcwd(cwd, sizeof cwd) ||
+        strcmp(dir, cwd) == 0 || strcmp(dir, "/") == 0)
+        return;
+    /* the common leading directories, then one ".." per directory of dir left over */
+    size_t common = 0;
+    for (size_t i = 0; dir[i] && dir[i] == lens[i]; i++)
+        if (dir[i] == '/')
+            common = i;
+    if (strncmp(dir, lens, strlen(dir)) == 0 && lens[strlen(dir)] == '/')
+        common = strlen(dir);
+    if (common == 0) { /* nothing shared but the root: the absolute path reads better */
+        snprintf(lpath, plen, "%s", lens);
+        return;
+    }
+    char rel[4096] = "";
+    for (const char *p = dir + common; *p; p++)
+        if (*p == '/')
+            strncat(rel, "../", sizeof rel - strlen(rel) - 1);
+    strncat(rel, lens + common + 1, sizeof rel - strlen(rel) - 1);
+    snprintf(lpath, plen, "%s", rel);
+}
+
+/* The lens a system remembers: --lens (a name, or a lens file: then its path too), else
+ * the "# lens:" and "# lens-path:" lines lens-trace writes into samples, else the
+ * samples file's base name. The path is what lens-spot and lens-distort load when given
+ * the system alone. */
+static void lens_of_samples(const samples_reader *r, const char *given, const char *path,
+                            char *name, size_t nlen, char *lpath, size_t plen)
+{
+    FILE *probe = given ? fopen(given, "r") : NULL;
+    const char *meta_name = samples_meta(r, "lens"), *meta_path = samples_meta(r, "lens-path");
+    lpath[0] = '\0';
+    if (probe) {
+        fclose(probe);
+        snprintf(lpath, plen, "%s", given);
+        lens_name_from(given, name, nlen);
+    } else if (given) {
+        snprintf(name, nlen, "%s", given);
+    } else if (meta_name && strcmp(meta_name, "-") != 0) {
+        snprintf(name, nlen, "%s", meta_name);
+    } else {
+        lens_name_from(meta_path ? meta_path : path, name, nlen);
+    }
+    if (!probe && meta_path)
+        snprintf(lpath, plen, "%s", meta_path);
+    for (char *p = name; *p; p++) /* one line in the .poly */
+        if (*p == '\n' || *p == '\r' || *p == '\t')
+            *p = ' ';
 }
 
 /* base, then every x,y column pair of the samples named ap_* or sN_* (digits N). */
@@ -132,8 +191,8 @@ int main(int argc, char **argv)
         free(avail);
         free(avail_copy);
     }
-    if (samples_note(r, "passage"))
-        passage_note = strdup(samples_note(r, "passage"));
+    if (samples_meta(r, "passage"))
+        passage_note = strdup(samples_meta(r, "passage"));
 
     /* --tolerance T (every output) or name=T,name=T (those outputs only). */
     if (tol_s && strchr(tol_s, '=')) {
@@ -240,8 +299,9 @@ int main(int argc, char **argv)
         }
         count++;
     }
-    char lens_buf[256];
-    lens_name_from(lens ? lens : path, lens_buf, sizeof lens_buf);
+    char lens_buf[256], lens_path[4096];
+    lens_of_samples(r, lens, path, lens_buf, sizeof lens_buf, lens_path, sizeof lens_path);
+    lens_path_for_output(lens_path, sizeof lens_path, outpath);
     samples_close(r);
     r = NULL;
     if (count == 0) {
@@ -308,6 +368,11 @@ int main(int argc, char **argv)
     clock_gettime(CLOCK_MONOTONIC, &t1);
     if (!sys)
         goto fail;
+    if (lens_path[0])
+        poly_set_lens_path(sys, lens_path);
+    else if (!quiet)
+        fprintf(stderr, "lens-fit: note: the samples name no lens file (no '# lens-path:' line; "
+                        "--lens FILE gives one): lens-spot and lens-distort will need --lens\n");
     if (clam >= 0 && !isnan(lam0)) {
         char buf[64];
         snprintf(buf, sizeof buf, "%.17g", lam0);

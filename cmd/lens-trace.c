@@ -56,6 +56,11 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
                 sampling_strategy_name(a->strategy), a->seed, a->lambda_min, a->lambda_max,
                 a->sensor_w, a->sensor_h);
     fputc('\n', f);
+    /* What lens-fit records in a system, so that the system finds its lens again; the
+     * path as given, so that the same command gives the same file anywhere. */
+    fprintf(f, "# lens: %s\n", lens->name[0] ? lens->name : "-");
+    if (strcmp(a->lens_path, "-") != 0 && !strchr(a->lens_path, '\n'))
+        fprintf(f, "# lens-path: %s\n", a->lens_path);
     /* lens-fit reads this line: a system's passage is complete only from a pilot */
     if (a->clip_share) {
         fprintf(f, "# passage: full (pilot of %d rays over the full ray space, shares of the "

@@ -14,6 +14,9 @@ typedef struct samples_reader samples_reader;
  * unreadable file, empty file, no "# columns:" line before the first data row). */
 samples_reader *samples_open(const char *path, lens_err *err);
 int samples_ncols(const samples_reader *r);
+/* The value of a "# key: value" comment before the header ("# lens: NAME",
+ * "# lens-path: PATH" from lens-trace), blanks trimmed; NULL when there is none. */
+const char *samples_meta(const samples_reader *r, const char *key);
 const char *samples_colname(const samples_reader *r, int i);
 int samples_find(const samples_reader *r, const char *name); /* column index or -1 */
 /* Fills map[i] with the column of names[i]; -1 with err set naming the first missing one. */
@@ -28,10 +31,6 @@ int samples_map(const samples_reader *r, const char *const *names, int n, int *m
  * need finite inputs check them. */
 #define SAMPLES_FAIL (-2)
 int samples_next(samples_reader *r, double *vals, lens_err *err);
-/* The value of a comment line "# key: value" before the header (the first of the
- * first 16 comment lines that names key), or NULL: what the writer said about the
- * rays (lens-trace's "# passage: full ..."). */
-const char *samples_note(const samples_reader *r, const char *key);
 /* Filters carry the columns they do not write through to their output, as GeodSolve and
  * cs2cs pass the rest of a line: the input columns whose names are not among the
  * `written` ones become pass-through columns, taken as text (any token, never parsed;

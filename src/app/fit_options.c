@@ -79,8 +79,20 @@ static const opt_spec fit_table[] = {
      .help = "seed of the held-out split", .def = "1"},
     {0, "threads", "N", OPT_INT, OPT_AT(fit_cli, fit.threads), .lo = 1, .hi = 1024,
      .help = "threads; the result does not depend on it", .def = "all"},
-    {0, "lens", "NAME", OPT_STRING, OPT_AT(fit_cli, lens),
-     .help = "lens name recorded in the system", .def = "the sample file's base name"},
+    {0, "lens", "NAME|FILE", OPT_STRING, OPT_AT(fit_cli, lens),
+     .help = "the lens recorded in the system: a name, or a lens file (recorded as the "
+             "lens-path too, relative to the directory of -o FILE)",
+     .def = "the samples' '# lens:' and '# lens-path:' lines, which lens-trace writes; else "
+            "the sample file's base name",
+     .man = "Without a lens path (samples without\n"
+            ".BR \"# lens-path:\" )\n"
+            "a note on stderr says that lens-spot and lens-distort will need their\n"
+            ".BR \\-\\-lens .\n"
+            "A relative lens path is made relative to the directory of\n"
+            ".B \\-o\n"
+            ".IR FILE ,\n"
+            "so the system finds its lens from anywhere while the two stay where they are\n"
+            ".RB ( lens-poly (5)).\n"},
     {0, "emit", NULL, OPT_CHOICE, OPT_AT(fit_cli, emit_c), .choices = languages,
      .help = "write C code (a function NAME(in, out)) instead of the system",
      .man =

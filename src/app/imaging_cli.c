@@ -28,7 +28,13 @@ const opt_spec imaging_cli_table[] = {
     {0, "lens", "LENS", OPT_STRING, OPT_AT(imaging_cli, lens),
      .help = "the lens of a SYSTEM.poly given as the first argument",
      .man =
-     "Use it when the path the system records is not right.\n"},
+     "Use it when the path the system records is not right. Without it the system's\n"
+     ".B lens-path\n"
+     "is loaded (as written, else relative to the\n"
+     ".I .poly\n"
+     "file's directory,\n"
+     ".BR lens-poly (5));\n"
+     "when that file is not found the message names the lens and the path.\n"},
     {.type = OPT_GROUP, OPT_AT(imaging_cli, lopt), .group = lens_cli_table},
     {0}};
 

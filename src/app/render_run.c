@@ -140,20 +140,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
     char lens_buf[1024];
     if (sc.camera_is_poly) {
         if (poly_read(sc.camera, &sys, err)) goto done;
-        const char *lp = poly_lens_path(sys);
-        if (!lp || !*lp) {
-            lens_errf(err, sc.camera, 0, "the system does not record its lens file");
-            goto done;
-        }
-        /* a relative path is relative to the .poly file */
-        const char *slash = strrchr(sc.camera, '/');
-        if (lp[0] != '/' && slash)
-            snprintf(lens_buf, sizeof lens_buf, "%.*s/%s", (int)(slash - sc.camera), sc.camera, lp);
-        else
-            snprintf(lens_buf, sizeof lens_buf, "%s", lp);
-        FILE *probe = fopen(lens_buf, "r");
-        if (probe) fclose(probe);
-        else snprintf(lens_buf, sizeof lens_buf, "%s", lp); /* as recorded, from the cwd */
+        if (poly_find_lens_file(sys, sc.camera, lens_buf, sizeof lens_buf, err)) goto done;
         lens_path = lens_buf;
     }
     if (lens_load(lens_path, o->load, &lens, err)) goto done;
@@ -184,6 +171,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
 
     int use_eta = 1, achromatic = sc.mode == SCENE_GREY || !render_lens_disperses(&lens);
     double eta_const = 1;
+    int stop_only = 0; /* vignetting off: directions from the stop's line pupil */
     render_camera cam;
     if (o->exact) {
         lc = render_lens_exact(&lens, sw, sh, &cam, err);
@@ -203,6 +191,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
             use_eta = e.transmittance;
             eta_const = e.eta_centre;
             achromatic = !e.dispersion;
+            stop_only = !e.vignetting;
         } else {
             if (o->log) fprintf(o->log, "lens: polynomial system %s\n", sc.camera);
             if (poly_input_index(sys, "lambda") < 0) {
@@ -225,7 +214,8 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         char dir[1024];
         if (o->cache_dir) snprintf(dir, sizeof dir, "%s", o->cache_dir);
         else render_default_cache_dir(dir, sizeof dir);
-        if (render_effects_sampler(&lens, l0, l1, rmax, dir, o->threads, o->log, &smp, err))
+        if (render_effects_sampler(&lens, l0, l1, rmax, stop_only, dir, o->threads, o->log, &smp,
+                                   err))
             goto done;
     }
     img = malloc((size_t)sc.width * sc.height * 3 * sizeof *img);

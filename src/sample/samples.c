@@ -9,7 +9,7 @@
 #include <string.h>
 
 #define SAMPLES_MAX_COLS 64
-#define SAMPLES_MAX_NOTES 16
+#define SAMPLES_MAX_META 32
 
 struct samples_reader {
     FILE *f;
@@ -21,8 +21,6 @@ struct samples_reader {
     char *names[SAMPLES_MAX_COLS];
     line_reader lr;
     char *buf; /* the current line (lr.buf) */
-    int nnotes;
-    char *notes[SAMPLES_MAX_NOTES]; /* comment lines before the header, without '#' */
     /* The fields of the last row: where each starts in buf, and its length. */
     int nfields;
     size_t field_at[SAMPLES_MAX_COLS];
@@ -31,7 +29,43 @@ struct samples_reader {
      * text, never parsed, nan in vals. */
     unsigned char opaque[SAMPLES_MAX_COLS];
     int npass, pass[SAMPLES_MAX_COLS];
+    /* "# key: value" comments before the header (samples_meta) */
+    int nmeta;
+    char *meta_key[SAMPLES_MAX_META], *meta_value[SAMPLES_MAX_META];
 };
+
+/* Keeps a "# key: value" comment (key a word of letters, digits, '-' and '_'); the
+ * first of a key wins. Other comments are ignored. */
+static void keep_meta(samples_reader *r, const char *s)
+{
+    size_t k = strspn(s, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_");
+    if (k == 0 || s[k] != ':' || r->nmeta == SAMPLES_MAX_META)
+        return;
+    for (int i = 0; i < r->nmeta; i++)
+        if (strlen(r->meta_key[i]) == k && strncmp(r->meta_key[i], s, k) == 0)
+            return;
+    const char *v = s + k + 1;
+    v += strspn(v, " \t");
+    size_t n = strlen(v);
+    while (n > 0 && (v[n - 1] == ' ' || v[n - 1] == '\t'))
+        n--;
+    char *key = strndup(s, k), *value = strndup(v, n);
+    if (!key || !value) {
+        free(key);
+        free(value);
+        return;
+    }
+    r->meta_key[r->nmeta] = key;
+    r->meta_value[r->nmeta++] = value;
+}
+
+const char *samples_meta(const samples_reader *r, const char *key)
+{
+    for (int i = 0; i < r->nmeta; i++)
+        if (strcmp(r->meta_key[i], key) == 0)
+            return r->meta_value[i];
+    return NULL;
+}
 
 static const char *display(const samples_reader *r)
 {
@@ -133,10 +167,7 @@ samples_reader *samples_open(const char *path, lens_err *err)
                 }
                 return r;
             }
-            if (r->nnotes < SAMPLES_MAX_NOTES && (r->notes[r->nnotes] = strdup(s)) != NULL) {
-                char *e = r->notes[r->nnotes++];
-                e[strcspn(e, "\r\n")] = '\0';
-            }
+            keep_meta(r, s);
             continue;
         }
         if (is_blank(s))
@@ -238,15 +269,6 @@ int samples_next(samples_reader *r, double *vals, lens_err *err)
     }
 }
 
-const char *samples_note(const samples_reader *r, const char *key)
-{
-    size_t n = strlen(key);
-    for (int i = 0; i < r->nnotes; i++)
-        if (strncmp(r->notes[i], key, n) == 0 && r->notes[i][n] == ':')
-            return r->notes[i] + n + 1 + strspn(r->notes[i] + n + 1, " \t");
-    return NULL;
-}
-
 int samples_passthrough(samples_reader *r, const char *const *written, int nwritten)
 {
     r->npass = 0;
@@ -293,14 +315,16 @@ void samples_write_passthrough(FILE *f, const samples_reader *r)
 
 void samples_close(samples_reader *r)
 {
-    for (int i = 0; r && i < r->nnotes; i++)
-        free(r->notes[i]);
     if (!r)
         return;
     if (r->owns && r->f)
         fclose(r->f);
     for (int i = 0; i < r->ncols; i++)
         free(r->names[i]);
+    for (int i = 0; i < r->nmeta; i++) {
+        free(r->meta_key[i]);
+        free(r->meta_value[i]);
+    }
     line_reader_free(&r->lr);
     free(r);
 }

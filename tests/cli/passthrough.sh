@@ -34,7 +34,7 @@ then ok eval_passthrough; else fail eval_passthrough "rc=$rc $(head -3 $T/pred.t
 printf '# columns: x y u v lambda id\n0 0 0 0 0.55 a\n0 x 0 0 0.55 b\n0 0 0\n' >$T/bad.txt
 run $BIN/lens-trace $L - --no-passage-columns <$T/bad.txt >$T/bad_out.txt 2>/dev/null; rc=$?
 if [ $rc -ne 0 ] && [ "$(grep -v '^#' $T/bad_out.txt | awk '{ print $NF }' | tr '\n' ' ')" = "a b nan " ] &&
-   [ "$(grep -v '^#' $T/bad_out.txt | sed -n 2p | awk '{ print $1, $10 }')" = "nan nan" ]
+   [ "$(grep -v "^#" $T/bad_out.txt | sed -n 3p | awk '{ print $1, $10 }')" = "nan nan" ]
 then ok trace_passthrough_bad_rows; else fail trace_passthrough_bad_rows "$(cat $T/bad_out.txt)"; fi
 run $BIN/lens-eval $T/d.poly $T/bad.txt >$T/bad_eval.txt 2>/dev/null; rc=$?
 if [ $rc -ne 0 ] && [ "$(grep -v '^#' $T/bad_eval.txt | awk '{ print $NF }' | tr '\n' ' ')" = "a b nan " ]
