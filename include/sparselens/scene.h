@@ -47,7 +47,7 @@ typedef struct {
     scene_mode mode;
     long spp;
     unsigned long seed;
-    effect_setting transmittance, vignetting;
+    effect_setting transmittance, vignetting, dispersion;
     size_t nobj;
     scene_object *obj;
 } scene_t;
