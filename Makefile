@@ -21,16 +21,44 @@ BIN   := bin-san
 OPT   := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
 endif
 
-CPPFLAGS += -Iinclude -Isrc -I/usr/include/OpenEXR -D_DEFAULT_SOURCE
-CFLAGS   += -std=c11 $(OPT) -Wall -Wextra -fopenmp -march=x86-64-v2
-CXXFLAGS += -std=c++17 $(OPT) -Wall -Wextra -I/usr/include/opencv4
+VERSION  := $(shell cat VERSION)
+# Header dependencies come from the compiler: a .d file beside each output.
+DEPFLAGS := -MMD -MP
+# Libraries are found by pkg-config; where a distribution ships no .pc file (Debian's
+# split OpenCV packages have no opencv4.pc, OpenEXR 3 has no OpenEXRCore.pc) the
+# compiler is asked where the header lies and the library is named plainly. Only the
+# OpenCV modules and the OpenEXR Core library the code uses are linked.
+# `make print-VAR` prints a variable (tests and tools that build on their own use it).
+PKG_CONFIG ?= pkg-config
+pkg       = $(shell $(PKG_CONFIG) $(1) 2>/dev/null || echo '$(2)')
+# $(call header_dir,LANG,HEADER,SUFFIX): the include directory the compiler finds
+# HEADER in, without SUFFIX (e.g. opencv4/opencv2/core.hpp -> .../include/opencv4).
+header_dir = $(patsubst %/$(3),%,$(firstword $(filter %/$(3),$(shell printf '\043include <%s>\n' '$(2)' | \
+             $(if $(filter c++,$(1)),$(CXX) -x c++,$(CC) -x c) -M -MG - 2>/dev/null))))
+OPENCV_CFLAGS := $(call pkg,--cflags opencv4,$(addprefix -I,$(call header_dir,c++,opencv4/opencv2/core.hpp,opencv2/core.hpp)))
+OPENCV_LIBS   := $(call pkg,--libs-only-L opencv4,) -lopencv_calib3d -lopencv_imgcodecs -lopencv_imgproc -lopencv_core
+EXR_CFLAGS    := $(call pkg,--cflags OpenEXRCore,$(call pkg,--cflags OpenEXR,$(addprefix -I,$(call header_dir,c,OpenEXR/openexr.h,openexr.h))))
+EXR_LIBS      := $(call pkg,--libs OpenEXRCore,$(or $(filter -L% -lOpenEXRCore%,$(call pkg,--libs OpenEXR,)),-lOpenEXRCore))
+PROJ_CFLAGS   := $(call pkg,--cflags proj,)
+PROJ_LIBS     := $(call pkg,--libs proj,-lproj)
+LAPACK_CFLAGS := $(call pkg,--cflags lapacke,)
+LAPACK_LIBS   := $(call pkg,--libs lapacke,-llapacke) $(call pkg,--libs lapack,-llapack) $(call pkg,--libs blas,-lblas)
+CMOCKA_CFLAGS := $(call pkg,--cflags cmocka,)
+CMOCKA_LIBS   := $(call pkg,--libs cmocka,-lcmocka)
+# x86-64-v2 (SSE4.2, POPCNT) is the baseline on x86-64, where the poly and trace kernels
+# also carry AVX2/AVX-512 clones chosen at run time; elsewhere (arm64, ...) the compiler's
+# default target and the kernels' portable path.
+MACHINE  := $(shell $(CC) -dumpmachine 2>/dev/null)
+ARCH_FLAGS ?= $(if $(filter x86_64-%,$(MACHINE)),-march=x86-64-v2,)
+
+CPPFLAGS += -Iinclude -Isrc $(EXR_CFLAGS) $(PROJ_CFLAGS) $(LAPACK_CFLAGS) -D_DEFAULT_SOURCE
+CFLAGS   += -std=c11 $(OPT) -Wall -Wextra -fopenmp $(ARCH_FLAGS)
+CXXFLAGS += -std=c++17 $(OPT) -Wall -Wextra $(OPENCV_CFLAGS)
 LDFLAGS  += $(OPT) -fopenmp
-LDLIBS   := -lopencv_calib3d -lopencv_imgcodecs -lopencv_imgproc -lopencv_core \
-            -lOpenEXRCore-3_1 -lproj -llapacke -llapack -lblas -lstdc++ -lm
+LDLIBS   := $(OPENCV_LIBS) $(EXR_LIBS) $(PROJ_LIBS) $(LAPACK_LIBS) -lstdc++ -lm
 
 LIB_C    := $(wildcard src/*/*.c)
 LIB_CXX  := $(wildcard src/*/*.cpp)
-HEADERS  := $(wildcard include/sparselens/*.h src/*/*.h)
 TEST_SRC := $(wildcard tests/unit/*/test_*.c)
 LIB_OBJ  := $(LIB_C:src/%.c=$(BUILD)/src/%.o) $(LIB_CXX:src/%.cpp=$(BUILD)/src/%.o)
 CMDS     := $(patsubst cmd/%.c,$(BIN)/%,$(wildcard cmd/lens-*.c))
@@ -38,36 +66,55 @@ TESTS    := $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(TEST_SRC)))
 BENCHES  := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/bench_*.c))
 LIB      := $(BUILD)/liblens.a
 
-.PHONY: all deps test check demo bench reports install fuzz clean
-all: $(CMDS) $(TESTS) $(BENCHES)
+.PHONY: all deps test check demo bench reports install fuzz clean man
+all: $(CMDS) $(TESTS) $(BENCHES) man
+
+# The OPTIONS section of each command's man page is generated from its option table
+# (lens-x --help-man, spliced in by tools/man-options.sh): rebuilt with the command.
+MAN_STAMPS := $(patsubst $(BIN)/%,$(BUILD)/man/%.stamp,$(CMDS))
+man: $(MAN_STAMPS)
+$(BUILD)/man/%.stamp: $(BIN)/% man/%.1 tools/man-options.sh
+	@mkdir -p $(dir $@)
+	tools/man-options.sh man/$*.1 $(BIN)/$*
+	@touch $@
 
 deps:
 	@tools/install-deps.sh
 
-$(BUILD)/src/%.o: src/%.c $(HEADERS)
-	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+# Header dependencies come from the .d files (DEPFLAGS); the flags live here, so a
+# changed Makefile rebuilds the objects too.
+$(LIB_OBJ): Makefile
 
-$(BUILD)/src/%.o: src/%.cpp $(HEADERS)
+$(BUILD)/src/%.o: src/%.c
 	@mkdir -p $(dir $@)
-	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c $< -o $@
+	$(CC) $(CPPFLAGS) $(DEPFLAGS) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/src/%.o: src/%.cpp
+	@mkdir -p $(dir $@)
+	$(CXX) $(CPPFLAGS) $(DEPFLAGS) $(CXXFLAGS) -c $< -o $@
 
 $(LIB): $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
+# The version (one place: the VERSION file) reaches the commands through options.c.
+$(BUILD)/src/app/options.o: CPPFLAGS += -DSPARSELENS_VERSION='"$(VERSION)"'
+$(BUILD)/src/app/options.o: VERSION
+
 $(BIN)/lens-%: cmd/lens-%.c $(LIB)
-	@mkdir -p $(BIN)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+	@mkdir -p $(BIN) $(BUILD)/cmd
+	$(CC) $(CPPFLAGS) $(DEPFLAGS) -MF $(BUILD)/cmd/lens-$*.d -MT $@ $(CFLAGS) $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
 vpath test_%.c $(sort $(dir $(TEST_SRC)))
-$(BUILD)/tests/test_%: test_%.c $(LIB) $(wildcard tests/unit/*.h)
+$(BUILD)/tests/test_%: test_%.c $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) -Itests/unit $(CFLAGS) $< $(LIB) $(LDFLAGS) -lcmocka $(LDLIBS) -o $@
+	$(CC) $(CPPFLAGS) $(DEPFLAGS) -MF $@.d -MT $@ $(CMOCKA_CFLAGS) -Itests/unit $(CFLAGS) $< $(LIB) $(LDFLAGS) $(CMOCKA_LIBS) $(LDLIBS) -o $@
 
 $(BUILD)/bench/%: bench/%.c $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -O3 $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+	$(CC) $(CPPFLAGS) $(DEPFLAGS) -MF $@.d -MT $@ $(CFLAGS) -O3 $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+
+-include $(LIB_OBJ:.o=.d) $(patsubst $(BIN)/%,$(BUILD)/cmd/%.d,$(CMDS)) $(TESTS:=.d) $(BENCHES:=.d)
 
 # The whole suite: unit tests, command-line tests, hard cases, short fuzz runs.
 test: deps
@@ -102,3 +149,6 @@ install: all
 
 clean:
 	rm -rf build build-san bin bin-san
+
+print-%:
+	@echo '$($*)'

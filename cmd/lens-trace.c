@@ -6,8 +6,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "sparselens/cli.h"
-#include "sparselens/lens_cli_options.h"
+#include "sparselens/trace_cli.h"
 #include "sparselens/outfile.h"
 #include "sparselens/samples.h"
 #include "sparselens/sampling.h"
@@ -16,36 +15,6 @@
 #include "sparselens/trace_stop.h"
 
 static const char *prog = "lens-trace";
-
-static const char *usage =
-    "usage: lens-trace LENS [-n N] [--seed S] [--sampling pupil|rear] [--lambda A:B|L]\n"
-    "                  [--to outer|stop] [--all] [--stop-columns] [--clip-columns]\n"
-    "                  [--clip-surfaces LIST] [--sensor WxH]\n"
-    "                  [--threads T] [-o FILE] [-]\n"
-    "Generates N rays from the sensor and traces them through LENS, writing a sample file\n"
-    "with columns x y u v lambda out_x out_y out_u out_v out_eta. With '-', traces the rays\n"
-    "read from stdin (columns x y u v lambda, found by name) instead: one output row per\n"
-    "input row, rays that do not pass with out_eta 0, bad rows as nan (exit status 1).\n"
-    "  -n N             rays to write (default 10000): passing rays, or all rays with --all\n"
-    "  --seed S         random seed (default 1); the same seed gives the same file\n"
-    "  --sampling STR   pupil: directions that pass from each sensor point (default);\n"
-    "                   rear: aimed at the rear element (the usual way, a baseline)\n"
-    "  --lambda A:B     wavelengths uniform in A..B um, or one wavelength (default 0.4:0.7)\n"
-    "  --to outer|stop  output frame: the outer pupil (default) or the aperture stop\n"
-    "  --all            also write rays that do not pass (out_eta 0, other outputs nan)\n"
-    "  --stop-columns   add columns ap_x ap_y: the ray's hit on the aperture stop (nan when\n"
-    "                   it does not get through to the stop); lens-fit then fits a stop\n"
-    "                   pass circle\n"
-    "  --clip-columns   ap_x ap_y, plus sN_x sN_y for every other surface N (numbered as in\n"
-    "                   lens-info) that blocks >= 0.5%% of a pilot trace of 65536 rays\n"
-    "                   (same sampling, fixed seed): the hit on surface N, nan when the ray\n"
-    "                   does not get there within its semi-diameter; lens-fit fits a pass\n"
-    "                   circle for each\n"
-    "  --clip-surfaces LIST  as --clip-columns, for the surfaces N,N,... given (no pilot)\n"    "  --sensor WxH     sensor size in mm (default: the lens header)\n"
-    "  --threads T      threads (default: all)\n"
-    "  -o FILE          write FILE (complete or not at all) instead of stdout\n"
-    LENS_CLI_OPTIONS_HELP
-    "See lens-trace(1) and lens-samples(5).\n";
 
 static const char *const base_columns[] = {"x", "y", "u", "v", "lambda",
                                            "out_x", "out_y", "out_u", "out_v", "out_eta",
@@ -63,7 +32,7 @@ typedef struct {
     sampling_strategy strategy;
     double lambda_min, lambda_max, sensor_w, sensor_h;
     trace_target target;
-    int all, threads, from_stdin, stop_columns, clip_columns;
+    int all, threads, from_stdin, stop_columns, clip_columns, quiet;
     const char *clip_list;
     int nclip, *clip;        /* clip surfaces, 0-based (besides the stop) */
     double *clip_share;      /* pilot: blocked share per surface, or NULL */
@@ -84,6 +53,11 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
                 sampling_strategy_name(a->strategy), a->seed, a->lambda_min, a->lambda_max,
                 a->sensor_w, a->sensor_h);
     fputc('\n', f);
+    /* What lens-fit records in a system, so that the system finds its lens again; the
+     * path as given, so that the same command gives the same file anywhere. */
+    fprintf(f, "# lens: %s\n", lens->name[0] ? lens->name : "-");
+    if (strcmp(a->lens_path, "-") != 0 && !strchr(a->lens_path, '\n'))
+        fprintf(f, "# lens-path: %s\n", a->lens_path);
     if (a->clip_share) {
         fprintf(f, "# clip surfaces (>= %g%% of %d pilot rays blocked there):", 100 * CLIP_MIN_SHARE,
                 PILOT_RAYS);
@@ -91,7 +65,6 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
             fprintf(f, " %d (%.3g%%)", a->clip[k] + 1, 100 * a->clip_share[a->clip[k]]);
         fprintf(f, "; stop %d (%.3g%%)\n", lens->stop + 1, 100 * a->clip_share[lens->stop]);
     }
-    samples_write_header(f, (const char *const *)a->names, ncols(a));
 }
 
 static void sampling_setup(const trace_args *a, sampling_options *so)
@@ -215,7 +188,8 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         ray_generator_free(g);
         return -1;
     }
-    int show = cli_progress_wanted() && a->count > 200000;
+    samples_write_header(f, (const char *const *)a->names, ncols(a));
+    int show = !a->quiet && cli_progress_wanted() && a->count > 200000;
     long written = 0;
     size_t next = 0;
     /* A lens that passes almost nothing would loop for ever: give up after 1000 rays
@@ -272,7 +246,8 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
 }
 
 /* Filter: one output row per input row; a bad row becomes a row of nan, is reported
- * with its line, and makes the exit status non-zero at the end. */
+ * with its line, and makes the exit status non-zero at the end. Input columns that the
+ * trace does not write (an id, say) follow the traced ones, as they were. */
 static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_rows, lens_err *err)
 {
     samples_reader *r = samples_open("-", err);
@@ -284,6 +259,8 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
         samples_close(r);
         return -1;
     }
+    samples_passthrough(r, (const char *const *)a->names, ncols(a));
+    samples_write_filter_header(f, (const char *const *)a->names, ncols(a), r);
     int nc = samples_ncols(r);
     double *vals = malloc((size_t)nc * sizeof *vals);
     double *n = malloc(lens->nsurf * sizeof *n);
@@ -292,13 +269,18 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
     int cached_ok = 0;
     lens_err cached_err = {{0}};
     int st;
+    int failed = 0;
     while (vals && n && row && (st = samples_next(r, vals, err)) != 0) {
+        if (st == SAMPLES_FAIL) {
+            failed = 1; /* the rest of the stream is lost: an error, not an end */
+            break;
+        }
         for (int k = 0; k < ncols(a); k++)
             row[k] = NAN;
         if (st < 0) {
             diag_print(prog, err);
             ++*bad_rows;
-            samples_write_row(f, row, ncols(a));
+            samples_write_filter_row(f, row, ncols(a), r);
             continue;
         }
         for (int k = 0; k < 5; k++)
@@ -328,10 +310,10 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
                     trace_surface_hit(lens, a->clip[k], n, row, row + nb + 2 * k);
             }
         }
-        samples_write_row(f, row, ncols(a));
+        samples_write_filter_row(f, row, ncols(a), r);
     }
-    int rc = (vals && n && row) ? 0 : -1;
-    if (rc)
+    int rc = (vals && n && row && !failed) ? 0 : -1;
+    if (rc && !failed)
         lens_errf(err, NULL, 0, "out of memory");
     free(vals);
     free(n);
@@ -342,65 +324,29 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
 
 int main(int argc, char **argv)
 {
-    trace_args a = {NULL, "-", 10000, 1, SAMPLING_PUPIL, 0.4, 0.7, NAN, NAN,
-                    TRACE_TO_OUTER, 0, 0, 0, 0, 0, NULL, 0, NULL, NULL, NULL};
-    const char *v;
-    lens_cli_options lopt;
-    lens_cli_options_init(&lopt);
-    for (int i = 1; i < argc; i++) {
-        if (lens_cli_common_take(prog, usage, argc, argv, &i, &lopt))
-            continue;
-        if (cli_opt(prog, argc, argv, &i, "-n", &v))
-            a.count = cli_count(prog, "-n", v, 1, 1000000000L);
-        else if (cli_opt(prog, argc, argv, &i, "--seed", &v))
-            a.seed = (unsigned long)cli_count(prog, "--seed", v, 0, 4000000000000000L);
-        else if (cli_opt(prog, argc, argv, &i, "--sampling", &v)) {
-            if (sampling_strategy_parse(v, &a.strategy) != 0)
-                diag_die(prog, "--sampling: expected 'pupil' or 'rear', not '%s'", v);
-        } else if (cli_opt(prog, argc, argv, &i, "--lambda", &v)) {
-            if (strchr(v, ':'))
-                cli_pair(prog, "--lambda", v, ':', &a.lambda_min, &a.lambda_max);
-            else
-                a.lambda_min = a.lambda_max = cli_double(prog, "--lambda", v);
-            if (!(a.lambda_min > 0 && a.lambda_max >= a.lambda_min))
-                diag_die(prog, "--lambda: need 0 < A <= B (micrometres), got '%s'", v);
-        } else if (cli_opt(prog, argc, argv, &i, "--to", &v)) {
-            if (!strcmp(v, "outer"))
-                a.target = TRACE_TO_OUTER;
-            else if (!strcmp(v, "stop"))
-                a.target = TRACE_TO_STOP;
-            else
-                diag_die(prog, "--to: expected 'outer' or 'stop', not '%s'", v);
-        } else if (!strcmp(argv[i], "--all"))
-            a.all = 1;
-        else if (!strcmp(argv[i], "--stop-columns"))
-            a.stop_columns = 1;
-        else if (!strcmp(argv[i], "--clip-columns"))
-            a.stop_columns = a.clip_columns = 1;
-        else if (cli_opt(prog, argc, argv, &i, "--clip-surfaces", &v))
-            a.clip_list = v, a.stop_columns = a.clip_columns = 1;
-        else if (cli_opt(prog, argc, argv, &i, "--sensor", &v)) {
-            cli_pair(prog, "--sensor", v, 'x', &a.sensor_w, &a.sensor_h);
-            if (!(a.sensor_w > 0 && a.sensor_h > 0))
-                diag_die(prog, "--sensor: sizes must be positive");
-        } else if (cli_opt(prog, argc, argv, &i, "--threads", &v))
-            a.threads = (int)cli_count(prog, "--threads", v, 1, 1024);
-        else if (cli_opt(prog, argc, argv, &i, "-o", &v))
-            a.out_path = v;
-        else if (!strcmp(argv[i], "-"))
+    trace_cli o;
+    trace_cli_default(&o);
+    const char *operand[2];
+    int nop = opt_parse(&trace_command, argc, argv, &o, operand, 2);
+    trace_args a = {.out_path = o.out_path, .count = o.count, .seed = o.seed,
+                    .strategy = o.strategy, .lambda_min = o.lambda[0], .lambda_max = o.lambda[1],
+                    .sensor_w = o.sensor.w, .sensor_h = o.sensor.h, .target = o.target,
+                    .all = o.all, .threads = o.threads, .quiet = o.quiet,
+                    .stop_columns = o.stop_columns || o.clip_columns || o.clip_list,
+                    .clip_columns = o.clip_columns || o.clip_list, .clip_list = o.clip_list};
+    for (int k = 0; k < nop; k++) {
+        if (strcmp(operand[k], "-") == 0)
             a.from_stdin = 1;
-        else if (argv[i][0] == '-')
-            diag_die(prog, "unknown option '%s' (see --help)", argv[i]);
         else if (a.lens_path)
-            diag_die(prog, "one lens at a time ('%s' and '%s')", a.lens_path, argv[i]);
+            diag_die(prog, "one lens at a time ('%s' and '%s')", a.lens_path, operand[k]);
         else
-            a.lens_path = argv[i];
+            a.lens_path = operand[k];
     }
     if (!a.lens_path)
         diag_die(prog, "no lens given (see --help)");
     lens_t lens;
-    cli_load_lens(prog, a.lens_path, lens_cli_options_get(&lopt), &lens);
-    lens_cli_options_free(&lopt);
+    cli_load_lens(prog, a.lens_path, lens_cli_options_get(&o.lens), &lens);
+    lens_cli_options_free(&o.lens);
     if (isnan(a.sensor_w)) {
         a.sensor_w = lens.sensor_w;
         a.sensor_h = lens.sensor_h;

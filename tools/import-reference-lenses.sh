@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates lenses/*.lens from the reference prescriptions in
-# ../shared/reference/lenses (fx/*.fx and pbrt/*.dat) through `lens-info FILE --format lens`,
+# lenses/reference (fx/*.fx and pbrt/*.dat) through `lens-info FILE --format lens`,
 # adding a header: name, source (file and patent or book), nominal focal length and
 # f-number as the source states them, and a sensor that fits the lens.
 #
@@ -15,7 +15,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BIN=${BIN:-bin}
-REF=${1:-../shared/reference/lenses}
+REF=${1:-lenses/reference}
 [ -x "$BIN/lens-info" ] || { echo "import-reference-lenses: $BIN/lens-info missing: run make" >&2; exit 1; }
 [ -d "$REF" ] || { echo "import-reference-lenses: $REF: no such directory" >&2; exit 1; }
 

@@ -2,12 +2,14 @@
 #define SPARSELENS_EXR_IO_H
 /* Float images with named channels in OpenEXR files, through the OpenEXR Core C API
  * (src/base/exr_io.c is the only file that includes it). Single-part scanline files, 32-bit
- * float channels, ZIP compression, data window (0,0)-(width-1,height-1).
+ * float channels, ZIP compression (a chunk that does not shrink is stored raw), data window (0,0)-(width-1,height-1).
  * Pixel (x, y) of a channel plane is at plane[y * width + x], y = 0 at the top. */
 #include "sparselens/diag.h"
 
 /* Writes nchannels planes (names[c], planes[c]) through a temporary file and
- * outfile_commit_path, so no partial file is left. Names must be distinct and non-empty.
+ * outfile_commit_path, so no partial file is left. The temporary file is read back and
+ * compared bit for bit before it is renamed into place: a file that would not read back
+ * as written is an error, never a result. Names must be distinct and non-empty.
  * 0 on success. */
 int exr_write_float(const char *path, int width, int height, int nchannels,
                     const char *const *names, const float *const *planes, lens_err *err);

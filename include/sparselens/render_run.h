@@ -20,6 +20,9 @@ typedef struct {
     long spp;               /* 0: the scene's */
     int threads;            /* <= 0: OpenMP default */
     const char *reference;  /* an EXR to compare with (RMS error printed to log), or NULL */
+    const char *noise_against; /* a render of the same scene with another seed: the noise
+                                * figure (render_noise) printed to log, or NULL */
+    unsigned long seed;     /* 0: the scene's */
     FILE *log;              /* decisions and figures (stderr in lens-render); may be NULL */
     void (*progress)(void *ctx, double done);
     void *progress_ctx;
@@ -31,6 +34,10 @@ int render_run(const render_options *opt, render_stats *st, lens_err *err);
  * channels of the EXR file ref, and that over ref's mean. 0 on success. */
 int render_compare(const char *ref, int width, int height, const float *rgb, double *rms,
                    double *rel, lens_err *err);
+
+/* Reads the R, G, B channels of an EXR file of width x height pixels into *rgb (3 floats
+ * per pixel, malloc'ed). 0 on success. */
+int render_read_rgb(const char *path, int width, int height, float **rgb, lens_err *err);
 
 /* Writes the preview: exposure so that the 99th percentile of the luminance maps to
  * white, then the sRGB curve. rgb as render_image fills it. */

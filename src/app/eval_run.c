@@ -1,5 +1,7 @@
 /* lens-eval's stream (eval_run.h): rows are read in chunks and evaluated with
- * poly_eval_batch, so a file of any size runs in constant memory at batch speed. */
+ * poly_eval_batch, so a file of any size runs in constant memory at batch speed.
+ * Input columns that are neither inputs nor outputs of the system (an id, say) are
+ * carried through as text, after the predictions. */
 #include "sparselens/eval_run.h"
 
 #include <math.h>
@@ -20,7 +22,27 @@ typedef struct {
     int *map_in, *map_ref;
     double *row, *in, *pred, *ref, *outrow;
     unsigned char *pass, *bad;
+    char *text;          /* the chunk's pass-through fields, row r at text + text_at[r] */
+    size_t *text_at, text_len, text_cap;
 } ctx_t;
+
+/* Appends the last row's pass-through fields to the chunk's text. */
+static int keep_text(ctx_t *c, const samples_reader *rd, size_t row)
+{
+    size_t need = samples_passthrough_text(rd, NULL, 0) + 1;
+    if (c->text_len + need > c->text_cap) {
+        size_t cap = 2 * (c->text_len + need) + 256;
+        char *t = realloc(c->text, cap);
+        if (!t)
+            return -1;
+        c->text = t, c->text_cap = cap;
+    }
+    c->text_at[row] = c->text_len;
+    samples_passthrough_text(rd, c->text + c->text_len, need);
+    c->text[c->text_len + need - 1] = '\0';
+    c->text_len += need;
+    return 0;
+}
 
 static void flush(ctx_t *c, size_t n, FILE *out, const eval_run_options *opt, eval_report *rep)
 {
@@ -47,8 +69,9 @@ static void flush(ctx_t *c, size_t n, FILE *out, const eval_run_options *opt, ev
             if (!opt->raw && !c->pass[r] && c->eta >= 0)
                 o[c->nin + c->eta] = 0;
         }
-        samples_write_row(out, o, c->nin + c->nout);
+        samples_write_filter_row_text(out, o, c->nin + c->nout, c->text + c->text_at[r]);
     }
+    c->text_len = 0;
 }
 
 int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_run_options *opt,
@@ -73,8 +96,9 @@ int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_r
     c.outrow = malloc((size_t)(c.nin + c.nout) * sizeof(double));
     c.pass = malloc(CHUNK);
     c.bad = malloc(CHUNK);
+    c.text_at = malloc(CHUNK * sizeof *c.text_at);
     if (!names || !c.map_in || !c.map_ref || !c.row || !c.in || !c.pred || !c.ref ||
-        !c.outrow || !c.pass || !c.bad) {
+        !c.outrow || !c.pass || !c.bad || !c.text_at) {
         lens_errf(err, NULL, 0, "out of memory");
         goto done;
     }
@@ -101,7 +125,8 @@ int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_r
             goto done;
         }
     } else {
-        samples_write_header(out, names, c.nin + c.nout);
+        samples_passthrough(rd, names, c.nin + c.nout);
+        samples_write_filter_header(out, names, c.nin + c.nout, rd);
     }
     size_t n = 0;
     for (;;) {
@@ -109,8 +134,17 @@ int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_r
         int got = samples_next(rd, c.row, &rowerr);
         if (got == 0)
             break;
+        if (got == SAMPLES_FAIL) {
+            flush(&c, n, out, opt, rep); /* the rows before it are good */
+            *err = rowerr;
+            goto done;
+        }
         double *in = c.in + n * (size_t)c.nin;
         c.bad[n] = 0;
+        if (!opt->report && keep_text(&c, rd, n) != 0) {
+            lens_errf(err, NULL, 0, "out of memory");
+            goto done;
+        }
         if (got > 0) {
             for (int i = 0; i < c.nin; i++)
                 in[i] = c.row[c.map_in[i]];
@@ -165,5 +199,7 @@ done:
     free(c.outrow);
     free(c.pass);
     free(c.bad);
+    free(c.text);
+    free(c.text_at);
     return rc;
 }

@@ -72,38 +72,53 @@ static int write_exr(const char *path, int w, int h, const float *rgb, lens_err 
     return rc;
 }
 
-int render_compare(const char *ref, int w, int h, const float *rgb, double *rms, double *rel,
-                   lens_err *err)
+int render_read_rgb(const char *path, int w, int h, float **rgb, lens_err *err)
 {
     exr_image im;
-    if (exr_read_float(ref, &im, err)) return -1;
+    *rgb = NULL;
+    if (exr_read_float(path, &im, err)) return -1;
     const char *names[3] = {"R", "G", "B"};
     const float *pl[3];
     int rc = -1;
     if (im.width != w || im.height != h) {
-        lens_errf(err, ref, 0, "reference is %dx%d, the render %dx%d", im.width, im.height, w, h);
+        lens_errf(err, path, 0, "the image is %dx%d, the render %dx%d", im.width, im.height, w, h);
         goto done;
     }
     for (int k = 0; k < 3; k++)
         if (!(pl[k] = exr_image_channel(&im, names[k]))) {
-            lens_errf(err, ref, 0, "reference has no channel %s", names[k]);
+            lens_errf(err, path, 0, "the image has no channel %s", names[k]);
             goto done;
         }
-    double se = 0, mean = 0;
     size_t n = (size_t)w * h;
+    if (!(*rgb = malloc(3 * n * sizeof **rgb))) {
+        lens_errf(err, path, 0, "out of memory");
+        goto done;
+    }
     for (size_t i = 0; i < n; i++)
-        for (int k = 0; k < 3; k++) {
-            double d = rgb[3 * i + k] - pl[k][i];
-            se += d * d;
-            mean += pl[k][i];
-        }
-    *rms = sqrt(se / (3.0 * n));
-    mean /= 3.0 * n;
-    *rel = mean > 0 ? *rms / mean : NAN;
+        for (int k = 0; k < 3; k++) (*rgb)[3 * i + k] = pl[k][i];
     rc = 0;
 done:
     exr_image_free(&im);
     return rc;
+}
+
+int render_compare(const char *ref, int w, int h, const float *rgb, double *rms, double *rel,
+                   lens_err *err)
+{
+    float *r;
+    if (render_read_rgb(ref, w, h, &r, err)) return -1;
+    double se = 0, mean = 0;
+    size_t n = (size_t)w * h;
+    for (size_t i = 0; i < 3 * n; i++) {
+        double d = rgb[i] - r[i];
+        se += d * d;
+        mean += r[i];
+    }
+    free(r);
+    *rms = sqrt(se / (3.0 * n));
+    mean /= 3.0 * n;
+    *rel = mean > 0 ? *rms / mean : NAN;
+    return 0;
 }
 
 int render_run(const render_options *o, render_stats *st, lens_err *err)
@@ -118,26 +133,14 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
     lens_init(&lens);
     if (scene_load(o->scene, &sc, err)) return -1;
     if (o->spp > 0) sc.spp = o->spp;
+    if (o->seed) sc.seed = o->seed;
 
     /* the lens: the scene's lens file, or the lens a given system was fitted to */
     const char *lens_path = sc.camera;
     char lens_buf[1024];
     if (sc.camera_is_poly) {
         if (poly_read(sc.camera, &sys, err)) goto done;
-        const char *lp = poly_lens_path(sys);
-        if (!lp || !*lp) {
-            lens_errf(err, sc.camera, 0, "the system does not record its lens file");
-            goto done;
-        }
-        /* a relative path is relative to the .poly file */
-        const char *slash = strrchr(sc.camera, '/');
-        if (lp[0] != '/' && slash)
-            snprintf(lens_buf, sizeof lens_buf, "%.*s/%s", (int)(slash - sc.camera), sc.camera, lp);
-        else
-            snprintf(lens_buf, sizeof lens_buf, "%s", lp);
-        FILE *probe = fopen(lens_buf, "r");
-        if (probe) fclose(probe);
-        else snprintf(lens_buf, sizeof lens_buf, "%s", lp); /* as recorded, from the cwd */
+        if (poly_find_lens_file(sys, sc.camera, lens_buf, sizeof lens_buf, err)) goto done;
         lens_path = lens_buf;
     }
     if (lens_load(lens_path, o->load, &lens, err)) goto done;
@@ -166,8 +169,9 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
             goto done;
     }
 
-    int use_eta = 1;
+    int use_eta = 1, achromatic = sc.mode == SCENE_GREY || !render_lens_disperses(&lens);
     double eta_const = 1;
+    int stop_only = 0; /* vignetting off: directions from the stop's line pupil */
     render_camera cam;
     if (o->exact) {
         lc = render_lens_exact(&lens, sw, sh, &cam, err);
@@ -186,10 +190,15 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
             if (!sys) goto done;
             use_eta = e.transmittance;
             eta_const = e.eta_centre;
+            achromatic = !e.dispersion;
+            stop_only = !e.vignetting;
         } else {
             if (o->log) fprintf(o->log, "lens: polynomial system %s\n", sc.camera);
-            if (sc.mode != SCENE_GREY && poly_input_index(sys, "lambda") < 0 && o->log)
-                fprintf(o->log, "note: the system has no lambda input: no dispersion\n");
+            if (poly_input_index(sys, "lambda") < 0) {
+                if (sc.mode != SCENE_GREY && !achromatic && o->log)
+                    fprintf(o->log, "note: the system has no lambda input: no dispersion\n");
+                achromatic = 1;
+            }
             use_eta = sc.transmittance != EFFECT_OFF;
         }
         lc = render_lens_poly(sys, &lens, sw, sh, &cam, err);
@@ -205,7 +214,8 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         char dir[1024];
         if (o->cache_dir) snprintf(dir, sizeof dir, "%s", o->cache_dir);
         else render_default_cache_dir(dir, sizeof dir);
-        if (render_effects_sampler(&lens, l0, l1, rmax, dir, o->threads, o->log, &smp, err))
+        if (render_effects_sampler(&lens, l0, l1, rmax, stop_only, dir, o->threads, o->log, &smp,
+                                   err))
             goto done;
     }
     img = malloc((size_t)sc.width * sc.height * 3 * sizeof *img);
@@ -219,7 +229,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
                 o->estimator == RENDER_ESTIMATOR_FULL ? "full estimator (Eq. 3, 8, 12)"
                                                       : "estimator of Eq. 13");
     render_job job = {.scene = &sc, .cam = &cam, .sampler = &smp, .estimator = o->estimator,
-                      .use_eta = use_eta,
+                      .use_eta = use_eta, .achromatic = achromatic,
                       .eta_const = eta_const, .spp = sc.spp, .threads = o->threads, .progress = o->progress,
                       .progress_ctx = o->progress_ctx};
     if (render_image(&job, img, NULL, st, err)) goto done;
@@ -235,6 +245,16 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         if (render_compare(o->reference, sc.width, sc.height, img, &rms, &rel, err)) goto done;
         if (o->log) fprintf(o->log, "error vs %s: rms %.4g (%.2f%% of its mean)\n", o->reference, rms,
                             100 * rel);
+    }
+    if (o->noise_against) {
+        float *other = NULL;
+        if (render_read_rgb(o->noise_against, sc.width, sc.height, &other, err)) goto done;
+        double nz = render_noise(sc.width, sc.height, img, other);
+        free(other);
+        if (o->log)
+            fprintf(o->log, "noise: median per-pixel relative variance %.4g against %s "
+                    "(times this render's time: %.4g s)\n", nz, o->noise_against,
+                    st ? nz * st->seconds : NAN);
     }
     rc = 0;
 done:

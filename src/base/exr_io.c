@@ -27,6 +27,22 @@ static int find_name(int n, const char *const *names, const char *name)
     return -1;
 }
 
+/* OpenEXR Core 3.1 stores zlib's output whenever it is not longer than the chunk, but
+ * its reader takes a chunk of exactly the unpacked size as stored raw: a chunk that
+ * compresses to exactly its own size is written compressed and read back as garbage
+ * (16 rows of +-1e34 and NaN; fixed upstream in OpenEXR 3.4, issue #2306). The spec's
+ * rule is "whichever is smaller"; this hook, run by exr_encoding_run between compressing
+ * and writing, stores such a chunk raw. */
+static exr_result_t store_raw_unless_smaller(exr_encode_pipeline_t *enc)
+{
+    if (enc->compressed_buffer && enc->compressed_buffer != enc->packed_buffer &&
+        enc->compressed_bytes >= enc->packed_bytes && enc->compressed_alloc_size >= enc->packed_bytes) {
+        memcpy(enc->compressed_buffer, enc->packed_buffer, enc->packed_bytes);
+        enc->compressed_bytes = enc->packed_bytes;
+    }
+    return EXR_ERR_SUCCESS;
+}
+
 static int write_body(exr_context_t f, int width, int height, int nch, const char *const *names,
                       const float *const *planes, const char *path, lens_err *err)
 {
@@ -67,6 +83,7 @@ static int write_body(exr_context_t f, int width, int height, int nch, const cha
             rv = exr_encoding_choose_default_routines(f, part, &enc);
             started = 1;
         }
+        enc.yield_until_ready_fn = store_raw_unless_smaller;
         if (rv == EXR_ERR_SUCCESS)
             rv = exr_encoding_run(f, part, &enc);
     }
@@ -75,6 +92,29 @@ static int write_body(exr_context_t f, int width, int height, int nch, const cha
     if (rv != EXR_ERR_SUCCESS)
         return fail(err, path, "cannot write EXR data", rv);
     return 0;
+}
+
+/* Reads the written file back and compares it bit for bit with what was meant: a
+ * compressor's bug must not leave a corrupt picture behind that looks like a result. */
+static int verify_written(const char *tmp, const char *path, int width, int height, int nch,
+                          const char *const *names, const float *const *planes, lens_err *err)
+{
+    exr_image back;
+    if (exr_read_float(tmp, &back, err) != 0) {
+        lens_errf(err, path, 0, "the EXR file written does not read back; not written");
+        return -1;
+    }
+    int bad = back.width != width || back.height != height || back.nchannels != nch;
+    size_t n = (size_t)width * (size_t)height;
+    for (int c = 0; c < nch && !bad; c++) {
+        const float *q = exr_image_channel(&back, names[c]);
+        bad = !q || memcmp(q, planes[c], n * sizeof(float)) != 0;
+    }
+    exr_image_free(&back);
+    if (bad)
+        lens_errf(err, path, 0, "the EXR file written reads back different from the image "
+                                "(an OpenEXR encoder fault); not written");
+    return bad ? -1 : 0;
 }
 
 int exr_write_float(const char *path, int width, int height, int nchannels,
@@ -106,6 +146,8 @@ int exr_write_float(const char *path, int width, int height, int nchannels,
     rv = exr_finish(&f);
     if (!bad && rv != EXR_ERR_SUCCESS)
         bad = fail(err, path, "cannot finish EXR file", rv);
+    if (!bad)
+        bad = verify_written(tmp, path, width, height, nchannels, names, planes, err);
     if (bad) {
         outfile_discard_path(tmp);
         return -1;

@@ -4,18 +4,25 @@
  * additions, so scalar and batch results are bit-identical. */
 #include "poly/poly_impl.h"
 
+/* x86 has a kernel per instruction set below; elsewhere (arm64, ...) the 2-lane one
+ * alone, which GCC maps onto that machine's vectors. SPARSELENS_PORTABLE_KERNELS builds
+ * that path on x86 too, so the tests can check it where they run. */
+#if (defined(__x86_64__) || defined(__i386__)) && !defined(SPARSELENS_PORTABLE_KERNELS)
+#define POLY_X86 1
 #include <immintrin.h>
+#elif defined(__aarch64__) && !defined(SPARSELENS_PORTABLE_KERNELS)
+#include <arm_neon.h>
+#endif
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Rays per block in the batch path. The values of a block's rays for one monomial lie
- * side by side, so every product and every term is one operation on BLK lanes, which
- * the compiler splits into as many hardware vectors as the clone has (2 on AVX-512). A
- * block's values must stay in the L1 cache: 16 rays x 8 bytes x ~140 kept values of a
- * 5 x 40 term system is 18 KiB. Larger blocks measured slower, smaller ones pay the
- * per-term index and coefficient loads on fewer rays. */
-#define BLK 16
+/* Rays per block in the batch path (at most; each instruction set has its own KBLK
+ * below). The values of a block's rays for one monomial lie side by side, so every
+ * product and every term is one operation on KBLK lanes, which the compiler splits into
+ * hardware vectors. A block's values must stay in the L1 cache: 32 rays x 8 bytes x
+ * ~100 kept values of the framed 5 x 40 term fisheye-ii system is 25 KiB. */
+#define BLK 32
 /* Rays whose parts are sorted out together in the batch path (bounds the index buffer). */
 #define CHUNK 2048
 
@@ -120,16 +127,27 @@ int poly_eval_part_core(const poly_system *s, int part, const double *in, double
 enum { RUN_EVAL, RUN_JAC };
 
 /* The batch kernel once per instruction set, each with the vector width of its
- * registers and a block that keeps its partial sums in registers (AVX-512: 16 rays in
- * 2 x 8 lanes, AVX2: 8 in 2 x 4, SSE: 4 in 2 x 2); batch() picks one per call. -O3 for
- * these alone: it unrolls the gathers and scatters of the rows, about 8 % faster on
- * the fisheye-ii system; it never contracts into FMA (ISO C mode), so the bits stay. */
+ * registers and a block that keeps its partial sums in registers (AVX-512: 32 rays in
+ * 4 x 8 lanes, 16 accumulators of its 32 registers; AVX2: 8 in 2 x 4; SSE: 4 in 2 x 2);
+ * batch() picks one per call. The loop is bound by loads of values (two 64-byte loads a
+ * cycle), so a wider block pays the per-term index and coefficient loads on more rays:
+ * 32 rays measured 36 -> 29 ns a ray against 16 on the fisheye-ii system. AVX-512 also
+ * moves the rows in and out with gathers and scatters (the scalar copy out of a block
+ * just stored as vectors cost 4 ns a ray). -O3 for these alone: it unrolls the loops
+ * over lanes; it never contracts into FMA (ISO C mode), so the bits stay. */
+#if defined(POLY_X86)
 #define KERNEL_NAME run_blocks_avx512
 #define KERNEL_TARGET __attribute__((target("avx512f"), optimize("O3")))
 #define KERNEL_SQRT(x) ((vn)_mm512_sqrt_pd((__m512d)(x)))
 #define VW 8
-#define KBLK 16
+#define KBLK 32
+#define KERNEL_SCATTER(base, at, x) _mm512_i64scatter_pd((base), (__m512i)(at), (__m512d)(x), 8)
+#define KERNEL_GATHER(base, at) ((vn)_mm512_i64gather_pd((__m512i)(at), (base), 8))
+#define KERNEL_MASKBITS(ok) ((unsigned)_mm512_test_epi64_mask((__m512i)(ok), (__m512i)(ok)))
 #include "poly/poly_eval_kernel.h"
+#undef KERNEL_SCATTER
+#undef KERNEL_MASKBITS
+#undef KERNEL_GATHER
 #undef KERNEL_NAME
 #undef KERNEL_TARGET
 #undef VW
@@ -146,9 +164,17 @@ enum { RUN_EVAL, RUN_JAC };
 #undef VW
 #undef KBLK
 #undef KERNEL_SQRT
+#endif
 #define KERNEL_NAME run_blocks_sse
 #define KERNEL_TARGET __attribute__((optimize("O3")))
+#if defined(POLY_X86)
 #define KERNEL_SQRT(x) ((vn)_mm_sqrt_pd((__m128d)(x)))
+#elif defined(__aarch64__) && !defined(SPARSELENS_PORTABLE_KERNELS)
+#define KERNEL_SQRT(x) ((vn)vsqrtq_f64((float64x2_t)(x)))
+#else
+/* IEEE square roots are correctly rounded, so lane by lane gives the vector's bits. */
+#define KERNEL_SQRT(x) ((vn){__builtin_sqrt((x)[0]), __builtin_sqrt((x)[1])})
+#endif
 #define VW 2
 #define KBLK 4
 #include "poly/poly_eval_kernel.h"
@@ -205,9 +231,13 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
             maxoff = no;
     }
     int *off = malloc(maxoff * sizeof(int));
+#if defined(POLY_X86)
     run_fn *run = __builtin_cpu_supports("avx512f") ? run_blocks_avx512
                   : __builtin_cpu_supports("avx2")  ? run_blocks_avx2
                                                     : run_blocks_sse;
+#else
+    run_fn *run = run_blocks_sse; /* the portable 2-lane kernel */
+#endif
     double *v = s->nparts ? aligned_alloc(64, (size_t)maxv * BLK * sizeof(double)) : NULL;
     double *res = aligned_alloc(64, 2 * (size_t)maxo * BLK * sizeof(double));
     double *fb = aligned_alloc(64, ((size_t)s->nin + 3) * BLK * sizeof(double));

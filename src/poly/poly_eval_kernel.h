@@ -27,6 +27,9 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
 {
     typedef double vn __attribute__((vector_size(VW * sizeof(double))));
     typedef long long vmask __attribute__((vector_size(VW * sizeof(long long))));
+#ifdef KERNEL_SCATTER
+    typedef long long vidx __attribute__((vector_size(VW * sizeof(long long))));
+#endif
     vn *v = (vn *)vbuf;
     const int nin = s->nin, nres = pls[0]->nout;
     /* the frame (poly_frame.c) done here, on whole columns of the block, in the order of
@@ -65,9 +68,19 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
         for (int q = 0; q < NV; q++)
             for (int r = 0; r < VW; r++)
                 v[q][r] = 1;
+#ifdef KERNEL_SCATTER
+        for (int q = 0; q < NV; q++) {
+            vidx at;
+            for (int r = 0; r < VW; r++)
+                at[r] = (long long)row[q * VW + r] * nin;
+            for (int i = 0; i < nin; i++)
+                ((vn *)raw)[i * NV + q] = KERNEL_GATHER(in + i, at);
+        }
+#else
         for (int i = 0; i < nin; i++)
             for (int r = 0; r < KBLK; r++)
                 raw[i * KBLK + r] = src[r][i];
+#endif
         if (fr) {
             const double *X = raw + ix * KBLK, *Y = raw + iy * KBLK;
             for (int q = 0; q < NV; q++) {
@@ -194,11 +207,21 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
             }
             continue;
         }
+#ifdef KERNEL_SCATTER
+        for (int q = 0; q < NV; q++) {
+            vidx at;
+            for (int r = 0; r < VW; r++)
+                at[r] = (long long)row[q * VW + r] * nres;
+            for (int k = 0; k < nres; k++)
+                KERNEL_SCATTER(out + k, at, res[k * NV + q]);
+        }
+#else
         for (int r = 0; r < m; r++) {
             double *o = out + row[r] * (size_t)nres;
             for (int k = 0; k < nres; k++)
                 o[k] = rs[k * KBLK + r];
         }
+#endif
         if (!pass)
             continue;
         for (int q = 0; q < NV; q++) {
@@ -211,8 +234,15 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 const double rad = s->circles[c].radius;
                 ok &= a * a + b * b <= rad * rad;
             }
+#ifdef KERNEL_MASKBITS
+            const unsigned bits = KERNEL_MASKBITS(ok); /* from a register, not the stack */
+#else
+            unsigned bits = 0;
+            for (int r = 0; r < VW; r++)
+                bits |= (unsigned)(ok[r] != 0) << r;
+#endif
             for (int r = q * VW; r < m && r < (q + 1) * VW; r++)
-                pass[row[r]] = ok[r % VW] != 0;
+                pass[row[r]] = bits >> (r % VW) & 1;
         }
     }
 }

@@ -123,6 +123,7 @@ static void rebuild_views(poly_system *s)
         }
         for (int i = 0; i < s->nin; i++)
             poly_set_scaling(v[k], i, s->offset[i], s->scale[i]);
+        poly_bulk_begin(v[k]); /* planned once at the end, not per term */
     }
     int ok = 1;
     for (int p = 0; ok && p < s->nparts; p++)
@@ -135,6 +136,8 @@ static void rebuild_views(poly_system *s)
                 ok &= poly_add_term(v[s->plain[o] ? 1 : 0], p, o, ot->exps + (size_t)t * s->nin,
                                     ot->coef[t]) == 0;
         }
+    for (int k = 0; k < 2; k++)
+        ok &= poly_bulk_end(v[k]) == 0;
     if (!ok) {
         poly_free(v[0]);
         poly_free(v[1]);

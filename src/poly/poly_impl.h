@@ -25,6 +25,10 @@
  * so they give the same bits. */
 #include "sparselens/poly.h"
 
+#include <stdint.h>
+
+#include "base/index_hash.h"
+
 #define POLY_NSUMS 4
 
 /* A monomial table (see above). */
@@ -33,6 +37,8 @@ typedef struct {
     int *exps;            /* nslots x ninputs: the monomial each slot holds */
     int *a, *b;           /* factors of product slots (-1 for slot 0 and the inputs) */
     int *depth;           /* longest chain of products leading to the slot */
+    uint64_t *used_by;    /* per slot: bit o set when output o has a term on it */
+    index_hash index;     /* slot by exponent tuple: finding a monomial is O(1) */
 } poly_mono;
 
 /* The flat program evaluating nout sums of terms over one monomial table. */
@@ -105,7 +111,18 @@ struct poly_system {
     poly_circle *circles;
     int nmeta;
     char **meta_key, **meta_val;
+    int bulk; /* poly_bulk_begin: plans and views wait for poly_bulk_end */
 };
+
+/* Building many terms at once (a file being read, the views): between the two calls
+ * poly_add_term neither replans the part nor updates the views, so n terms cost O(n)
+ * rather than O(n^2); poly_bulk_end makes the system ready to evaluate (0, or -1 when
+ * out of memory). Evaluating in between is not allowed. */
+void poly_bulk_begin(poly_system *s);
+int poly_bulk_end(poly_system *s);
+/* poly_set_meta without the search for an existing key: for readers that checked
+ * (by hashing) that the key is new. 0, or -1 when out of memory or the key is bad. */
+int poly_append_meta(poly_system *s, const char *key, const char *value);
 
 /* The pass test on final outputs (rotated back when there is a frame, so every path,
  * scalar, batch and emitted C, agrees bit for bit): finite, and inside every circle. */

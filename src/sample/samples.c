@@ -1,12 +1,15 @@
 /* Streaming reader and writer of sample files (man 5 lens-samples). */
 #include "sparselens/samples.h"
 
+#include "base/line_reader.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define SAMPLES_MAX_COLS 64
+#define SAMPLES_MAX_META 32
 
 struct samples_reader {
     FILE *f;
@@ -16,24 +19,66 @@ struct samples_reader {
     long row_line; /* line of the last row returned */
     int ncols;
     char *names[SAMPLES_MAX_COLS];
-    char *buf;
-    size_t cap;
+    line_reader lr;
+    char *buf; /* the current line (lr.buf) */
+    /* The fields of the last row: where each starts in buf, and its length. */
+    int nfields;
+    size_t field_at[SAMPLES_MAX_COLS];
+    int field_len[SAMPLES_MAX_COLS];
+    /* Columns a filter carries to its output as they are (samples_passthrough): any
+     * text, never parsed, nan in vals. */
+    unsigned char opaque[SAMPLES_MAX_COLS];
+    int npass, pass[SAMPLES_MAX_COLS];
+    /* "# key: value" comments before the header (samples_meta) */
+    int nmeta;
+    char *meta_key[SAMPLES_MAX_META], *meta_value[SAMPLES_MAX_META];
 };
+
+/* Keeps a "# key: value" comment (key a word of letters, digits, '-' and '_'); the
+ * first of a key wins. Other comments are ignored. */
+static void keep_meta(samples_reader *r, const char *s)
+{
+    size_t k = strspn(s, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_");
+    if (k == 0 || s[k] != ':' || r->nmeta == SAMPLES_MAX_META)
+        return;
+    for (int i = 0; i < r->nmeta; i++)
+        if (strlen(r->meta_key[i]) == k && strncmp(r->meta_key[i], s, k) == 0)
+            return;
+    const char *v = s + k + 1;
+    v += strspn(v, " \t");
+    size_t n = strlen(v);
+    while (n > 0 && (v[n - 1] == ' ' || v[n - 1] == '\t'))
+        n--;
+    char *key = strndup(s, k), *value = strndup(v, n);
+    if (!key || !value) {
+        free(key);
+        free(value);
+        return;
+    }
+    r->meta_key[r->nmeta] = key;
+    r->meta_value[r->nmeta++] = value;
+}
+
+const char *samples_meta(const samples_reader *r, const char *key)
+{
+    for (int i = 0; i < r->nmeta; i++)
+        if (strcmp(r->meta_key[i], key) == 0)
+            return r->meta_value[i];
+    return NULL;
+}
 
 static const char *display(const samples_reader *r)
 {
     return r->path;
 }
 
-static ssize_t next_line(samples_reader *r)
+/* line_next's codes; r->buf is the line when LINE_OK. */
+static int next_line(samples_reader *r, lens_err *err)
 {
-    ssize_t n = getline(&r->buf, &r->cap, r->f);
-    if (n >= 0) {
-        r->line++;
-        while (n > 0 && (r->buf[n - 1] == '\n' || r->buf[n - 1] == '\r'))
-            r->buf[--n] = '\0';
-    }
-    return n;
+    int st = line_next(&r->lr, err);
+    r->line = r->lr.line;
+    r->buf = r->lr.buf;
+    return st;
 }
 
 static int is_blank(const char *s)
@@ -97,9 +142,14 @@ samples_reader *samples_open(const char *path, lens_err *err)
             return NULL;
         }
     }
+    line_reader_init(&r->lr, r->f, r->path, LINE_MAX_BYTES);
     for (;;) {
-        ssize_t n = next_line(r);
-        if (n < 0) {
+        int st = next_line(r, err);
+        if (st < 0) {
+            samples_close(r);
+            return NULL;
+        }
+        if (st == LINE_END) {
             lens_errf(err, display(r), 0,
                       r->line == 0 ? "empty file: expected a '# columns:' header line"
                                    : "no '# columns:' header line");
@@ -117,6 +167,7 @@ samples_reader *samples_open(const char *path, lens_err *err)
                 }
                 return r;
             }
+            keep_meta(r, s);
             continue;
         }
         if (is_blank(s))
@@ -153,43 +204,112 @@ int samples_map(const samples_reader *r, const char *const *names, int n, int *m
     return 0;
 }
 
+/* Splits the row in buf into fields (kept in place: buf is not changed). Returns the
+ * number of fields, counting those past SAMPLES_MAX_COLS without recording them. */
+static int split_fields(samples_reader *r, const char *s)
+{
+    int k = 0;
+    for (s += strspn(s, " \t"); *s; s += strspn(s, " \t"), k++) {
+        size_t len = strcspn(s, " \t");
+        if (k < SAMPLES_MAX_COLS) {
+            r->field_at[k] = (size_t)(s - r->buf);
+            r->field_len[k] = len > 1000000 ? 1000000 : (int)len;
+        }
+        s += len;
+    }
+    r->nfields = k < SAMPLES_MAX_COLS ? k : SAMPLES_MAX_COLS;
+    return k;
+}
+
+static int parse_field(const samples_reader *r, int k, double *v)
+{
+    const char *tok = r->buf + r->field_at[k];
+    char *end;
+    *v = strtod(tok, &end);
+    return end != tok + r->field_len[k] || r->field_len[k] == 0 ? -1 : 0;
+}
+
 int samples_next(samples_reader *r, double *vals, lens_err *err)
 {
     for (;;) {
-        ssize_t n = next_line(r);
-        if (n < 0)
+        int st = next_line(r, err);
+        if (st == LINE_END)
             return 0;
+        if (st != LINE_OK) {
+            r->row_line = r->line;
+            r->nfields = 0; /* pass-through columns of this row: nan */
+            for (int i = 0; i < r->ncols; i++)
+                vals[i] = NAN;
+            return st == LINE_FAIL ? SAMPLES_FAIL : -1;
+        }
         char *s = r->buf + strspn(r->buf, " \t");
         if (*s == '#' || *s == '\0')
             continue;
         r->row_line = r->line;
-        int k = 0;
-        char *p = s;
-        while (*p) {
-            char *end;
-            errno = 0;
-            double v = strtod(p, &end);
-            if (end == p || (*end && *end != ' ' && *end != '\t')) {
-                char *tokend = p + strcspn(p, " \t");
-                *tokend = '\0';
-                for (int i = 0; i < r->ncols; i++)
-                    vals[i] = NAN;
-                lens_errf(err, display(r), r->line, "field %d ('%.40s') is not a number", k + 1, p);
-                return -1;
-            }
-            if (k < r->ncols)
-                vals[k] = v;
-            k++;
-            p = end + strspn(end, " \t");
-        }
+        for (int i = 0; i < r->ncols; i++)
+            vals[i] = NAN;
+        int k = split_fields(r, s);
         if (k != r->ncols) {
-            for (int i = 0; i < r->ncols; i++)
-                vals[i] = NAN;
             lens_errf(err, display(r), r->line, "%d fields, expected %d (%s ...)", k, r->ncols,
                       r->names[0]);
             return -1;
         }
+        for (int i = 0; i < k; i++) {
+            if (r->opaque[i])
+                continue;
+            if (parse_field(r, i, &vals[i]) != 0) {
+                for (int j = 0; j < r->ncols; j++)
+                    vals[j] = NAN;
+                lens_errf(err, display(r), r->line, "field %d ('%.*s') is not a number", i + 1,
+                          r->field_len[i] < 40 ? r->field_len[i] : 40, r->buf + r->field_at[i]);
+                return -1;
+            }
+        }
         return 1;
+    }
+}
+
+int samples_passthrough(samples_reader *r, const char *const *written, int nwritten)
+{
+    r->npass = 0;
+    for (int i = 0; i < r->ncols; i++) {
+        int known = 0;
+        for (int j = 0; j < nwritten && !known; j++)
+            known = strcmp(r->names[i], written[j]) == 0;
+        r->opaque[i] = !known;
+        if (!known)
+            r->pass[r->npass++] = i;
+    }
+    return r->npass;
+}
+
+const char *samples_passthrough_name(const samples_reader *r, int k)
+{
+    return r->names[r->pass[k]];
+}
+
+size_t samples_passthrough_text(const samples_reader *r, char *buf, size_t cap)
+{
+    size_t n = 0;
+    for (int k = 0; k < r->npass; k++) {
+        int c = r->pass[k];
+        /* a row with too few fields still gets a field in every column */
+        const char *tok = c < r->nfields ? r->buf + r->field_at[c] : "nan";
+        int len = c < r->nfields ? r->field_len[c] : 3;
+        int w = snprintf(n < cap ? buf + n : NULL, n < cap ? cap - n : 0, " %.*s", len, tok);
+        n += (size_t)w;
+    }
+    return n;
+}
+
+void samples_write_passthrough(FILE *f, const samples_reader *r)
+{
+    for (int k = 0; k < r->npass; k++) {
+        int c = r->pass[k];
+        if (c < r->nfields)
+            fprintf(f, " %.*s", r->field_len[c], r->buf + r->field_at[c]);
+        else
+            fputs(" nan", f);
     }
 }
 
@@ -201,15 +321,33 @@ void samples_close(samples_reader *r)
         fclose(r->f);
     for (int i = 0; i < r->ncols; i++)
         free(r->names[i]);
-    free(r->buf);
+    for (int i = 0; i < r->nmeta; i++) {
+        free(r->meta_key[i]);
+        free(r->meta_value[i]);
+    }
+    line_reader_free(&r->lr);
     free(r);
+}
+
+static void write_names(FILE *f, const char *const *names, int n)
+{
+    for (int i = 0; i < n; i++)
+        fprintf(f, " %s", names[i]);
 }
 
 void samples_write_header(FILE *f, const char *const *names, int n)
 {
     fputs("# columns:", f);
-    for (int i = 0; i < n; i++)
-        fprintf(f, " %s", names[i]);
+    write_names(f, names, n);
+    fputc('\n', f);
+}
+
+void samples_write_filter_header(FILE *f, const char *const *names, int n, const samples_reader *r)
+{
+    fputs("# columns:", f);
+    write_names(f, names, n);
+    for (int k = 0; k < r->npass; k++)
+        fprintf(f, " %s", r->names[r->pass[k]]);
     fputc('\n', f);
 }
 
@@ -224,7 +362,7 @@ static void write_shortest(FILE *f, double v)
     fputs(buf, f);
 }
 
-void samples_write_row(FILE *f, const double *vals, int n)
+static void write_values(FILE *f, const double *vals, int n)
 {
     for (int i = 0; i < n; i++) {
         if (i)
@@ -236,5 +374,24 @@ void samples_write_row(FILE *f, const double *vals, int n)
         else
             write_shortest(f, vals[i]);
     }
+}
+
+void samples_write_row(FILE *f, const double *vals, int n)
+{
+    write_values(f, vals, n);
+    fputc('\n', f);
+}
+
+void samples_write_filter_row(FILE *f, const double *vals, int n, const samples_reader *r)
+{
+    write_values(f, vals, n);
+    samples_write_passthrough(f, r);
+    fputc('\n', f);
+}
+
+void samples_write_filter_row_text(FILE *f, const double *vals, int n, const char *passthrough)
+{
+    write_values(f, vals, n);
+    fputs(passthrough, f);
     fputc('\n', f);
 }

@@ -25,8 +25,9 @@ fd=$(run "$info" lenses/dgauss.50mm.lens --focus inf | run "$info" - 2>/dev/null
 if [ "$fd" = inf ] || awk -v d="$fd" 'BEGIN { exit !(d > 1e9 || d < -1e9) }'; then ok "focus inf"; else fail "focus inf" "focus_distance $fd"; fi
 
 # Conversion round trip: the converted file has the same first-order data.
-run "$info" ../shared/reference/lenses/pbrt/telephoto.250mm.dat --format lens > "$T/tele.lens" 2>/dev/null &&
-  a=$(run "$info" ../shared/reference/lenses/pbrt/telephoto.250mm.dat 2>/dev/null | value efl) &&
+a=unset b=unset
+run "$info" lenses/reference/pbrt/telephoto.250mm.dat --format lens > "$T/tele.lens" 2>/dev/null &&
+  a=$(run "$info" lenses/reference/pbrt/telephoto.250mm.dat 2>/dev/null | value efl) &&
   b=$(run "$info" "$T/tele.lens" 2>/dev/null | value efl) && near "$a" "$b" 1e-9 &&
   ok "format lens round trip" || fail "format lens round trip" "$a vs $b"
 
@@ -70,7 +71,7 @@ if paste <(grep -v '^#' "$T/a.txt") <(grep -v '^#' "$T/c.txt") | awk '{ for (i =
 # Bad input: one-line errors naming file and line, non-zero exit, no partial file.
 expect_error "n 0" '^lens-trace: -n: 0 is out of range' "$trc" lenses/dgauss.50mm.lens -n 0
 expect_error "n 1e12" '^lens-trace: -n: 1e12 is out of range' "$trc" lenses/dgauss.50mm.lens -n 1e12
-expect_error "bad frame" "^lens-trace: --to: expected 'outer' or 'stop'" "$trc" lenses/dgauss.50mm.lens --to film
+expect_error "bad frame" "^lens-trace: --to: 'film' is not outer or stop" "$trc" lenses/dgauss.50mm.lens --to film
 expect_error "missing lens" '^lens-trace: nope.lens: ' "$trc" nope.lens
 expect_error "lambda out of range" '^lens-trace: .*(range|wavelength)' "$trc" lenses/fisheye-ii.lens -n 10 --lambda 2.5 -o "$T/never.txt"
 [ ! -e "$T/never.txt" ] && ok "no partial file" || fail "no partial file" "$T/never.txt exists"

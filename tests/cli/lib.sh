@@ -25,5 +25,8 @@ expect_error() {
   if ! grep -qE -- "$pat" <<<"$err"; then fail "$n" "stderr '$err' does not match '$pat'"; return; fi
   ok "$n"
 }
+# makevar NAME: a variable of the Makefile (the library flags pkg-config found), for
+# tests that build a driver themselves. The outer make's job server is not passed on.
+makevar() { env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL "${MAKE:-make}" -s --no-print-directory -C "$TOP" "print-$1"; }
 # value KEY < key-value lines
 value() { awk -v k="$1" '$1 == k { print $2; exit }'; }

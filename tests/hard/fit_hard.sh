@@ -8,9 +8,9 @@ BUILD=${BUILD:-build}
 LIB=$BUILD/liblens.a
 if [ ! -f "$LIB" ] || ! nm "$LIB" 2>/dev/null | grep -q ' T fit_system$'; then
   ok "hard_fit (skipped: fit_system not in $LIB on this branch)"; exit 0; fi
-flags="-std=c11 -O2 -g -fopenmp -march=x86-64-v2 -Iinclude -Isrc -D_DEFAULT_SOURCE"
+flags="-std=c11 -O2 -g -fopenmp $(makevar ARCH_FLAGS) $(makevar CPPFLAGS)"
 [ -n "${SANITIZE:-}" ] && flags="$flags -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined"
-libs="-lopencv_calib3d -lopencv_imgcodecs -lopencv_imgproc -lopencv_core -lOpenEXRCore-3_1 -lproj -llapacke -llapack -lblas -lstdc++ -lm"
+libs=$(makevar LDLIBS)
 # shellcheck disable=SC2086
 if ! ${CC:-cc} $flags tests/hard/hard_fit.c "$LIB" $libs -o "$T/hard_fit" 2>"$T/cc.log"; then
   fail hard_fit_build "$(head -5 "$T/cc.log" | tr '\n' ' ')"; exit 0; fi

@@ -1,7 +1,7 @@
 #ifndef SPARSELENS_FIXTURE_LENSES_H
 #define SPARSELENS_FIXTURE_LENSES_H
 /* Test lenses built in C, independent of the file readers:
- *  - fisheye-ii: the 18 surfaces of ../shared/reference/lenses/fx/fisheye-ii.fx
+ *  - fisheye-ii: the 18 surfaces of lenses/reference/fx/fisheye-ii.fx
  *    (Nikkor 10.5 mm fisheye, US 7,161,746), nd/Vd glasses, 10000 = flat, iris = stop;
  *  - dgauss.50mm: pbrt's dgauss.50mm.dat (4th column a diameter, radius 0 = stop,
  *    constant indices); its last thickness is set here to the paraxial focus at infinity;

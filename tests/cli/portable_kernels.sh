@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The portable path of the SIMD kernels (what arm64 and every non-x86 machine builds:
+# the 2-lane packet tracer and batch evaluator, square roots without x86 intrinsics),
+# checked here on x86 by building trace_packet.c and poly_eval.c with
+# SPARSELENS_PORTABLE_KERNELS and no -march, and linking the unit tests that compare
+# packets and batches against the scalar paths bit for bit (test_trace, test_poly).
+# The objects come before liblens.a on the link line, so they replace its members.
+. "$(dirname "$0")/lib.sh"
+lib=$BUILD/liblens.a
+[ -f "$lib" ] || { ok "portable kernels (skipped: $lib not built)"; exit 0; }
+cppflags=$(makevar CPPFLAGS) ldlibs=$(makevar LDLIBS)
+cflags="-std=c11 -O2 -fopenmp -DSPARSELENS_PORTABLE_KERNELS"
+[ -n "$SANITIZE" ] && cflags="$cflags -O1 -fsanitize=address,undefined -fno-sanitize-recover=undefined"
+objs=""
+for f in src/trace/trace_packet.c src/poly/poly_eval.c; do
+  o=$T/$(basename "$f" .c).o
+  # shellcheck disable=SC2086
+  ${CC:-cc} $cppflags $cflags -Wall -Wextra -Werror -c "$f" -o "$o" 2>"$T/cc.log" ||
+    { fail "portable kernels build $f" "$(head -3 "$T/cc.log" | tr '\n' ' ')"; exit 0; }
+  objs="$objs $o"
+done
+if nm $objs | grep -qE 'avx|trace_w4|trace_w8'; then fail "portable kernels" "an x86 kernel is still built"; exit 0; fi
+for t in trace/test_trace poly/test_poly; do
+  n=$(basename "$t")
+  # shellcheck disable=SC2086
+  ${CC:-cc} $cppflags $(makevar CMOCKA_CFLAGS) -Itests/unit $cflags "tests/unit/$t.c" $objs "$lib" \
+    -fopenmp $(makevar CMOCKA_LIBS) $ldlibs -o "$T/$n" 2>"$T/cc.log" ||
+    { fail "portable kernels link $n" "$(head -3 "$T/cc.log" | tr '\n' ' ')"; continue; }
+  if CMOCKA_MESSAGE_OUTPUT=stdout "$T/$n" >"$T/$n.out" 2>&1; then ok "portable kernels: $n ($(grep -c '^\[       OK' "$T/$n.out") cases)"
+  else fail "portable kernels: $n" "$(grep -m3 -E 'FAILED|ERROR|error' "$T/$n.out" | tr '\n' ' ')"; fi
+done
+exit 0
