@@ -171,6 +171,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
 
     int use_eta = 1, achromatic = sc.mode == SCENE_GREY || !render_lens_disperses(&lens);
     double eta_const = 1;
+    int stop_only = 0; /* vignetting off: directions from the stop's line pupil */
     render_camera cam;
     if (o->exact) {
         lc = render_lens_exact(&lens, sw, sh, &cam, err);
@@ -190,6 +191,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
             use_eta = e.transmittance;
             eta_const = e.eta_centre;
             achromatic = !e.dispersion;
+            stop_only = !e.vignetting;
         } else {
             if (o->log) fprintf(o->log, "lens: polynomial system %s\n", sc.camera);
             if (poly_input_index(sys, "lambda") < 0) {
@@ -212,7 +214,8 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         char dir[1024];
         if (o->cache_dir) snprintf(dir, sizeof dir, "%s", o->cache_dir);
         else render_default_cache_dir(dir, sizeof dir);
-        if (render_effects_sampler(&lens, l0, l1, rmax, dir, o->threads, o->log, &smp, err))
+        if (render_effects_sampler(&lens, l0, l1, rmax, stop_only, dir, o->threads, o->log, &smp,
+                                   err))
             goto done;
     }
     img = malloc((size_t)sc.width * sc.height * 3 * sizeof *img);
@@ -227,6 +230,8 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
                                                       : "estimator of Eq. 13");
     render_job job = {.scene = &sc, .cam = &cam, .sampler = &smp, .estimator = o->estimator,
                       .use_eta = use_eta, .achromatic = achromatic,
+                      .filter = sc.filter_tent ? RENDER_FILTER_TENT : RENDER_FILTER_BOX,
+                      .filter_radius = sc.filter_radius,
                       .eta_const = eta_const, .spp = sc.spp, .threads = o->threads, .progress = o->progress,
                       .progress_ctx = o->progress_ctx};
     if (render_image(&job, img, NULL, st, err)) goto done;
