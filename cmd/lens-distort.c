@@ -79,6 +79,10 @@ int main(int argc, char **argv)
                    rep.grid, rep.grid, rep.sensor_w, rep.sensor_h, factor);
         }
     }
+    /* a field a model cannot image: the table is whole (nan rows), the status says so */
+    distort_report_warn(stderr, prog, &rq, &rep);
+    if (rc == 0 && rep.not_imaged)
+        rc = 2;
     distort_report_free(&rep);
     imaging_models_free(&models);
     return rc;

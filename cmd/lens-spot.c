@@ -68,6 +68,10 @@ int main(int argc, char **argv)
                    exr, panel, panel, um_px);
         }
     }
+    /* a field a model cannot image: the table is whole (nan rows), the status says so */
+    spot_report_warn(stderr, prog, &rq, &rep);
+    if (rc == 0 && rep.not_imaged)
+        rc = 2;
     spot_report_free(&rep);
     imaging_models_free(&models);
     return rc;
