@@ -37,6 +37,7 @@ typedef struct {
     int nclip, *clip;        /* clip surfaces, 0-based (besides the stop) */
     double *clip_share;      /* pilot: blocked share per surface, or NULL */
     char **names;            /* column names */
+    double fnumber;          /* --fnumber, or NAN */
 } trace_args;
 
 static int ncols(const trace_args *a)
@@ -58,6 +59,8 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
     fprintf(f, "# lens: %s\n", lens->name[0] ? lens->name : "-");
     if (strcmp(a->lens_path, "-") != 0 && !strchr(a->lens_path, '\n'))
         fprintf(f, "# lens-path: %s\n", a->lens_path);
+    if (!isnan(a->fnumber))
+        fprintf(f, "# fnumber: %.10g (the stop stopped down by --fnumber)\n", a->fnumber);
     if (a->clip_share) {
         fprintf(f, "# clip surfaces (>= %g%% of %d pilot rays blocked there):", 100 * CLIP_MIN_SHARE,
                 PILOT_RAYS);
@@ -347,6 +350,13 @@ int main(int argc, char **argv)
     lens_t lens;
     cli_load_lens(prog, a.lens_path, lens_cli_options_get(&o.lens), &lens);
     lens_cli_options_free(&o.lens);
+    lens_err err;
+    if (!isnan(o.fnumber) && lens_set_fnumber(&lens, o.fnumber, &err) != 0) {
+        diag_print(prog, &err);
+        lens_free(&lens);
+        return 1;
+    }
+    a.fnumber = o.fnumber;
     if (isnan(a.sensor_w)) {
         a.sensor_w = lens.sensor_w;
         a.sensor_h = lens.sensor_h;
@@ -354,7 +364,6 @@ int main(int argc, char **argv)
     if (!a.from_stdin && isnan(a.sensor_w))
         diag_die(prog, "%s: no sensor size in the lens header; give --sensor WxH", a.lens_path);
 
-    lens_err err;
     if ((a.clip_columns && choose_clip(&lens, &a, &err) != 0) || make_names(&a, &err) != 0) {
         diag_print(prog, &err);
         free_names(&a);

@@ -19,6 +19,7 @@ typedef struct {
     int all, threads, quiet;
     int stop_columns, clip_columns;
     const char *clip_list;    /* --clip-surfaces, or NULL */
+    double fnumber;           /* --fnumber: stop the lens down to it; NAN: as it is */
     lens_cli_options lens;
 } trace_cli;
 
