@@ -157,7 +157,7 @@ int main(int argc, char **argv)
      * leak checker sees none either way. */
     lens_err err;
     int rc = 1;
-    char *incopy = NULL, *outcopy = NULL, *default_out = NULL;
+    char *incopy = NULL, *outcopy = NULL, *default_out = NULL, *passage_note = NULL;
     const char **in_names = NULL, **out_names = NULL;
     double *tols = NULL, *in = NULL, *out = NULL, *vals = NULL;
     unsigned char *plain = NULL;
@@ -169,14 +169,30 @@ int main(int argc, char **argv)
     /* Hits on the stop (ap_*) and on clipping surfaces (sN_*, lens-trace --clip-columns)
      * in the samples: fit them too, so the system gets their pass circles and rays
      * blocked there do not pass it. */
-    if (!outputs_given) {
-        default_out = clip_outputs(r, outputs_s);
-        if (!default_out)
-            diag_die(prog, "out of memory");
+    default_out = clip_outputs(r, outputs_s);
+    if (!default_out)
+        diag_die(prog, "out of memory");
+    if (!outputs_given)
         outputs_s = default_out;
-    }
     int nin = split_list("--inputs", inputs_s, &incopy, &in_names);
     int nout = split_list("--outputs", outputs_s, &outcopy, &out_names);
+    /* passage columns of the samples that are not fitted */
+    int unfitted = 0;
+    {
+        char *avail_copy;
+        const char **avail;
+        int na = split_list("--outputs", default_out, &avail_copy, &avail);
+        for (int k = 0; k < na; k++) {
+            int found = !fit_is_passage_output(avail[k]);
+            for (int o = 0; o < nout && !found; o++)
+                found = strcmp(avail[k], out_names[o]) == 0;
+            unfitted += !found;
+        }
+        free(avail);
+        free(avail_copy);
+    }
+    if (samples_meta(r, "passage"))
+        passage_note = strdup(samples_meta(r, "passage"));
 
     /* --tolerance T (every output) or name=T,name=T (those outputs only). */
     if (tol_s && strchr(tol_s, '=')) {
@@ -260,11 +276,13 @@ int main(int argc, char **argv)
             }
             in[count * nin + i] = x;
         }
+        /* a blocked ray keeps only its passage hits (fit_is_passage_output): the fit
+         * learns them on both sides of each rim */
         int pass = ceta < 0 || vals[ceta] > 0;
-        for (int o = 0; o < nout; o++) {
-            out[count * nout + o] = pass ? vals[outmap[o]] : NAN;
-            pass &= isfinite(vals[outmap[o]]) != 0;
-        }
+        for (int o = 0; o < nout; o++)
+            pass &= fit_is_passage_output(out_names[o]) || isfinite(vals[outmap[o]]);
+        for (int o = 0; o < nout; o++)
+            out[count * nout + o] = pass || fit_is_passage_output(out_names[o]) ? vals[outmap[o]] : NAN;
         blocked += !pass;
         if (clam >= 0 && pass) {
             double l = vals[clam];
@@ -360,6 +378,15 @@ int main(int argc, char **argv)
         snprintf(buf, sizeof buf, "%.17g", lam0);
         poly_set_meta(sys, "lambda", buf);
     }
+    {
+        char why[256], val[300];
+        const char *gap = fit_passage_gap(passage_note, nout, out_names, unfitted, blocked, why,
+                                          sizeof why);
+        if (gap)
+            fprintf(stderr, "lens-fit: warning: passage partial: %s\n", gap);
+        snprintf(val, sizeof val, "%s%s", gap ? "partial: " : "full", gap ? gap : "");
+        poly_set_meta(sys, "passage", val);
+    }
     outfile *of = outfile_open(outpath, &err);
     if (!of)
         goto fail;
@@ -398,5 +425,6 @@ done:
     free(in); free(out); free(vals); free(inmap); free(outmap);
     free(in_names); free(out_names); free(tols); free(plain); free(incopy); free(outcopy);
     free(default_out);
+    free(passage_note);
     return rc;
 }

@@ -12,7 +12,6 @@
 #include "sparselens/sampling.h"
 #include "sparselens/trace.h"
 #include "sparselens/trace_clip.h"
-#include "sparselens/trace_stop.h"
 
 static const char *prog = "lens-trace";
 
@@ -21,9 +20,11 @@ static const char *const base_columns[] = {"x", "y", "u", "v", "lambda",
                                            "ap_x", "ap_y"};
 enum { NCOLS = 10, NCOLS_STOP = 12 };
 /* Rays of the pilot trace that picks the clip surfaces, and its seed: fixed, so that a
- * training and a test set traced with different --seed get the same columns. */
-enum { PILOT_RAYS = 65536, PILOT_SEED = 20161 };
-#define CLIP_MIN_SHARE 0.005
+ * training and a test set traced with different --seed get the same columns. A surface
+ * is modelled while it alone would let through >= CLIP_MIN_SHARE of the light: a tenth
+ * of the 0.5 % a system may disagree on in all (reports/vignetting.md). */
+enum { PILOT_RAYS = 65536, PILOT_SEED = 20161, MAX_CLIP = 8 };
+#define CLIP_MIN_SHARE 0.0005
 
 typedef struct {
     const char *lens_path, *out_path;
@@ -35,7 +36,9 @@ typedef struct {
     int all, threads, from_stdin, stop_columns, clip_columns, quiet;
     const char *clip_list;
     int nclip, *clip;        /* clip surfaces, 0-based (besides the stop) */
-    double *clip_share;      /* pilot: blocked share per surface, or NULL */
+    int *sel;                /* the stop, then the clip surfaces (clip = sel + 1) */
+    double *clip_share;      /* pilot: light share per surface (trace_clip.h), or NULL */
+    double clip_leak;        /* pilot: light no modelled surface blocks */
     char **names;            /* column names */
     double fnumber;          /* --fnumber, or NAN */
 } trace_args;
@@ -61,12 +64,20 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
         fprintf(f, "# lens-path: %s\n", a->lens_path);
     if (!isnan(a->fnumber))
         fprintf(f, "# fnumber: %.10g (the stop stopped down by --fnumber)\n", a->fnumber);
+    /* lens-fit reads this line: a system's passage is complete only from a pilot */
     if (a->clip_share) {
-        fprintf(f, "# clip surfaces (>= %g%% of %d pilot rays blocked there):", 100 * CLIP_MIN_SHARE,
-                PILOT_RAYS);
+        fprintf(f, "# passage: full (pilot of %d rays over the full ray space, shares of the "
+                "light the lens passes): stop %d blocks %.3g%%", PILOT_RAYS, lens->stop + 1,
+                100 * a->clip_share[lens->stop]);
+        if (a->target == TRACE_TO_OUTER)
+            fprintf(f, ", front 1 %.3g%%", 100 * a->clip_share[0]);
         for (int k = 0; k < a->nclip; k++)
-            fprintf(f, " %d (%.3g%%)", a->clip[k] + 1, 100 * a->clip_share[a->clip[k]]);
-        fprintf(f, "; stop %d (%.3g%%)\n", lens->stop + 1, 100 * a->clip_share[lens->stop]);
+            fprintf(f, ", %d +%.3g%%", a->clip[k] + 1, 100 * a->clip_share[a->clip[k]]);
+        fprintf(f, "; unmodelled %.3g%%\n", 100 * a->clip_leak);
+    } else {
+        fprintf(f, "# passage: partial (%s)\n", a->clip_list ? "clip surfaces given, no pilot"
+                                                : a->stop_columns ? "stop columns only"
+                                                                  : "no passage columns");
     }
 }
 
@@ -85,11 +96,6 @@ static void sampling_setup(const trace_args *a, sampling_options *so)
 /* The clip surfaces: those given, or those a pilot trace finds blocking rays. */
 static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
 {
-    a->clip = malloc(lens->nsurf * sizeof *a->clip);
-    if (!a->clip) {
-        lens_errf(err, NULL, 0, "out of memory");
-        return -1;
-    }
     if (a->clip_list) {
         const char *p = a->clip_list;
         while (*p) {
@@ -109,10 +115,9 @@ static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
         }
         return 0;
     }
-    if (isnan(a->sensor_w)) {
-        lens_errf(err, a->lens_path, 0, "--clip-columns: no sensor size for the pilot trace; "
-                  "give --sensor WxH or --clip-surfaces");
-        return -1;
+    if (isnan(a->sensor_w)) { /* filter mode on a lens without a sensor: the stop alone */
+        a->clip_columns = 0;
+        return 0;
     }
     sampling_options so;
     sampling_setup(a, &so);
@@ -123,7 +128,7 @@ static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
         return -1;
     }
     int k = trace_clip_pilot(lens, &so, PILOT_RAYS, CLIP_MIN_SHARE, a->target == TRACE_TO_OUTER,
-                             a->clip_share, a->clip, err);
+                             MAX_CLIP, a->clip_share, a->clip, &a->clip_leak, err);
     if (k < 0)
         return -1;
     a->nclip = k;
@@ -158,7 +163,7 @@ static void free_names(trace_args *a)
             free(a->names[nb + k]);
     }
     free(a->names);
-    free(a->clip);
+    free(a->sel);
     free(a->clip_share);
 }
 
@@ -178,14 +183,13 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         return -1;
     const size_t chunk = 1 << 16;
     double *in = malloc(chunk * 5 * sizeof *in), *out = malloc(chunk * 5 * sizeof *out);
-    double *ap = a->stop_columns ? malloc(chunk * 2 * sizeof *ap) : NULL;
-    double *hits = a->nclip ? malloc(chunk * 2 * (size_t)a->nclip * sizeof *hits) : NULL;
+    int nsel = a->stop_columns + a->nclip; /* the stop, then the clip surfaces */
+    double *hits = malloc(chunk * 2 * (size_t)(nsel ? nsel : 1) * sizeof *hits);
     double *row = malloc((size_t)ncols(a) * sizeof *row);
-    if (!in || !out || (a->stop_columns && !ap) || (a->nclip && !hits) || !row) {
+    if (!in || !out || !hits || !row) {
         lens_errf(err, NULL, 0, "out of memory");
         free(in);
         free(out);
-        free(ap);
         free(hits);
         free(row);
         ray_generator_free(g);
@@ -209,28 +213,21 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         size_t n = chunk;
         if (a->all && (size_t)(a->count - written) < n)
             n = (size_t)(a->count - written);
+
         if (ray_generator_fill(g, next, n, in, err) != 0 ||
             trace_batch(lens, a->target, n, in, out, NULL, a->threads, err) != 0 ||
-            (ap && trace_stop_batch(lens, n, in, ap, a->threads, err) != 0)) {
+            (nsel && trace_surfaces_batch(lens, nsel, a->sel + !a->stop_columns, n, in, hits,
+                                          a->threads, err) != 0)) {
             rc = -1;
             break;
         }
-        for (int k = 0; k < a->nclip && rc == 0; k++)
-            if (trace_surface_batch(lens, a->clip[k], n, in, hits + 2 * chunk * (size_t)k,
-                                    a->threads, err) != 0)
-                rc = -1;
-        if (rc)
-            break;
         next += n;
         for (size_t i = 0; i < n && written < a->count; i++) {
             if (!a->all && !(out[5 * i + 4] > 0))
                 continue;
             memcpy(row, in + 5 * i, 5 * sizeof *row);
             memcpy(row + 5, out + 5 * i, 5 * sizeof *row);
-            if (ap)
-                memcpy(row + NCOLS, ap + 2 * i, 2 * sizeof *row);
-            for (int k = 0, nb = ap ? NCOLS_STOP : NCOLS; k < a->nclip; k++)
-                memcpy(row + nb + 2 * k, hits + 2 * chunk * (size_t)k + 2 * i, 2 * sizeof *row);
+            memcpy(row + NCOLS, hits + 2 * (size_t)nsel * i, 2 * (size_t)nsel * sizeof *row);
             samples_write_row(f, row, ncols(a));
             written++;
         }
@@ -241,7 +238,6 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         fputc('\n', stderr);
     free(in);
     free(out);
-    free(ap);
     free(hits);
     free(row);
     ray_generator_free(g);
@@ -308,7 +304,7 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
                 trace_result res = trace_sample(lens, n, a->target, row, row + 5);
                 row[9] = res.status == TRACE_PASSED ? res.transmittance : 0.0;
                 if (a->stop_columns)
-                    trace_stop_hit(lens, n, row, row + NCOLS);
+                    trace_surface_hit(lens, lens->stop, n, row, row + NCOLS);
                 for (int k = 0, nb = a->stop_columns ? NCOLS_STOP : NCOLS; k < a->nclip; k++)
                     trace_surface_hit(lens, a->clip[k], n, row, row + nb + 2 * k);
             }
@@ -331,12 +327,15 @@ int main(int argc, char **argv)
     trace_cli_default(&o);
     const char *operand[2];
     int nop = opt_parse(&trace_command, argc, argv, &o, operand, 2);
+    /* the passage columns: all the pilot finds unless less is asked for */
+    int cols_none = o.no_passage_columns, cols_stop = o.stop_columns && !o.clip_columns;
     trace_args a = {.out_path = o.out_path, .count = o.count, .seed = o.seed,
                     .strategy = o.strategy, .lambda_min = o.lambda[0], .lambda_max = o.lambda[1],
                     .sensor_w = o.sensor.w, .sensor_h = o.sensor.h, .target = o.target,
-                    .all = o.all, .threads = o.threads, .quiet = o.quiet,
-                    .stop_columns = o.stop_columns || o.clip_columns || o.clip_list,
-                    .clip_columns = o.clip_columns || o.clip_list, .clip_list = o.clip_list};
+                    .all = !o.passing_only, .threads = o.threads, .quiet = o.quiet,
+                    .stop_columns = !cols_none || o.clip_list,
+                    .clip_columns = (!cols_none && !cols_stop) || o.clip_list,
+                    .clip_list = o.clip_list};
     for (int k = 0; k < nop; k++) {
         if (strcmp(operand[k], "-") == 0)
             a.from_stdin = 1;
@@ -364,6 +363,11 @@ int main(int argc, char **argv)
     if (!a.from_stdin && isnan(a.sensor_w))
         diag_die(prog, "%s: no sensor size in the lens header; give --sensor WxH", a.lens_path);
 
+    a.sel = malloc((lens.nsurf + 1) * sizeof *a.sel);
+    if (!a.sel)
+        diag_die(prog, "out of memory");
+    a.sel[0] = lens.stop;
+    a.clip = a.sel + 1;
     if ((a.clip_columns && choose_clip(&lens, &a, &err) != 0) || make_names(&a, &err) != 0) {
         diag_print(prog, &err);
         free_names(&a);

@@ -43,30 +43,14 @@ static const opt_spec fit_table[] = {
      .help = "input columns; without lambda the samples must hold a single wavelength",
      .def = "x,y,u,v,lambda"},
     {0, "outputs", "LIST", OPT_STRING, OPT_AT(fit_cli, outputs),
-     .help = "output columns: each pair ap_x,ap_y and sN_x,sN_y (lens-trace --stop-columns, "
-             "--clip-columns), and out_x,out_y, gets a pass circle",
+     .help = "output columns: each pair ap_x,ap_y and sN_x,sN_y (the passage columns of "
+             "lens-trace), and out_x,out_y, gets a pass circle",
      .def = "out_x,out_y,out_u,out_v,out_eta and the pairs ap_x,ap_y and sN_x,sN_y the "
             "samples have",
      .man =
      "Leave out\n"
      ".B out_eta\n"
-     "if transmittance is not needed.\n"
-     ".IP\n"
-     "Whether a ray passes is decided by pass circles on the outputs\n"
-     ".RB ( lens-poly (5)):\n"
-     "one on out_x, out_y (the front element, or the stop with\n"
-     ".BR \"\\-\\-to stop\" )\n"
-     "and one on ap_x, ap_y (the stop), each with the largest radius among the passing\n"
-     "training rays, and one on each pair sN_x, sN_y (surface N's rim). Without ap_x, ap_y\n"
-     "a system lets through rays that only the stop blocks; without the sN pairs, rays that\n"
-     "only an inner element's rim blocks. A system with these among its outputs needs them in\n"
-     "the test set for\n"
-     ".BR \"lens-eval \\-\\-report\" ,\n"
-     "so trace that with the same\n"
-     ".B \\-\\-stop\\-columns\n"
-     "or\n"
-     ".B \\-\\-clip\\-columns\n"
-     "(and sampling) too. Each pair costs the evaluation of two more outputs.\n"},
+     "if transmittance is not needed; see PASSAGE for the pairs.\n"},
     {0, "frame", "F", OPT_CALL, OPT_AT(fit_cli, frame), .set = set_frame,
      .help = "meridional: fit in the frame of a rotationally symmetric lens (each ray turned "
              "about the axis so its sensor point lies on +x; one input fewer); none: as "
