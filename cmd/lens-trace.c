@@ -1,6 +1,7 @@
 /* lens-trace: generates sample rays and traces them through a lens, or traces the rays
  * given on stdin; writes a sample file (lens-samples(5)). The work is trace_run
  * (src/app/trace_run.c). */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -40,8 +41,13 @@ int main(int argc, char **argv)
     lens_t lens;
     cli_load_lens(prog, o.lens_path, lens_cli_options_get(&o.lens), &lens);
     lens_cli_options_free(&o.lens);
-
     lens_err err;
+    if (!isnan(o.fnumber) && lens_set_fnumber(&lens, o.fnumber, &err) != 0) {
+        diag_print(prog, &err);
+        lens_free(&lens);
+        return 1;
+    }
+
     int shown = 0;
     trace_run_hooks hooks = {on_bad_row, NULL, &shown};
     if (!o.quiet && cli_progress_wanted() && o.count > 200000)

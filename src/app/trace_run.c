@@ -35,6 +35,7 @@ typedef struct {
     double *clip_share;      /* pilot: light share per surface (trace_clip.h), or NULL */
     double clip_leak;        /* pilot: light no modelled surface blocks */
     char **names;            /* column names */
+    double fnumber;          /* --fnumber, or NAN */
     const trace_run_hooks *hooks;
 } trace_args;
 
@@ -57,6 +58,8 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
     fprintf(f, "# lens: %s\n", lens->name[0] ? lens->name : "-");
     if (strcmp(a->lens_path, "-") != 0 && !strchr(a->lens_path, '\n'))
         fprintf(f, "# lens-path: %s\n", a->lens_path);
+    if (!isnan(a->fnumber))
+        fprintf(f, "# fnumber: %.10g (the stop stopped down by --fnumber)\n", a->fnumber);
     /* lens-fit reads this line: a system's passage is complete only from a pilot */
     if (a->clip_share) {
         fprintf(f, "# passage: full (pilot of %d rays over the full ray space, shares of the "
@@ -322,7 +325,7 @@ int trace_run(const trace_cli *o, const lens_t *lens, samples_reader *in, FILE *
                     .threads = o->threads, .from_stdin = o->from_stdin,
                     .stop_columns = !cols_none || o->clip_list,
                     .clip_columns = (!cols_none && !cols_stop) || o->clip_list,
-                    .clip_list = o->clip_list, .hooks = hooks};
+                    .clip_list = o->clip_list, .fnumber = o->fnumber, .hooks = hooks};
     *bad_rows = 0;
     if (isnan(a.sensor_w)) {
         a.sensor_w = lens->sensor_w;
