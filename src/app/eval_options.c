@@ -66,6 +66,7 @@ static const opt_spec eval_table[] = {
      .def = "lens_poly_eval"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(eval_cli, output),
      .help = "output file, never left half-written", .def = "standard output"},
+    {.type = OPT_GROUP, OPT_AT(eval_cli, out), .group = output_cli_table},
     {0}};
 
 const opt_command eval_command = {
@@ -85,5 +86,6 @@ void eval_cli_default(eval_cli *o)
     o->output = "-";
     o->emit_c = 0;
     o->name = "lens_poly_eval";
+    o->out = (output_cli){0, 0};
     eval_run_options_default(&o->run);
 }
