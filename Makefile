@@ -21,6 +21,9 @@ BIN   := bin-san
 OPT   := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
 endif
 
+VERSION  := $(shell cat VERSION)
+# Header dependencies come from the compiler: a .d file beside each output.
+DEPFLAGS := -MMD -MP
 # Libraries are found by pkg-config; where a distribution ships no .pc file (Debian's
 # split OpenCV packages have no opencv4.pc, OpenEXR 3 has no OpenEXRCore.pc) the
 # compiler is asked where the header lies and the library is named plainly. Only the
@@ -56,7 +59,6 @@ LDLIBS   := $(OPENCV_LIBS) $(EXR_LIBS) $(PROJ_LIBS) $(LAPACK_LIBS) -lstdc++ -lm
 
 LIB_C    := $(wildcard src/*/*.c)
 LIB_CXX  := $(wildcard src/*/*.cpp)
-HEADERS  := $(wildcard include/sparselens/*.h src/*/*.h)
 TEST_SRC := $(wildcard tests/unit/*/test_*.c)
 LIB_OBJ  := $(LIB_C:src/%.c=$(BUILD)/src/%.o) $(LIB_CXX:src/%.cpp=$(BUILD)/src/%.o)
 CMDS     := $(patsubst cmd/%.c,$(BIN)/%,$(wildcard cmd/lens-*.c))
@@ -64,36 +66,55 @@ TESTS    := $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(TEST_SRC)))
 BENCHES  := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/bench_*.c))
 LIB      := $(BUILD)/liblens.a
 
-.PHONY: all deps test check demo bench reports install fuzz clean
-all: $(CMDS) $(TESTS) $(BENCHES)
+.PHONY: all deps test check demo bench reports install fuzz clean man
+all: $(CMDS) $(TESTS) $(BENCHES) man
+
+# The OPTIONS section of each command's man page is generated from its option table
+# (lens-x --help-man, spliced in by tools/man-options.sh): rebuilt with the command.
+MAN_STAMPS := $(patsubst $(BIN)/%,$(BUILD)/man/%.stamp,$(CMDS))
+man: $(MAN_STAMPS)
+$(BUILD)/man/%.stamp: $(BIN)/% man/%.1 tools/man-options.sh
+	@mkdir -p $(dir $@)
+	tools/man-options.sh man/$*.1 $(BIN)/$*
+	@touch $@
 
 deps:
 	@tools/install-deps.sh
 
-$(BUILD)/src/%.o: src/%.c $(HEADERS)
-	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+# Header dependencies come from the .d files (DEPFLAGS); the flags live here, so a
+# changed Makefile rebuilds the objects too.
+$(LIB_OBJ): Makefile
 
-$(BUILD)/src/%.o: src/%.cpp $(HEADERS)
+$(BUILD)/src/%.o: src/%.c
 	@mkdir -p $(dir $@)
-	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c $< -o $@
+	$(CC) $(CPPFLAGS) $(DEPFLAGS) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/src/%.o: src/%.cpp
+	@mkdir -p $(dir $@)
+	$(CXX) $(CPPFLAGS) $(DEPFLAGS) $(CXXFLAGS) -c $< -o $@
 
 $(LIB): $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
+# The version (one place: the VERSION file) reaches the commands through options.c.
+$(BUILD)/src/app/options.o: CPPFLAGS += -DSPARSELENS_VERSION='"$(VERSION)"'
+$(BUILD)/src/app/options.o: VERSION
+
 $(BIN)/lens-%: cmd/lens-%.c $(LIB)
-	@mkdir -p $(BIN)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+	@mkdir -p $(BIN) $(BUILD)/cmd
+	$(CC) $(CPPFLAGS) $(DEPFLAGS) -MF $(BUILD)/cmd/lens-$*.d -MT $@ $(CFLAGS) $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
 vpath test_%.c $(sort $(dir $(TEST_SRC)))
-$(BUILD)/tests/test_%: test_%.c $(LIB) $(wildcard tests/unit/*.h)
+$(BUILD)/tests/test_%: test_%.c $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(CMOCKA_CFLAGS) -Itests/unit $(CFLAGS) $< $(LIB) $(LDFLAGS) $(CMOCKA_LIBS) $(LDLIBS) -o $@
+	$(CC) $(CPPFLAGS) $(DEPFLAGS) -MF $@.d -MT $@ $(CMOCKA_CFLAGS) -Itests/unit $(CFLAGS) $< $(LIB) $(LDFLAGS) $(CMOCKA_LIBS) $(LDLIBS) -o $@
 
 $(BUILD)/bench/%: bench/%.c $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -O3 $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+	$(CC) $(CPPFLAGS) $(DEPFLAGS) -MF $@.d -MT $@ $(CFLAGS) -O3 $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+
+-include $(LIB_OBJ:.o=.d) $(patsubst $(BIN)/%,$(BUILD)/cmd/%.d,$(CMDS)) $(TESTS:=.d) $(BENCHES:=.d)
 
 # The whole suite: unit tests, command-line tests, hard cases, short fuzz runs.
 test: deps
@@ -134,14 +155,14 @@ $(INST)/datadir.txt: FORCE
 	@mkdir -p $(dir $@)
 	@echo '$(DATADIR)' | cmp -s - $@ || echo '$(DATADIR)' > $@
 
-$(INST)/data_path.o: src/base/data_path.c $(INST)/datadir.txt $(HEADERS)
+$(INST)/data_path.o: src/base/data_path.c include/sparselens/data_path.h $(INST)/datadir.txt
 	$(CC) $(CPPFLAGS) -DSPARSELENS_DATADIR='"$(DATADIR)"' $(CFLAGS) -c $< -o $@
 
 $(INST)/bin/lens-%: cmd/lens-%.c $(INST)/data_path.o $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< $(INST)/data_path.o $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
-install: $(INST_CMDS)
+install: $(INST_CMDS) man
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(DATADIR)/lenses/reference/fx \
 	           $(DESTDIR)$(DATADIR)/lenses/reference/pbrt $(DESTDIR)$(DATADIR)/scenes \
 	           $(addprefix $(DESTDIR)$(MANDIR)/man,$(sort $(subst .,,$(suffix $(MANPAGES)))))

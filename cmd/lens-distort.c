@@ -5,99 +5,33 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sparselens/cli.h"
-#include "sparselens/imaging_cli.h"
-#include "sparselens/lens_cli_options.h"
+#include "sparselens/distort_cli.h"
 #include "sparselens/distort_run.h"
 #include "sparselens/outfile.h"
 
 static const char *const prog = "lens-distort";
 
-static const char *const usage =
-    "usage: lens-distort LENS|SYSTEM.poly [options]\n"
-    "Distortion of real chief rays (aimed through the stop centre) against f tan(theta)\n"
-    "and the fisheye projections, relative illumination, grid map, OpenCV model fits.\n"
-    "  --fields LIST          field angles in degrees, or object heights in mm with\n"
-    "                         --object-distance; default 11 fields up to the largest\n"
-    "  --object-distance MM   finite object, MM in front of the first vertex\n"
-    "  --wavelengths LIST     um values or Fraunhofer names; the middle one is used\n"
-    "                         (default d)\n"
-    "  --focus file|paraxial|best   sensor plane (default file)\n"
-    "  --illum-rays N         rays across a bundle for relative illumination (default 32;\n"
-    "                         0 skips it)\n"
-    "  --grid N               grid map points per side (default 17)\n"
-    "  --mapping NAME         ideal projection of the grid map: rectilinear, equidistant,\n"
-    "                         equisolid, stereographic, orthographic (default: the one\n"
-    "                         the lens follows best)\n"
-    "  --sensor WxH           sensor size in mm for the grid map (default: the lens\n"
-    "                         header's, else a square inscribed in the largest field)\n"
-    "  --exaggerate K         displacement factor in the picture (default: automatic)\n"
-    "  --map FILE             write the grid displacement field as text ('-': stdout)\n"
-    "  --png FILE             grid map picture\n"
-    "  --opencv WxH           fit OpenCV's Brown-Conrady and fisheye models for a sensor\n"
-    "                         of WxH pixels; prints coefficients and residuals\n"
-    "  --compare SYSTEM.poly  also through a fitted system, beside the lens\n"
-    "  --lens LENS            the lens of a SYSTEM.poly given as the first argument\n"
-    LENS_CLI_OPTIONS_HELP
-    "  --help\n";
-
-/* lens-distort's own flags, beside the shared ones of imaging_cli.h. */
-typedef struct {
-    const char *illum, *grid, *mapping, *sensor, *exag, *map, *opencv;
-} distort_flags;
-
-static int distort_flag(const char *p, int argc, char **argv, int *i, void *ctx)
-{
-    distort_flags *f = ctx;
-    return cli_opt(p, argc, argv, i, "--illum-rays", &f->illum) ||
-           cli_opt(p, argc, argv, i, "--grid", &f->grid) ||
-           cli_opt(p, argc, argv, i, "--mapping", &f->mapping) ||
-           cli_opt(p, argc, argv, i, "--sensor", &f->sensor) ||
-           cli_opt(p, argc, argv, i, "--exaggerate", &f->exag) ||
-           cli_opt(p, argc, argv, i, "--map", &f->map) ||
-           cli_opt(p, argc, argv, i, "--opencv", &f->opencv);
-}
-
 int main(int argc, char **argv)
 {
-    distort_flags df = {.illum = "32", .grid = "17"};
-    imaging_cli a = {.wavelengths = "d"};
-    imaging_cli_parse(prog, usage, argc, argv, &a, distort_flag, &df);
-    const char *input = a.input, *fields_s = a.fields, *mapping_s = df.mapping,
-               *sensor_s = df.sensor, *exag_s = df.exag, *map_path = df.map, *png = a.png,
-               *opencv_s = df.opencv;
+    distort_cli o;
+    distort_cli_default(&o);
+    const char *operand[1];
+    int nop = opt_parse(&distort_command, argc, argv, &o, operand, 1);
+    imaging_cli_finish(prog, &o.im, operand, nop);
+    const char *input = o.im.input, *fields_s = o.im.fields, *map_path = o.map, *png = o.png;
+    int opencv = o.opencv.w > 0;
     lens_err err;
     double field[IMAGING_MAX_FIELDS];
-    distort_request rq = {.lambda = a.lambda[a.nl / 2], .mapping = -1, .sensor_w = NAN,
-                          .sensor_h = NAN, .focus = a.focus_mode};
-    rq.illum_rays = (int)cli_count(prog, "--illum-rays", df.illum, 0, 2000);
-    int ng = (int)cli_count(prog, "--grid", df.grid, 2, 501);
-    proj_kind mapping;
-    if (mapping_s) {
-        if (proj_parse(mapping_s, &mapping) != 0)
-            diag_die(prog, "--mapping: '%s' is not rectilinear, equidistant, equisolid, "
-                           "stereographic or orthographic", mapping_s);
-        rq.mapping = (int)mapping;
-    }
-    if (sensor_s) {
-        cli_pair(prog, "--sensor", sensor_s, 'x', &rq.sensor_w, &rq.sensor_h);
-        if (!(rq.sensor_w > 0 && rq.sensor_h > 0))
-            diag_die(prog, "--sensor: width and height must be positive");
-    }
-    double exag = exag_s ? cli_positive(prog, "--exaggerate", exag_s) : NAN;
-    if (opencv_s) {
-        double w, h;
-        cli_pair(prog, "--opencv", opencv_s, 'x', &w, &h);
-        if (!(w >= 16 && h >= 16 && w <= 100000 && h <= 100000) || w != floor(w) || h != floor(h))
-            diag_die(prog, "--opencv: give the sensor size in whole pixels, e.g. 1920x1080");
-        rq.cv_width = (int)w, rq.cv_height = (int)h;
-    }
-    if (opencv_s && isfinite(a.object_distance))
+    distort_request rq = {.lambda = o.im.lambda[o.im.nl / 2], .mapping = o.mapping,
+                          .sensor_w = o.sensor.w, .sensor_h = o.sensor.h,
+                          .focus = o.im.focus_mode, .illum_rays = o.illum_rays,
+                          .cv_width = (int)o.opencv.w, .cv_height = (int)o.opencv.h};
+    if (opencv && isfinite(o.im.object_distance))
         diag_die(prog, "--opencv needs an object at infinity");
-    rq.grid = png || map_path || opencv_s ? ng : 0;
+    rq.grid = png || map_path || opencv ? o.grid : 0;
 
     imaging_models models;
-    rq.nmodels = imaging_cli_load(prog, &a, &models, rq.im, rq.model_names);
+    rq.nmodels = imaging_cli_load(prog, &o.im, &models, rq.im, rq.model_names);
     if (fields_s) {
         rq.nfields = numbers_parse(fields_s, "field", field, IMAGING_MAX_FIELDS, &err);
         if (rq.nfields < 0)
@@ -131,8 +65,8 @@ int main(int argc, char **argv)
         }
     }
     if (png && rc == 0) {
-        double factor = isfinite(exag) ? exag : distort_auto_factor(&rep);
-        const char *base = imaging_cli_basename(&a);
+        double factor = isfinite(o.exaggerate) ? o.exaggerate : distort_auto_factor(&rep);
+        const char *base = imaging_cli_basename(&o.im);
         char title[300];
         snprintf(title, sizeof title, "%s  distortion grid map (%s ideal, %.4g um)",
                  models.lens.name[0] ? models.lens.name : base, proj_name(rep.mapping), rq.lambda);
@@ -145,6 +79,10 @@ int main(int argc, char **argv)
                    rep.grid, rep.grid, rep.sensor_w, rep.sensor_h, factor);
         }
     }
+    /* a field a model cannot image: the table is whole (nan rows), the status says so */
+    distort_report_warn(stderr, prog, &rq, &rep);
+    if (rc == 0 && rep.not_imaged)
+        rc = 2;
     distort_report_free(&rep);
     imaging_models_free(&models);
     return rc;

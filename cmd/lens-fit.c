@@ -5,50 +5,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <time.h>
 
-#include "sparselens/cli.h"
-#include "sparselens/fit.h"
+#include "sparselens/fit_cli.h"
 #include "sparselens/outfile.h"
 #include "sparselens/poly.h"
 #include "sparselens/samples.h"
 
 
 static const char *prog = "lens-fit";
-
-static const char *usage =
-    "usage: lens-fit [options] [FILE|-]\n"
-    "Fits an adaptive sparse polynomial system (man 5 lens-poly) to a sample file\n"
-    "(man 5 lens-samples) and writes it to stdout or -o FILE.\n"
-    "  --terms N          terms per output and part (default 40)\n"
-    "  --degree D         candidates: all monomials up to degree D (default 11)\n"
-    "  --tolerance T      stop an output when its held-out RMS error <= T (output units,\n"
-    "                     mm for positions; default 0: off); or name=T,... per output\n"
-    "  --parts P          allow up to P radial parts where one polynomial misses T (default 1)\n"
-    "  --inputs LIST      input columns (default x,y,u,v,lambda); without lambda the samples\n"
-    "                     must hold a single wavelength\n"
-    "  --outputs LIST     output columns (default out_x,out_y,out_u,out_v,out_eta, and the\n"
-    "                     pairs ap_x,ap_y and sN_x,sN_y the samples have: lens-trace\n"
-    "                     --stop-columns, --clip-columns); each such pair, and out_x,out_y,\n"
-    "                     gets a pass circle\n"
-    "  --frame F          meridional: fit in the frame of a rotationally symmetric lens\n"
-    "                     (each ray turned about the axis so its sensor point lies on +x;\n"
-    "                     one input fewer), none: as given; auto (default): meridional\n"
-    "                     when the inputs hold x, y, u, v and the outputs come in pairs\n"
-    "  --frame-except LIST  outputs fitted outside the frame (default out_u,out_v: the\n"
-    "                     outer-pupil tangent frame does not turn with the ray; give ''\n"
-    "                     for samples of lens-trace --to stop)\n"
-    "  --lambda-transform T  inverse-square: polynomials in 1/lambda^2 (dispersion is\n"
-    "                     nearly linear in it), identity: in lambda; auto (default):\n"
-    "                     inverse-square when lambda is an input\n"
-    "  --holdout F        fraction of samples held out for stopping (default 0.2)\n"
-    "  --seed S           seed of the held-out split (default 1)\n"
-    "  --threads N        threads (default: all); the result does not depend on it\n"
-    "  --lens NAME        lens name recorded in the system (default: the file's base name)\n"
-    "  --emit c           write C code (a function NAME(in, out)) instead of the system\n"
-    "  --name NAME        function name for --emit c (default lens_poly)\n"
-    "  -o FILE            output file (written whole or not at all)\n"
-    "  -q                 no progress and summary on stderr\n";
 
 /* Splits "a,b,c" into names (pointers into a copy). */
 static int split_list(const char *opt, const char *s, char **copy, const char ***names)
@@ -78,9 +44,67 @@ static void lens_name_from(const char *path, char *buf, size_t len)
     char *dot = strrchr(buf, '.');
     if (dot && dot != buf)
         *dot = '\0';
-    for (char *p = buf; *p; p++)
-        if (*p == ' ' || *p == '\t' || *p == '#')
-            *p = '_';
+}
+
+/* A lens path relative to the working directory, made relative to the directory of the
+ * system written to out_path, so that it is found beside the system from anywhere (the
+ * path stays as it is when out_path is in the working directory, is stdout, or when
+ * either cannot be resolved; it becomes absolute when the two share no directory). */
+static void lens_path_for_output(char *lpath, size_t plen, const char *out_path)
+{
+    const char *slash = strrchr(out_path, '/');
+    if (!lpath[0] || lpath[0] == '/' || !slash)
+        return;
+    char dir[4096], lens[4096], cwd[4096];
+    snprintf(dir, sizeof dir, "%.*s", (int)(slash - out_path), out_path);
+    if (!realpath(dir[0] ? dir : "/", dir) || !realpath(lpath, lens) || !getcwd(cwd, sizeof cwd) ||
+        strcmp(dir, cwd) == 0 || strcmp(dir, "/") == 0)
+        return;
+    /* the common leading directories, then one ".." per directory of dir left over */
+    size_t common = 0;
+    for (size_t i = 0; dir[i] && dir[i] == lens[i]; i++)
+        if (dir[i] == '/')
+            common = i;
+    if (strncmp(dir, lens, strlen(dir)) == 0 && lens[strlen(dir)] == '/')
+        common = strlen(dir);
+    if (common == 0) { /* nothing shared but the root: the absolute path reads better */
+        snprintf(lpath, plen, "%s", lens);
+        return;
+    }
+    char rel[4096] = "";
+    for (const char *p = dir + common; *p; p++)
+        if (*p == '/')
+            strncat(rel, "../", sizeof rel - strlen(rel) - 1);
+    strncat(rel, lens + common + 1, sizeof rel - strlen(rel) - 1);
+    snprintf(lpath, plen, "%s", rel);
+}
+
+/* The lens a system remembers: --lens (a name, or a lens file: then its path too), else
+ * the "# lens:" and "# lens-path:" lines lens-trace writes into samples, else the
+ * samples file's base name. The path is what lens-spot and lens-distort load when given
+ * the system alone. */
+static void lens_of_samples(const samples_reader *r, const char *given, const char *path,
+                            char *name, size_t nlen, char *lpath, size_t plen)
+{
+    FILE *probe = given ? fopen(given, "r") : NULL;
+    const char *meta_name = samples_meta(r, "lens"), *meta_path = samples_meta(r, "lens-path");
+    lpath[0] = '\0';
+    if (probe) {
+        fclose(probe);
+        snprintf(lpath, plen, "%s", given);
+        lens_name_from(given, name, nlen);
+    } else if (given) {
+        snprintf(name, nlen, "%s", given);
+    } else if (meta_name && strcmp(meta_name, "-") != 0) {
+        snprintf(name, nlen, "%s", meta_name);
+    } else {
+        lens_name_from(meta_path ? meta_path : path, name, nlen);
+    }
+    if (!probe && meta_path)
+        snprintf(lpath, plen, "%s", meta_path);
+    for (char *p = name; *p; p++) /* one line in the .poly */
+        if (*p == '\n' || *p == '\r' || *p == '\t')
+            *p = ' ';
 }
 
 /* base, then every x,y column pair of the samples named ap_* or sN_* (digits N). */
@@ -117,71 +141,23 @@ static char *clip_outputs(const samples_reader *r, const char *base)
 
 int main(int argc, char **argv)
 {
-    fit_options opt;
-    fit_options_default(&opt);
-    const char *inputs_s = "x,y,u,v,lambda", *outputs_s = "out_x,out_y,out_u,out_v,out_eta";
-    const char *path = "-", *outpath = "-", *emit = NULL, *lens = NULL, *fname = "lens_poly";
-    int quiet = 0, npos = 0, outputs_given = 0;
-    const char *tol_s = NULL, *frame_s = "auto", *lxf_s = "auto";
-    const char *except_s = "out_u,out_v";
-    for (int i = 1; i < argc; i++) {
-        const char *v;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0)
-            cli_help(usage);
-        else if (cli_opt(prog, argc, argv, &i, "--terms", &v))
-            opt.max_terms = (int)cli_count(prog, "--terms", v, 1, 10000);
-        else if (cli_opt(prog, argc, argv, &i, "--degree", &v))
-            opt.max_degree = (int)cli_count(prog, "--degree", v, 0, POLY_MAX_DEGREE);
-        else if (cli_opt(prog, argc, argv, &i, "--tolerance", &v))
-            tol_s = v;
-        else if (cli_opt(prog, argc, argv, &i, "--parts", &v))
-            opt.max_parts = (int)cli_count(prog, "--parts", v, 1, 64);
-        else if (cli_opt(prog, argc, argv, &i, "--inputs", &v))
-            inputs_s = v;
-        else if (cli_opt(prog, argc, argv, &i, "--outputs", &v))
-            outputs_s = v, outputs_given = 1;
-        else if (cli_opt(prog, argc, argv, &i, "--frame", &v)) {
-            if (strcmp(v, "auto") != 0 && poly_frame_parse(v) < 0)
-                diag_die(prog, "--frame: auto, none or meridional, not '%s'", v);
-            frame_s = v;
-        } else if (cli_opt(prog, argc, argv, &i, "--frame-except", &v)) {
-            except_s = v;
-        } else if (cli_opt(prog, argc, argv, &i, "--lambda-transform", &v)) {
-            if (strcmp(v, "auto") != 0 && poly_xform_parse(v) < 0)
-                diag_die(prog, "--lambda-transform: auto, identity or inverse-square, not '%s'", v);
-            lxf_s = v;
-        } else if (cli_opt(prog, argc, argv, &i, "--holdout", &v)) {
-            opt.holdout = cli_double(prog, "--holdout", v);
-            if (!(opt.holdout >= 0 && opt.holdout <= 0.9))
-                diag_die(prog, "--holdout: must lie in [0, 0.9], not %s", v);
-        } else if (cli_opt(prog, argc, argv, &i, "--seed", &v))
-            opt.seed = (unsigned long)cli_count(prog, "--seed", v, 0, 4294967295L);
-        else if (cli_opt(prog, argc, argv, &i, "--threads", &v))
-            opt.threads = (int)cli_count(prog, "--threads", v, 1, 1024);
-        else if (cli_opt(prog, argc, argv, &i, "--lens", &v))
-            lens = v;
-        else if (cli_opt(prog, argc, argv, &i, "--emit", &v)) {
-            if (strcmp(v, "c") != 0)
-                diag_die(prog, "--emit: only 'c' is known, not '%s'", v);
-            emit = v;
-        } else if (cli_opt(prog, argc, argv, &i, "--name", &v))
-            fname = v;
-        else if (cli_opt(prog, argc, argv, &i, "-o", &v))
-            outpath = v;
-        else if (strcmp(argv[i], "-q") == 0)
-            quiet = 1;
-        else if (argv[i][0] == '-' && argv[i][1] != '\0')
-            diag_die(prog, "unknown option '%s' (see --help)", argv[i]);
-        else if (npos++ == 0)
-            path = argv[i];
-        else
-            diag_die(prog, "more than one sample file (see --help)");
-    }
+    fit_cli c;
+    fit_cli_default(&c);
+    const char *operand[1];
+    if (opt_parse(&fit_command, argc, argv, &c, operand, 1) == 1)
+        c.samples_path = operand[0];
+    fit_options opt = c.fit;
+    const char *inputs_s = c.inputs, *outputs_s = c.outputs ? c.outputs : "out_x,out_y,out_u,out_v,out_eta";
+    const char *path = c.samples_path, *outpath = c.out_path, *emit = c.emit_c ? "c" : NULL,
+               *lens = c.lens, *fname = c.name;
+    int quiet = c.quiet, outputs_given = c.outputs != NULL;
+    const char *tol_s = c.tolerance, *frame_s = c.frame, *lxf_s = c.lambda_transform;
+    const char *except_s = c.frame_except;
     /* Everything below is released at `done`, on success and on every error, so that a
      * leak checker sees none either way. */
     lens_err err;
     int rc = 1;
-    char *incopy = NULL, *outcopy = NULL, *default_out = NULL;
+    char *incopy = NULL, *outcopy = NULL, *default_out = NULL, *passage_note = NULL;
     const char **in_names = NULL, **out_names = NULL;
     double *tols = NULL, *in = NULL, *out = NULL, *vals = NULL;
     unsigned char *plain = NULL;
@@ -193,14 +169,30 @@ int main(int argc, char **argv)
     /* Hits on the stop (ap_*) and on clipping surfaces (sN_*, lens-trace --clip-columns)
      * in the samples: fit them too, so the system gets their pass circles and rays
      * blocked there do not pass it. */
-    if (!outputs_given) {
-        default_out = clip_outputs(r, outputs_s);
-        if (!default_out)
-            diag_die(prog, "out of memory");
+    default_out = clip_outputs(r, outputs_s);
+    if (!default_out)
+        diag_die(prog, "out of memory");
+    if (!outputs_given)
         outputs_s = default_out;
-    }
     int nin = split_list("--inputs", inputs_s, &incopy, &in_names);
     int nout = split_list("--outputs", outputs_s, &outcopy, &out_names);
+    /* passage columns of the samples that are not fitted */
+    int unfitted = 0;
+    {
+        char *avail_copy;
+        const char **avail;
+        int na = split_list("--outputs", default_out, &avail_copy, &avail);
+        for (int k = 0; k < na; k++) {
+            int found = !fit_is_passage_output(avail[k]);
+            for (int o = 0; o < nout && !found; o++)
+                found = strcmp(avail[k], out_names[o]) == 0;
+            unfitted += !found;
+        }
+        free(avail);
+        free(avail_copy);
+    }
+    if (samples_meta(r, "passage"))
+        passage_note = strdup(samples_meta(r, "passage"));
 
     /* --tolerance T (every output) or name=T,name=T (those outputs only). */
     if (tol_s && strchr(tol_s, '=')) {
@@ -220,7 +212,8 @@ int main(int argc, char **argv)
                 o++;
             if (o == nout)
                 diag_die(prog, "--tolerance: '%s' is not among the outputs", items[t]);
-            tols[o] = cli_double(prog, "--tolerance", eq + 1);
+            if (parse_double(eq + 1, &tols[o]) != 0)
+                diag_die(prog, "--tolerance: '%s' is not a finite number", eq + 1);
             if (tols[o] < 0)
                 diag_die(prog, "--tolerance: must not be negative, not %s", eq + 1);
         }
@@ -228,7 +221,8 @@ int main(int argc, char **argv)
         free(items);
         free(tcopy);
     } else if (tol_s) {
-        opt.tolerance = cli_double(prog, "--tolerance", tol_s);
+        if (parse_double(tol_s, &opt.tolerance) != 0)
+            diag_die(prog, "--tolerance: '%s' is not a finite number", tol_s);
         if (opt.tolerance < 0)
             diag_die(prog, "--tolerance: must not be negative, not %s", tol_s);
     }
@@ -282,11 +276,13 @@ int main(int argc, char **argv)
             }
             in[count * nin + i] = x;
         }
+        /* a blocked ray keeps only its passage hits (fit_is_passage_output): the fit
+         * learns them on both sides of each rim */
         int pass = ceta < 0 || vals[ceta] > 0;
-        for (int o = 0; o < nout; o++) {
-            out[count * nout + o] = pass ? vals[outmap[o]] : NAN;
-            pass &= isfinite(vals[outmap[o]]) != 0;
-        }
+        for (int o = 0; o < nout; o++)
+            pass &= fit_is_passage_output(out_names[o]) || isfinite(vals[outmap[o]]);
+        for (int o = 0; o < nout; o++)
+            out[count * nout + o] = pass || fit_is_passage_output(out_names[o]) ? vals[outmap[o]] : NAN;
         blocked += !pass;
         if (clam >= 0 && pass) {
             double l = vals[clam];
@@ -303,8 +299,9 @@ int main(int argc, char **argv)
         }
         count++;
     }
-    char lens_buf[256];
-    lens_name_from(lens ? lens : path, lens_buf, sizeof lens_buf);
+    char lens_buf[256], lens_path[4096];
+    lens_of_samples(r, lens, path, lens_buf, sizeof lens_buf, lens_path, sizeof lens_path);
+    lens_path_for_output(lens_path, sizeof lens_path, outpath);
     samples_close(r);
     r = NULL;
     if (count == 0) {
@@ -371,10 +368,24 @@ int main(int argc, char **argv)
     clock_gettime(CLOCK_MONOTONIC, &t1);
     if (!sys)
         goto fail;
+    if (lens_path[0])
+        poly_set_lens_path(sys, lens_path);
+    else if (!quiet)
+        fprintf(stderr, "lens-fit: note: the samples name no lens file (no '# lens-path:' line; "
+                        "--lens FILE gives one): lens-spot and lens-distort will need --lens\n");
     if (clam >= 0 && !isnan(lam0)) {
         char buf[64];
         snprintf(buf, sizeof buf, "%.17g", lam0);
         poly_set_meta(sys, "lambda", buf);
+    }
+    {
+        char why[256], val[300];
+        const char *gap = fit_passage_gap(passage_note, nout, out_names, unfitted, blocked, why,
+                                          sizeof why);
+        if (gap)
+            fprintf(stderr, "lens-fit: warning: passage partial: %s\n", gap);
+        snprintf(val, sizeof val, "%s%s", gap ? "partial: " : "full", gap ? gap : "");
+        poly_set_meta(sys, "passage", val);
     }
     outfile *of = outfile_open(outpath, &err);
     if (!of)
@@ -414,5 +425,6 @@ done:
     free(in); free(out); free(vals); free(inmap); free(outmap);
     free(in_names); free(out_names); free(tols); free(plain); free(incopy); free(outcopy);
     free(default_out);
+    free(passage_note);
     return rc;
 }

@@ -6,55 +6,25 @@
 #include <string.h>
 #include <time.h>
 
-#include "sparselens/cli.h"
-#include "sparselens/lens_cli_options.h"
+#include "sparselens/trace_cli.h"
 #include "sparselens/outfile.h"
 #include "sparselens/samples.h"
 #include "sparselens/sampling.h"
 #include "sparselens/trace.h"
 #include "sparselens/trace_clip.h"
-#include "sparselens/trace_stop.h"
 
 static const char *prog = "lens-trace";
-
-static const char *usage =
-    "usage: lens-trace LENS [-n N] [--seed S] [--sampling pupil|rear] [--lambda A:B|L]\n"
-    "                  [--to outer|stop] [--all] [--stop-columns] [--clip-columns]\n"
-    "                  [--clip-surfaces LIST] [--sensor WxH]\n"
-    "                  [--threads T] [-o FILE] [-]\n"
-    "Generates N rays from the sensor and traces them through LENS, writing a sample file\n"
-    "with columns x y u v lambda out_x out_y out_u out_v out_eta. With '-', traces the rays\n"
-    "read from stdin (columns x y u v lambda, found by name) instead: one output row per\n"
-    "input row, rays that do not pass with out_eta 0, bad rows as nan (exit status 1).\n"
-    "  -n N             rays to write (default 10000): passing rays, or all rays with --all\n"
-    "  --seed S         random seed (default 1); the same seed gives the same file\n"
-    "  --sampling STR   pupil: directions that pass from each sensor point (default);\n"
-    "                   rear: aimed at the rear element (the usual way, a baseline)\n"
-    "  --lambda A:B     wavelengths uniform in A..B um, or one wavelength (default 0.4:0.7)\n"
-    "  --to outer|stop  output frame: the outer pupil (default) or the aperture stop\n"
-    "  --all            also write rays that do not pass (out_eta 0, other outputs nan)\n"
-    "  --stop-columns   add columns ap_x ap_y: the ray's hit on the aperture stop (nan when\n"
-    "                   it does not get through to the stop); lens-fit then fits a stop\n"
-    "                   pass circle\n"
-    "  --clip-columns   ap_x ap_y, plus sN_x sN_y for every other surface N (numbered as in\n"
-    "                   lens-info) that blocks >= 0.5%% of a pilot trace of 65536 rays\n"
-    "                   (same sampling, fixed seed): the hit on surface N, nan when the ray\n"
-    "                   does not get there within its semi-diameter; lens-fit fits a pass\n"
-    "                   circle for each\n"
-    "  --clip-surfaces LIST  as --clip-columns, for the surfaces N,N,... given (no pilot)\n"    "  --sensor WxH     sensor size in mm (default: the lens header)\n"
-    "  --threads T      threads (default: all)\n"
-    "  -o FILE          write FILE (complete or not at all) instead of stdout\n"
-    LENS_CLI_OPTIONS_HELP
-    "See lens-trace(1) and lens-samples(5).\n";
 
 static const char *const base_columns[] = {"x", "y", "u", "v", "lambda",
                                            "out_x", "out_y", "out_u", "out_v", "out_eta",
                                            "ap_x", "ap_y"};
 enum { NCOLS = 10, NCOLS_STOP = 12 };
 /* Rays of the pilot trace that picks the clip surfaces, and its seed: fixed, so that a
- * training and a test set traced with different --seed get the same columns. */
-enum { PILOT_RAYS = 65536, PILOT_SEED = 20161 };
-#define CLIP_MIN_SHARE 0.005
+ * training and a test set traced with different --seed get the same columns. A surface
+ * is modelled while it alone would let through >= CLIP_MIN_SHARE of the light: a tenth
+ * of the 0.5 % a system may disagree on in all (reports/vignetting.md). */
+enum { PILOT_RAYS = 65536, PILOT_SEED = 20161, MAX_CLIP = 8 };
+#define CLIP_MIN_SHARE 0.0005
 
 typedef struct {
     const char *lens_path, *out_path;
@@ -63,10 +33,12 @@ typedef struct {
     sampling_strategy strategy;
     double lambda_min, lambda_max, sensor_w, sensor_h;
     trace_target target;
-    int all, threads, from_stdin, stop_columns, clip_columns;
+    int all, threads, from_stdin, stop_columns, clip_columns, quiet;
     const char *clip_list;
     int nclip, *clip;        /* clip surfaces, 0-based (besides the stop) */
-    double *clip_share;      /* pilot: blocked share per surface, or NULL */
+    int *sel;                /* the stop, then the clip surfaces (clip = sel + 1) */
+    double *clip_share;      /* pilot: light share per surface (trace_clip.h), or NULL */
+    double clip_leak;        /* pilot: light no modelled surface blocks */
     char **names;            /* column names */
 } trace_args;
 
@@ -84,12 +56,25 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
                 sampling_strategy_name(a->strategy), a->seed, a->lambda_min, a->lambda_max,
                 a->sensor_w, a->sensor_h);
     fputc('\n', f);
+    /* What lens-fit records in a system, so that the system finds its lens again; the
+     * path as given, so that the same command gives the same file anywhere. */
+    fprintf(f, "# lens: %s\n", lens->name[0] ? lens->name : "-");
+    if (strcmp(a->lens_path, "-") != 0 && !strchr(a->lens_path, '\n'))
+        fprintf(f, "# lens-path: %s\n", a->lens_path);
+    /* lens-fit reads this line: a system's passage is complete only from a pilot */
     if (a->clip_share) {
-        fprintf(f, "# clip surfaces (>= %g%% of %d pilot rays blocked there):", 100 * CLIP_MIN_SHARE,
-                PILOT_RAYS);
+        fprintf(f, "# passage: full (pilot of %d rays over the full ray space, shares of the "
+                "light the lens passes): stop %d blocks %.3g%%", PILOT_RAYS, lens->stop + 1,
+                100 * a->clip_share[lens->stop]);
+        if (a->target == TRACE_TO_OUTER)
+            fprintf(f, ", front 1 %.3g%%", 100 * a->clip_share[0]);
         for (int k = 0; k < a->nclip; k++)
-            fprintf(f, " %d (%.3g%%)", a->clip[k] + 1, 100 * a->clip_share[a->clip[k]]);
-        fprintf(f, "; stop %d (%.3g%%)\n", lens->stop + 1, 100 * a->clip_share[lens->stop]);
+            fprintf(f, ", %d +%.3g%%", a->clip[k] + 1, 100 * a->clip_share[a->clip[k]]);
+        fprintf(f, "; unmodelled %.3g%%\n", 100 * a->clip_leak);
+    } else {
+        fprintf(f, "# passage: partial (%s)\n", a->clip_list ? "clip surfaces given, no pilot"
+                                                : a->stop_columns ? "stop columns only"
+                                                                  : "no passage columns");
     }
 }
 
@@ -108,11 +93,6 @@ static void sampling_setup(const trace_args *a, sampling_options *so)
 /* The clip surfaces: those given, or those a pilot trace finds blocking rays. */
 static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
 {
-    a->clip = malloc(lens->nsurf * sizeof *a->clip);
-    if (!a->clip) {
-        lens_errf(err, NULL, 0, "out of memory");
-        return -1;
-    }
     if (a->clip_list) {
         const char *p = a->clip_list;
         while (*p) {
@@ -132,10 +112,9 @@ static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
         }
         return 0;
     }
-    if (isnan(a->sensor_w)) {
-        lens_errf(err, a->lens_path, 0, "--clip-columns: no sensor size for the pilot trace; "
-                  "give --sensor WxH or --clip-surfaces");
-        return -1;
+    if (isnan(a->sensor_w)) { /* filter mode on a lens without a sensor: the stop alone */
+        a->clip_columns = 0;
+        return 0;
     }
     sampling_options so;
     sampling_setup(a, &so);
@@ -146,7 +125,7 @@ static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
         return -1;
     }
     int k = trace_clip_pilot(lens, &so, PILOT_RAYS, CLIP_MIN_SHARE, a->target == TRACE_TO_OUTER,
-                             a->clip_share, a->clip, err);
+                             MAX_CLIP, a->clip_share, a->clip, &a->clip_leak, err);
     if (k < 0)
         return -1;
     a->nclip = k;
@@ -181,7 +160,7 @@ static void free_names(trace_args *a)
             free(a->names[nb + k]);
     }
     free(a->names);
-    free(a->clip);
+    free(a->sel);
     free(a->clip_share);
 }
 
@@ -201,21 +180,20 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         return -1;
     const size_t chunk = 1 << 16;
     double *in = malloc(chunk * 5 * sizeof *in), *out = malloc(chunk * 5 * sizeof *out);
-    double *ap = a->stop_columns ? malloc(chunk * 2 * sizeof *ap) : NULL;
-    double *hits = a->nclip ? malloc(chunk * 2 * (size_t)a->nclip * sizeof *hits) : NULL;
+    int nsel = a->stop_columns + a->nclip; /* the stop, then the clip surfaces */
+    double *hits = malloc(chunk * 2 * (size_t)(nsel ? nsel : 1) * sizeof *hits);
     double *row = malloc((size_t)ncols(a) * sizeof *row);
-    if (!in || !out || (a->stop_columns && !ap) || (a->nclip && !hits) || !row) {
+    if (!in || !out || !hits || !row) {
         lens_errf(err, NULL, 0, "out of memory");
         free(in);
         free(out);
-        free(ap);
         free(hits);
         free(row);
         ray_generator_free(g);
         return -1;
     }
     samples_write_header(f, (const char *const *)a->names, ncols(a));
-    int show = cli_progress_wanted() && a->count > 200000;
+    int show = !a->quiet && cli_progress_wanted() && a->count > 200000;
     long written = 0;
     size_t next = 0;
     /* A lens that passes almost nothing would loop for ever: give up after 1000 rays
@@ -232,28 +210,21 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         size_t n = chunk;
         if (a->all && (size_t)(a->count - written) < n)
             n = (size_t)(a->count - written);
+
         if (ray_generator_fill(g, next, n, in, err) != 0 ||
             trace_batch(lens, a->target, n, in, out, NULL, a->threads, err) != 0 ||
-            (ap && trace_stop_batch(lens, n, in, ap, a->threads, err) != 0)) {
+            (nsel && trace_surfaces_batch(lens, nsel, a->sel + !a->stop_columns, n, in, hits,
+                                          a->threads, err) != 0)) {
             rc = -1;
             break;
         }
-        for (int k = 0; k < a->nclip && rc == 0; k++)
-            if (trace_surface_batch(lens, a->clip[k], n, in, hits + 2 * chunk * (size_t)k,
-                                    a->threads, err) != 0)
-                rc = -1;
-        if (rc)
-            break;
         next += n;
         for (size_t i = 0; i < n && written < a->count; i++) {
             if (!a->all && !(out[5 * i + 4] > 0))
                 continue;
             memcpy(row, in + 5 * i, 5 * sizeof *row);
             memcpy(row + 5, out + 5 * i, 5 * sizeof *row);
-            if (ap)
-                memcpy(row + NCOLS, ap + 2 * i, 2 * sizeof *row);
-            for (int k = 0, nb = ap ? NCOLS_STOP : NCOLS; k < a->nclip; k++)
-                memcpy(row + nb + 2 * k, hits + 2 * chunk * (size_t)k + 2 * i, 2 * sizeof *row);
+            memcpy(row + NCOLS, hits + 2 * (size_t)nsel * i, 2 * (size_t)nsel * sizeof *row);
             samples_write_row(f, row, ncols(a));
             written++;
         }
@@ -264,7 +235,6 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         fputc('\n', stderr);
     free(in);
     free(out);
-    free(ap);
     free(hits);
     free(row);
     ray_generator_free(g);
@@ -295,7 +265,12 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
     int cached_ok = 0;
     lens_err cached_err = {{0}};
     int st;
+    int failed = 0;
     while (vals && n && row && (st = samples_next(r, vals, err)) != 0) {
+        if (st == SAMPLES_FAIL) {
+            failed = 1; /* the rest of the stream is lost: an error, not an end */
+            break;
+        }
         for (int k = 0; k < ncols(a); k++)
             row[k] = NAN;
         if (st < 0) {
@@ -326,15 +301,15 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
                 trace_result res = trace_sample(lens, n, a->target, row, row + 5);
                 row[9] = res.status == TRACE_PASSED ? res.transmittance : 0.0;
                 if (a->stop_columns)
-                    trace_stop_hit(lens, n, row, row + NCOLS);
+                    trace_surface_hit(lens, lens->stop, n, row, row + NCOLS);
                 for (int k = 0, nb = a->stop_columns ? NCOLS_STOP : NCOLS; k < a->nclip; k++)
                     trace_surface_hit(lens, a->clip[k], n, row, row + nb + 2 * k);
             }
         }
         samples_write_filter_row(f, row, ncols(a), r);
     }
-    int rc = (vals && n && row) ? 0 : -1;
-    if (rc)
+    int rc = (vals && n && row && !failed) ? 0 : -1;
+    if (rc && !failed)
         lens_errf(err, NULL, 0, "out of memory");
     free(vals);
     free(n);
@@ -345,65 +320,32 @@ static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_row
 
 int main(int argc, char **argv)
 {
-    trace_args a = {NULL, "-", 10000, 1, SAMPLING_PUPIL, 0.4, 0.7, NAN, NAN,
-                    TRACE_TO_OUTER, 0, 0, 0, 0, 0, NULL, 0, NULL, NULL, NULL};
-    const char *v;
-    lens_cli_options lopt;
-    lens_cli_options_init(&lopt);
-    for (int i = 1; i < argc; i++) {
-        if (lens_cli_common_take(prog, usage, argc, argv, &i, &lopt))
-            continue;
-        if (cli_opt(prog, argc, argv, &i, "-n", &v))
-            a.count = cli_count(prog, "-n", v, 1, 1000000000L);
-        else if (cli_opt(prog, argc, argv, &i, "--seed", &v))
-            a.seed = (unsigned long)cli_count(prog, "--seed", v, 0, 4000000000000000L);
-        else if (cli_opt(prog, argc, argv, &i, "--sampling", &v)) {
-            if (sampling_strategy_parse(v, &a.strategy) != 0)
-                diag_die(prog, "--sampling: expected 'pupil' or 'rear', not '%s'", v);
-        } else if (cli_opt(prog, argc, argv, &i, "--lambda", &v)) {
-            if (strchr(v, ':'))
-                cli_pair(prog, "--lambda", v, ':', &a.lambda_min, &a.lambda_max);
-            else
-                a.lambda_min = a.lambda_max = cli_double(prog, "--lambda", v);
-            if (!(a.lambda_min > 0 && a.lambda_max >= a.lambda_min))
-                diag_die(prog, "--lambda: need 0 < A <= B (micrometres), got '%s'", v);
-        } else if (cli_opt(prog, argc, argv, &i, "--to", &v)) {
-            if (!strcmp(v, "outer"))
-                a.target = TRACE_TO_OUTER;
-            else if (!strcmp(v, "stop"))
-                a.target = TRACE_TO_STOP;
-            else
-                diag_die(prog, "--to: expected 'outer' or 'stop', not '%s'", v);
-        } else if (!strcmp(argv[i], "--all"))
-            a.all = 1;
-        else if (!strcmp(argv[i], "--stop-columns"))
-            a.stop_columns = 1;
-        else if (!strcmp(argv[i], "--clip-columns"))
-            a.stop_columns = a.clip_columns = 1;
-        else if (cli_opt(prog, argc, argv, &i, "--clip-surfaces", &v))
-            a.clip_list = v, a.stop_columns = a.clip_columns = 1;
-        else if (cli_opt(prog, argc, argv, &i, "--sensor", &v)) {
-            cli_pair(prog, "--sensor", v, 'x', &a.sensor_w, &a.sensor_h);
-            if (!(a.sensor_w > 0 && a.sensor_h > 0))
-                diag_die(prog, "--sensor: sizes must be positive");
-        } else if (cli_opt(prog, argc, argv, &i, "--threads", &v))
-            a.threads = (int)cli_count(prog, "--threads", v, 1, 1024);
-        else if (cli_opt(prog, argc, argv, &i, "-o", &v))
-            a.out_path = v;
-        else if (!strcmp(argv[i], "-"))
+    trace_cli o;
+    trace_cli_default(&o);
+    const char *operand[2];
+    int nop = opt_parse(&trace_command, argc, argv, &o, operand, 2);
+    /* the passage columns: all the pilot finds unless less is asked for */
+    int cols_none = o.no_passage_columns, cols_stop = o.stop_columns && !o.clip_columns;
+    trace_args a = {.out_path = o.out_path, .count = o.count, .seed = o.seed,
+                    .strategy = o.strategy, .lambda_min = o.lambda[0], .lambda_max = o.lambda[1],
+                    .sensor_w = o.sensor.w, .sensor_h = o.sensor.h, .target = o.target,
+                    .all = !o.passing_only, .threads = o.threads, .quiet = o.quiet,
+                    .stop_columns = !cols_none || o.clip_list,
+                    .clip_columns = (!cols_none && !cols_stop) || o.clip_list,
+                    .clip_list = o.clip_list};
+    for (int k = 0; k < nop; k++) {
+        if (strcmp(operand[k], "-") == 0)
             a.from_stdin = 1;
-        else if (argv[i][0] == '-')
-            diag_die(prog, "unknown option '%s' (see --help)", argv[i]);
         else if (a.lens_path)
-            diag_die(prog, "one lens at a time ('%s' and '%s')", a.lens_path, argv[i]);
+            diag_die(prog, "one lens at a time ('%s' and '%s')", a.lens_path, operand[k]);
         else
-            a.lens_path = argv[i];
+            a.lens_path = operand[k];
     }
     if (!a.lens_path)
         diag_die(prog, "no lens given (see --help)");
     lens_t lens;
-    cli_load_lens(prog, a.lens_path, lens_cli_options_get(&lopt), &lens);
-    lens_cli_options_free(&lopt);
+    cli_load_lens(prog, a.lens_path, lens_cli_options_get(&o.lens), &lens);
+    lens_cli_options_free(&o.lens);
     if (isnan(a.sensor_w)) {
         a.sensor_w = lens.sensor_w;
         a.sensor_h = lens.sensor_h;
@@ -412,6 +354,11 @@ int main(int argc, char **argv)
         diag_die(prog, "%s: no sensor size in the lens header; give --sensor WxH", a.lens_path);
 
     lens_err err;
+    a.sel = malloc((lens.nsurf + 1) * sizeof *a.sel);
+    if (!a.sel)
+        diag_die(prog, "out of memory");
+    a.sel[0] = lens.stop;
+    a.clip = a.sel + 1;
     if ((a.clip_columns && choose_clip(&lens, &a, &err) != 0) || make_names(&a, &err) != 0) {
         diag_print(prog, &err);
         free_names(&a);

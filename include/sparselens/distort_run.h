@@ -24,6 +24,7 @@ typedef struct {
 typedef struct {
     int nmodels, nfields, finite;
     distort_row *rows;          /* m * nfields + f */
+    int not_imaged;             /* rows of fields a model cannot image (their why is set) */
     double scale;               /* focal length, or magnification (finite object) */
     double sensor_shift;
     proj_kind best[2];
@@ -39,6 +40,9 @@ typedef struct {
 
 int distort_run(const distort_request *rq, distort_report *rep, lens_err *err);
 void distort_report_free(distort_report *rep);
+/* "prog: warning: MODEL: why; its row is nan" for each field not imaged. */
+void distort_report_warn(FILE *f, const char *prog, const distort_request *rq,
+                         const distort_report *rep);
 /* The table, then comment lines: focal length, best mappings, OpenCV fits. */
 void distort_report_print(FILE *f, const distort_request *rq, const distort_report *rep);
 /* The grid displacement field as text. */

@@ -1,19 +1,21 @@
 #ifndef SPARSELENS_IMAGING_CLI_H
 #define SPARSELENS_IMAGING_CLI_H
 /* The command line lens-spot and lens-distort share: one LENS or SYSTEM.poly, the flags
- *   --fields LIST  --object-distance MM  --wavelengths LIST  --focus file|paraxial|best
- *   --compare SYSTEM.poly  --lens LENS  --png FILE
- * and the lens-loading flags of lens_cli_options.h; then the models loaded and set up.
- * Each command adds its own flags through a callback, so both spell, check and report
- * the shared ones the same way. Errors print "prog: ..." and exit 1. */
+ *   --object-distance MM  --focus file|paraxial|best  --compare SYSTEM.poly  --lens LENS
+ *   --png FILE
+ * and the lens-loading flags of lens_cli_options.h, as one option table (imaging_cli_table,
+ * a group in each command's table; --fields and --wavelengths, whose defaults differ, are
+ * in the commands' own tables); then the models loaded and set up. Errors print
+ * "prog: ..." and exit 1. */
 #include "sparselens/imaging.h"
 #include "sparselens/lens_cli_options.h"
+#include "sparselens/options.h"
 #include "sparselens/spot_run.h"
 
 typedef struct {
     const char *input;          /* LENS or SYSTEM.poly */
     const char *fields;         /* --fields as given, or NULL */
-    const char *wavelengths;    /* set the command's default before parsing */
+    const char *wavelengths;    /* the command's default before parsing */
     const char *focus;          /* as given ("file" by default) */
     const char *compare, *lens, *png;
     double object_distance;     /* mm; INFINITY when not given */
@@ -23,15 +25,14 @@ typedef struct {
     lens_cli_options lopt;
 } imaging_cli;
 
-/* The command's own flags: returns 1 when argv[*i] was one (consumed, *i advanced past its
- * value, as cli_opt does), 0 when not. */
-typedef int (*imaging_cli_flag)(const char *prog, int argc, char **argv, int *i, void *ctx);
+extern const opt_spec imaging_cli_table[];
 
-/* Parses argv: --help prints usage, own() is asked about every flag that is not shared,
- * an unknown flag or a second input is fatal. On return the wavelengths, focus and
- * object distance are parsed and checked. a->wavelengths holds the default on entry. */
-void imaging_cli_parse(const char *prog, const char *usage, int argc, char **argv,
-                       imaging_cli *a, imaging_cli_flag own, void *ctx);
+/* The defaults, with the command's default wavelengths. */
+void imaging_cli_default(imaging_cli *a, const char *wavelengths);
+
+/* After opt_parse: the operands (one input), the wavelengths, focus and object distance
+ * parsed and checked. */
+void imaging_cli_finish(const char *prog, imaging_cli *a, const char *const *operands, int n);
 
 /* Loads the input (and --compare, --lens) into models, sets up im[] and names[] for the
  * object distance, and returns the number of models; fatal on a load error. Frees the

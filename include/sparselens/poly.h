@@ -16,6 +16,11 @@ void poly_free(poly_system *sys);
 
 const char *poly_lens_name(const poly_system *sys); /* the lens it was fitted to */
 const char *poly_lens_path(const poly_system *sys); /* as recorded, may be "" */
+/* The lens file of the system read from poly_path, into buf: the recorded lens-path as it
+ * is (absolute, or from the working directory), else relative to the .poly file's
+ * directory. -1 with err naming the lens and the path when none is readable. */
+int poly_find_lens_file(const poly_system *sys, const char *poly_path, char *buf, size_t len,
+                        lens_err *err);
 int poly_ninputs(const poly_system *sys);
 int poly_noutputs(const poly_system *sys);
 const char *poly_input_name(const poly_system *sys, int i);
@@ -65,16 +70,24 @@ void poly_set_meta(poly_system *sys, const char *key, const char *value);
 const char *poly_get_meta(const poly_system *sys, const char *key);
 
 /* Builder details. poly_new returns NULL on bad arguments (no inputs or outputs, a
- * name that is empty, holds whitespace or '#', or repeats). A new system has no
+ * name that is empty, holds whitespace or '#', or repeats, more than POLY_MAX_INPUTS
+ * inputs or POLY_MAX_OUTPUTS outputs). A new system has no
  * parts: call poly_add_part(sys, 0, INFINITY) for one part over the whole sensor.
  * Scaling defaults to offset 0, scale 1; the domain to (-inf, inf).
- * poly_add_part returns -1 if rmin < 0, rmax <= rmin, or the range overlaps a part;
+ * poly_add_part returns -1 if rmin < 0, rmax <= rmin, the range overlaps a part, or the
+ * system has POLY_MAX_PARTS parts already;
  * parts with rmin > 0 need inputs named x and y.
  * poly_add_term returns 0, or -1 for a bad part or output, a negative exponent, a total
  * degree past POLY_MAX_DEGREE, a non-finite coefficient, or a monomial the output
  * already has. Terms are evaluated and written in the order they were added.
  * poly_add_pass_circle returns 0, or -1 for a bad output or radius. */
 #define POLY_MAX_DEGREE 24
+/* Inputs and outputs a system may have (a sample file holds at most 64 columns), and
+ * radial parts (lens-fit --parts stops at 64): they bound what one part costs, and the
+ * memory a .poly file can ask for (man 5 lens-poly). */
+#define POLY_MAX_INPUTS 64
+#define POLY_MAX_OUTPUTS 64
+#define POLY_MAX_PARTS 64
 
 /* Around the polynomial (man 5 lens-poly, "frame" and "transform"). A rotationally
  * symmetric lens is described with one input fewer in its meridional frame: each ray

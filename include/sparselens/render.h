@@ -27,8 +27,14 @@ typedef int (*render_map_fn)(void *ctx, const double in[5], double org[3], doubl
 typedef int (*render_outer_fn)(void *ctx, const double in[5], double o[4], double jac[16],
                                double *eta);
 
+/* The same for n rays at once (rows of in: n x 5; org, dir: n x 3; eta, pass: n): what a
+ * polynomial system evaluates in vector blocks. NULL: the renderer calls map per ray. */
+typedef void (*render_map_batch_fn)(void *ctx, size_t n, const double *in, double *org,
+                                    double *dir, double *eta, unsigned char *pass);
+
 typedef struct {
     render_map_fn map;
+    render_map_batch_fn map_batch; /* may be NULL */
     render_outer_fn outer; /* NULL: no full estimator (analytic lenses) */
     const lens_t *lens;    /* the lens whose front element o lies on (with outer) */
     void *ctx;
@@ -57,6 +63,10 @@ void render_sampler_rear(render_sampler *s, const render_camera *cam);
  * over [lambda_min, lambda_max], for sensor radii up to rmax. */
 int render_sampler_lens(render_sampler *s, const lens_t *lens, double lambda_min,
                         double lambda_max, double rmax, int threads, lens_err *err);
+/* The line pupil of the stop alone: directions that pass the rear element and the stop
+ * (the lens without the clipping of the front group: vignetting off). */
+int render_sampler_stop(render_sampler *s, const lens_t *lens, double lambda_min,
+                        double lambda_max, double rmax, lens_err *err);
 /* The same for a lens known only as a map (analytic lenses): probes cam->map at lambda,
  * at nbins + 1 sensor radii over [0, rmax]. */
 int render_sampler_pupil(render_sampler *s, const render_camera *cam, double lambda,
@@ -91,9 +101,25 @@ int render_full_weight(const lens_t *lens, const double in[5], const double o[4]
                        const double jac[16], double pdf, double eta, const double s1[3],
                        const double n1[3], render_full_terms *t);
 
+/* The pixel's reconstruction filter, sampled by importance (the sample offset is drawn
+ * from the filter itself, every sample weighs 1): BOX is the pixel's own area (the mean
+ * irradiance over it: what the tests compare with closed forms); TENT has radius
+ * filter_radius pixels on each axis (separable), trading a little sharpness for noise. */
+typedef enum { RENDER_FILTER_BOX, RENDER_FILTER_TENT } render_filter;
+
+/* Wavelengths per camera sample in spectral mode (hero wavelength plus evenly rotated
+ * companions, Wilkie et al. 2014). */
+#define RENDER_HERO 4
+
 typedef struct {
     const scene_t *scene;
     const render_camera *cam;
+    /* 1: every wavelength of a sample shares one camera ray (the lens does not disperse,
+     * or dispersion is off): one lens evaluation and one scene path per sample carry all
+     * channels / hero wavelengths. 0: one ray per wavelength (the lens sees lambda). */
+    int achromatic;
+    render_filter filter;
+    double filter_radius; /* TENT: pixels (0 means 1) */
     render_estimator estimator;
     const render_sampler *sampler;
     int use_eta;  /* weight by the Fresnel transmittance T_r ... */

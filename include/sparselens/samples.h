@@ -14,16 +14,22 @@ typedef struct samples_reader samples_reader;
  * unreadable file, empty file, no "# columns:" line before the first data row). */
 samples_reader *samples_open(const char *path, lens_err *err);
 int samples_ncols(const samples_reader *r);
+/* The value of a "# key: value" comment before the header ("# lens: NAME",
+ * "# lens-path: PATH" from lens-trace), blanks trimmed; NULL when there is none. */
+const char *samples_meta(const samples_reader *r, const char *key);
 const char *samples_colname(const samples_reader *r, int i);
 int samples_find(const samples_reader *r, const char *name); /* column index or -1 */
 /* Fills map[i] with the column of names[i]; -1 with err set naming the first missing one. */
 int samples_map(const samples_reader *r, const char *const *names, int n, int *map,
                 lens_err *err);
 /* Next data row into vals[ncols].
- * Returns 1 for a row, 0 at end of file, and -1 for a malformed row (wrong number of
- * fields, or a field that is not a number): err says FILE:LINE, vals are all nan, and
- * the caller may go on reading. "nan" and "inf" fields are numbers here; callers that
+ * Returns 1 for a row, 0 at end of file, -1 for a malformed row (wrong number of
+ * fields, a field that is not a number, a line longer than 64 KiB or holding a NUL
+ * byte): err says FILE:LINE, vals are all nan, and the caller may go on reading; and
+ * SAMPLES_FAIL when the stream cannot be read (a read error, out of memory): err says
+ * so, and the rest of the stream is lost, so the caller stops with an error. "nan" and "inf" fields are numbers here; callers that
  * need finite inputs check them. */
+#define SAMPLES_FAIL (-2)
 int samples_next(samples_reader *r, double *vals, lens_err *err);
 /* Filters carry the columns they do not write through to their output, as GeodSolve and
  * cs2cs pass the rest of a line: the input columns whose names are not among the

@@ -47,7 +47,7 @@ typedef struct {
     scene_mode mode;
     long spp;
     unsigned long seed;
-    effect_setting transmittance, vignetting;
+    effect_setting transmittance, vignetting, dispersion;
     size_t nobj;
     scene_object *obj;
 } scene_t;
@@ -89,5 +89,19 @@ void scene_sample_emitter(const scene_t *s, int obj, double u1, double u2, doubl
 void scene_direct(const scene_t *s, int obj, const double p[3], const double n[3],
                   const double *u, double rgb[3]);
 size_t scene_emitter_count(const scene_t *s);
+
+/* Direct light at a diffuse hit h (scene_light.c): one light sample (an emitter chosen by
+ * its estimated contribution, spheres by solid angle) and one cosine-weighted BSDF sample,
+ * combined by multiple importance sampling; five uniforms u (selection, light 2, BSDF 2).
+ * The reflected radiance is albedo(h) * sum over the terms of w[i] * L_e of emitter[i],
+ * per channel or per wavelength alike: the terms depend on geometry only. Handles at most
+ * 64 emitters for light sampling (the rest are found by the BSDF sample). */
+typedef struct {
+    int n;
+    int emitter[2];
+    double w[2];
+} scene_light_terms;
+void scene_direct_mis(const scene_t *s, const scene_hit *h, const double u[5],
+                      scene_light_terms *t);
 
 #endif

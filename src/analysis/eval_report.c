@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "analysis/eval_passage.h"
+
 #define ARCMIN_PER_RAD (180.0 * 60.0 / 3.14159265358979323846)
 
 typedef struct {
@@ -28,6 +30,7 @@ struct eval_report {
     int *below, *above; /* the parts on either side of boundary b */
     double *jump;  /* nbound x noutputs: the largest |difference| seen at the boundary */
     double *rbound;
+    eval_passage passage;
 };
 
 
@@ -63,6 +66,7 @@ eval_report *eval_report_new(const poly_system *s, const eval_report_options *op
     if (!r)
         return NULL;
     r->sys = s;
+    eval_passage_init(&r->passage, s);
     if (opt)
         r->opt = *opt;
     else
@@ -132,6 +136,7 @@ void eval_report_free(eval_report *r)
 {
     if (!r)
         return;
+    eval_passage_free(&r->passage);
     free(r->rows);
     free(r->err);
     free(r->radius);
@@ -179,6 +184,8 @@ int eval_report_add(eval_report *r, const double *in, const double *pred, int sy
                     const double *ref, int lens_pass)
 {
     r->total++;
+    if (eval_passage_add(&r->passage, in, pred, sys_pass, ref, lens_pass) != 0)
+        return -1;
     if (sys_pass && !lens_pass) {
         r->false_pass++;
         return 0;
@@ -349,10 +356,14 @@ int eval_report_write(FILE *f, const eval_report *r)
         }
     }
     fputs("\n# passage: false_pass = the system lets through what the lens blocks,\n"
-          "# false_block = the reverse\n# columns: key value\n",
+          "# false_block = the reverse; light_* the same as shares of the light the lens\n"
+          "# passes (see man lens-eval)\n# columns: key value\n",
           f);
-    fprintf(f, "rays %zu\nboth_pass %zu\nfalse_pass %zu\nfalse_block %zu\nboth_block %zu\n",
-            r->total, r->both, r->false_pass, r->false_block, r->neither);
+    fprintf(f, "rays %zu\nboth_pass %zu\n", r->total, r->both);
+    if (eval_passage_measured(&r->passage))
+        fprintf(f, "false_pass %zu\nfalse_block %zu\nboth_block %zu\n", r->false_pass,
+                r->false_block, r->neither);
+    eval_passage_write(f, &r->passage);
     free(buf);
     return ferror(f) ? -1 : 0;
 }

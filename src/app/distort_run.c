@@ -53,6 +53,8 @@ int distort_run(const distort_request *rq, distort_report *rep, lens_err *err)
             run_error_model(err, m, rq->model_names[m]);
             goto fail;
         }
+    for (int i = 0; i < nm * nf; i++)
+        rep->not_imaged += rep->rows[i].why[0] != 0;
     rep->mapping = PROJ_RECTILINEAR;
     if (!rep->finite)
         for (int m = 0; m < nm; m++)
@@ -107,6 +109,15 @@ int distort_run(const distort_request *rq, distort_report *rep, lens_err *err)
 fail:
     distort_report_free(rep);
     return -1;
+}
+
+void distort_report_warn(FILE *f, const char *prog, const distort_request *rq,
+                         const distort_report *rep)
+{
+    for (int i = 0; i < rep->nmodels * rep->nfields; i++)
+        if (rep->rows[i].why[0])
+            fprintf(f, "%s: warning: %s: %s; its row is nan\n", prog,
+                    rq->model_names[i / rep->nfields], rep->rows[i].why);
 }
 
 void distort_report_print(FILE *f, const distort_request *rq, const distort_report *rep)

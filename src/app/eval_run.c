@@ -134,6 +134,11 @@ int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_r
         int got = samples_next(rd, c.row, &rowerr);
         if (got == 0)
             break;
+        if (got == SAMPLES_FAIL) {
+            flush(&c, n, out, opt, rep); /* the rows before it are good */
+            *err = rowerr;
+            goto done;
+        }
         double *in = c.in + n * (size_t)c.nin;
         c.bad[n] = 0;
         if (!opt->report && keep_text(&c, rd, n) != 0) {

@@ -7,41 +7,57 @@
 
 #include "sparselens/cli.h"
 
-void imaging_cli_parse(const char *prog, const char *usage, int argc, char **argv,
-                       imaging_cli *a, imaging_cli_flag own, void *ctx)
+const opt_spec imaging_cli_table[] = {
+    {0, "object-distance", "MM", OPT_POSITIVE, OPT_AT(imaging_cli, object_distance),
+     .help = "a finite object, MM in front of the first vertex", .def = "infinity"},
+    {0, "focus", "file|paraxial|best", OPT_STRING, OPT_AT(imaging_cli, focus),
+     .help = "the sensor plane: as in the lens file, the paraxial focus, or the plane of "
+             "least RMS spot radius",
+     .def = "file",
+     .man =
+     "The paraxial focus is that of the primary wavelength for the object distance; the best\n"
+     "plane minimises the sum over fields and wavelengths of the squared RMS radius about the\n"
+     "centroid (closed form, since every ray moves linearly with the plane).\n"
+     "With\n"
+     ".BR \\-\\-compare ,\n"
+     "both models are shown on the lens's plane.\n"},
+    {0, "compare", "SYSTEM.poly", OPT_STRING, OPT_AT(imaging_cli, compare),
+     .help = "also through a fitted system, shown beside the lens",
+     .man =
+     "Its inputs must be x y u v lambda and its outputs include out_x out_y out_u out_v.\n"},
+    {0, "lens", "LENS", OPT_STRING, OPT_AT(imaging_cli, lens),
+     .help = "the lens of a SYSTEM.poly given as the first argument",
+     .man =
+     "Use it when the path the system records is not right. Without it the system's\n"
+     ".B lens-path\n"
+     "is loaded (as written, else relative to the\n"
+     ".I .poly\n"
+     "file's directory,\n"
+     ".BR lens-poly (5));\n"
+     "when that file is not found the message names the lens and the path.\n"},
+    {.type = OPT_GROUP, OPT_AT(imaging_cli, lopt), .group = lens_cli_table},
+    {0}};
+
+void imaging_cli_default(imaging_cli *a, const char *wavelengths)
 {
-    const char *wl = a->wavelengths ? a->wavelengths : "d", *dist = NULL;
     memset(a, 0, sizeof *a);
-    a->wavelengths = wl;
+    a->wavelengths = wavelengths;
     a->focus = "file";
+    a->object_distance = INFINITY;
     lens_cli_options_init(&a->lopt);
-    for (int i = 1; i < argc; i++) {
-        if (lens_cli_common_take(prog, usage, argc, argv, &i, &a->lopt))
-            continue;
-        if (cli_opt(prog, argc, argv, &i, "--fields", &a->fields) ||
-            cli_opt(prog, argc, argv, &i, "--object-distance", &dist) ||
-            cli_opt(prog, argc, argv, &i, "--wavelengths", &a->wavelengths) ||
-            cli_opt(prog, argc, argv, &i, "--focus", &a->focus) ||
-            cli_opt(prog, argc, argv, &i, "--compare", &a->compare) ||
-            cli_opt(prog, argc, argv, &i, "--lens", &a->lens) ||
-            cli_opt(prog, argc, argv, &i, "--png", &a->png) ||
-            (own && own(prog, argc, argv, &i, ctx)))
-            continue;
-        if (argv[i][0] == '-' && argv[i][1] != '\0')
-            diag_die(prog, "unknown option '%s' (see --help)", argv[i]);
-        if (a->input)
-            diag_die(prog, "one lens or system expected, got '%s' and '%s'", a->input, argv[i]);
-        a->input = argv[i];
-    }
-    if (!a->input)
+}
+
+void imaging_cli_finish(const char *prog, imaging_cli *a, const char *const *operands, int n)
+{
+    if (n == 0)
         diag_die(prog, "no lens given (see --help)");
+    a->input = operands[0];
     lens_err err;
     a->nl = wavelengths_parse(a->wavelengths, a->lambda, IMAGING_MAX_WAVELENGTHS, &err);
     if (a->nl < 0)
         diag_die(prog, "--wavelengths: %s", err.msg);
     if (focus_mode_parse(a->focus, &a->focus_mode) != 0)
         diag_die(prog, "--focus: '%s' is not file, paraxial or best", a->focus);
-    a->object_distance = dist ? cli_positive(prog, "--object-distance", dist) : INFINITY;
 }
 
 int imaging_cli_load(const char *prog, imaging_cli *a, imaging_models *models, imaging im[2],

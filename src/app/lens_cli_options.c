@@ -1,10 +1,9 @@
-/* Parsing of the lens-loading flags shared by every command (see lens_cli_options.h). */
+/* The lens-loading flags shared by every command (see lens_cli_options.h). */
 #include "sparselens/lens_cli_options.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 void lens_cli_options_init(lens_cli_options *o)
 {
@@ -17,90 +16,49 @@ void lens_cli_options_free(lens_cli_options *o)
     memset(o, 0, sizeof *o);
 }
 
-/* "--name VALUE" or "--name=VALUE": returns the value, NULL if argv[*i] is not --name,
- * and sets *missing when it is but no value follows. */
-static const char *flag_value(const char *name, int argc, char **argv, int *i, int *missing)
+static void set_catalog(const char *prog, const opt_spec *spec, const char *value, void *field)
 {
-    size_t n = strlen(name);
-    const char *a = argv[*i];
-    *missing = 0;
-    if (strncmp(a, name, n) != 0)
-        return NULL;
-    if (a[n] == '=')
-        return a + n + 1;
-    if (a[n] != '\0')
-        return NULL;
-    if (*i + 1 >= argc) {
-        *missing = 1;
-        return NULL;
-    }
-    return argv[++*i];
+    lens_cli_options *o = field;
+    if (!*value)
+        opt_die(prog, spec, "needs a catalog FILE (.agf or .catalog)");
+    const char **c = realloc(o->catalogs, (o->ncatalogs + 2) * sizeof *c);
+    if (!c)
+        opt_die(prog, spec, "out of memory");
+    c[o->ncatalogs++] = value;
+    c[o->ncatalogs] = NULL;
+    o->catalogs = c;
+    o->opt.catalogs = c;
 }
 
-int lens_cli_options_parse(lens_cli_options *o, int argc, char **argv, int *i, lens_err *err)
+static void set_format(const char *prog, const opt_spec *spec, const char *value, void *field)
 {
-    int missing;
-    const char *v = flag_value("--glass-catalog", argc, argv, i, &missing);
-    if (missing || (v && !*v)) {
-        lens_errf(err, NULL, 0, "--glass-catalog needs a catalog FILE (.agf or .catalog)");
-        return -1;
-    }
-    if (v) {
-        const char **c = realloc(o->catalogs, (o->ncatalogs + 2) * sizeof *c);
-        if (!c) {
-            lens_errf(err, NULL, 0, "out of memory");
-            return -1;
-        }
-        c[o->ncatalogs++] = v;
-        c[o->ncatalogs] = NULL;
-        o->catalogs = c;
-        o->opt.catalogs = c;
-        return 1;
-    }
-    v = flag_value("--glass-fallback", argc, argv, i, &missing);
-    if (missing || (v && strcmp(v, "ndvd") != 0 && strcmp(v, "none") != 0)) {
-        lens_errf(err, NULL, 0, "--glass-fallback takes 'ndvd' (or 'none'), not '%s'",
-                  v ? v : "nothing");
-        return -1;
-    }
-    if (v) {
-        o->opt.ndvd_fallback = strcmp(v, "ndvd") == 0;
-        return 1;
-    }
-    v = flag_value("--lens-format", argc, argv, i, &missing);
-    if (missing || (v && !lens_format_known(v))) {
-        lens_errf(err, NULL, 0, "--lens-format takes one of %s, or auto, not '%s'", lens_formats,
-                  v ? v : "nothing");
-        return -1;
-    }
-    if (v) {
-        o->opt.format = v;
-        return 1;
-    }
-    return 0;
+    if (!lens_format_known(value))
+        opt_die(prog, spec, "expected one of %s, or auto, not '%s'", lens_formats, value);
+    *(const char **)field = value;
 }
 
-int lens_cli_options_take(const char *prog, int argc, char **argv, int *i, lens_cli_options *o)
-{
-    lens_err err;
-    int r = lens_cli_options_parse(o, argc, argv, i, &err);
-    if (r < 0) {
-        diag_print(prog, &err);
-        exit(1);
-    }
-    return r;
-}
+static const opt_choice fallbacks[] = {{"ndvd", 1}, {"none", 0}, {NULL, 0}};
 
-int lens_cli_common_take(const char *prog, const char *usage, int argc, char **argv, int *i,
-                         lens_cli_options *o)
-{
-    if (strcmp(argv[*i], "--help") == 0 || strcmp(argv[*i], "-h") == 0) {
-        lens_cli_options_free(o);
-        fputs(usage, stdout);
-        exit(0);
-    }
-    return lens_cli_options_take(prog, argc, argv, i, o);
-}
+const opt_spec lens_cli_table[] = {
+    {0, "glass-catalog", "FILE", OPT_CALL, 0, sizeof(lens_cli_options), .set = set_catalog,
+     .help = "an extra glass catalog (.agf or .catalog), searched before the shipped one; "
+             "repeatable",
+     .man =
+     "See\n"
+     ".BR lens-import (5)\n"
+     "for the catalog formats.\n"},
+    {0, "glass-fallback", NULL, OPT_CHOICE, OPT_AT(lens_cli_options, opt.ndvd_fallback),
+     .choices = fallbacks,
+     .help = "ndvd: a glass missing from every catalog but given in the file with n_d and V_d "
+             "uses the n_d/V_d model glass (with a warning)",
+     .def = "none"},
+    {0, "lens-format", "FMT", OPT_CALL, OPT_AT(lens_cli_options, opt.format), .set = set_format,
+     .help = "read the lens as FMT: lens, fx, pbrt, zmx or seq, whatever its name",
+     .def = "auto: by extension, else by content, as for standard input '-'",
+     .man =
+     "See\n"
+     ".BR lens-import (5).\n"},
+    {0}};
 
 const lens_load_options *lens_cli_options_get(const lens_cli_options *o)
 {

@@ -140,20 +140,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
     char lens_buf[1024];
     if (sc.camera_is_poly) {
         if (poly_read(sc.camera, &sys, err)) goto done;
-        const char *lp = poly_lens_path(sys);
-        if (!lp || !*lp) {
-            lens_errf(err, sc.camera, 0, "the system does not record its lens file");
-            goto done;
-        }
-        /* a relative path is relative to the .poly file */
-        const char *slash = strrchr(sc.camera, '/');
-        if (lp[0] != '/' && slash)
-            snprintf(lens_buf, sizeof lens_buf, "%.*s/%s", (int)(slash - sc.camera), sc.camera, lp);
-        else
-            snprintf(lens_buf, sizeof lens_buf, "%s", lp);
-        FILE *probe = fopen(lens_buf, "r");
-        if (probe) fclose(probe);
-        else snprintf(lens_buf, sizeof lens_buf, "%s", lp); /* as recorded, from the cwd */
+        if (poly_find_lens_file(sys, sc.camera, lens_buf, sizeof lens_buf, err)) goto done;
         lens_path = lens_buf;
     }
     if (lens_load(lens_path, o->load, &lens, err)) goto done;
@@ -182,8 +169,9 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
             goto done;
     }
 
-    int use_eta = 1;
+    int use_eta = 1, achromatic = sc.mode == SCENE_GREY || !render_lens_disperses(&lens);
     double eta_const = 1;
+    int stop_only = 0; /* vignetting off: directions from the stop's line pupil */
     render_camera cam;
     if (o->exact) {
         lc = render_lens_exact(&lens, sw, sh, &cam, err);
@@ -202,10 +190,15 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
             if (!sys) goto done;
             use_eta = e.transmittance;
             eta_const = e.eta_centre;
+            achromatic = !e.dispersion;
+            stop_only = !e.vignetting;
         } else {
             if (o->log) fprintf(o->log, "lens: polynomial system %s\n", sc.camera);
-            if (sc.mode != SCENE_GREY && poly_input_index(sys, "lambda") < 0 && o->log)
-                fprintf(o->log, "note: the system has no lambda input: no dispersion\n");
+            if (poly_input_index(sys, "lambda") < 0) {
+                if (sc.mode != SCENE_GREY && !achromatic && o->log)
+                    fprintf(o->log, "note: the system has no lambda input: no dispersion\n");
+                achromatic = 1;
+            }
             use_eta = sc.transmittance != EFFECT_OFF;
         }
         lc = render_lens_poly(sys, &lens, sw, sh, &cam, err);
@@ -221,7 +214,8 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         char dir[1024];
         if (o->cache_dir) snprintf(dir, sizeof dir, "%s", o->cache_dir);
         else render_default_cache_dir(dir, sizeof dir);
-        if (render_effects_sampler(&lens, l0, l1, rmax, dir, o->threads, o->log, &smp, err))
+        if (render_effects_sampler(&lens, l0, l1, rmax, stop_only, dir, o->threads, o->log, &smp,
+                                   err))
             goto done;
     }
     img = malloc((size_t)sc.width * sc.height * 3 * sizeof *img);
@@ -235,7 +229,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
                 o->estimator == RENDER_ESTIMATOR_FULL ? "full estimator (Eq. 3, 8, 12)"
                                                       : "estimator of Eq. 13");
     render_job job = {.scene = &sc, .cam = &cam, .sampler = &smp, .estimator = o->estimator,
-                      .use_eta = use_eta,
+                      .use_eta = use_eta, .achromatic = achromatic,
                       .eta_const = eta_const, .spp = sc.spp, .threads = o->threads, .progress = o->progress,
                       .progress_ctx = o->progress_ctx};
     if (render_image(&job, img, NULL, st, err)) goto done;

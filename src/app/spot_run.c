@@ -17,6 +17,7 @@ void spot_report_free(spot_report *rep)
             spot_free(&rep->pooled[i]);
     free(rep->spots);
     free(rep->pooled);
+    free(rep->why);
     memset(rep, 0, sizeof *rep);
 }
 
@@ -36,8 +37,9 @@ int spot_run(const spot_request *rq, spot_report *rep, lens_err *err)
     size_t n = (size_t)nm * (size_t)nf;
     rep->spots = calloc(n * (size_t)nl, sizeof *rep->spots);
     rep->pooled = calloc(n, sizeof *rep->pooled);
-    if (!rep->spots || !rep->pooled) {
-        free(rep->spots), free(rep->pooled);
+    rep->why = calloc(n, sizeof *rep->why);
+    if (!rep->spots || !rep->pooled || !rep->why) {
+        free(rep->spots), free(rep->pooled), free(rep->why);
         lens_errf(err, NULL, 0, "out of memory");
         return -1;
     }
@@ -54,10 +56,16 @@ int spot_run(const spot_request *rq, spot_report *rep, lens_err *err)
         for (int f = 0; f < nf; f++)
             for (int l = 0; l < nl; l++) {
                 spot *s = &rep->spots[((size_t)m * nf + f) * nl + l];
-                if (spot_trace(&im[m], rq->field[f], rq->lambda[l], rq->pattern, rq->rays, rq->seed, s,
-                               err) != 0) {
+                int st = spot_trace(&im[m], rq->field[f], rq->lambda[l], rq->pattern, rq->rays,
+                                    rq->seed, s, err);
+                if (st < 0) {
                     run_error_model(err, m, rq->model_names[m]);
                     goto fail;
+                }
+                lens_err *why = &rep->why[(size_t)m * nf + f];
+                if (st > 0 && !why->msg[0]) { /* the first wavelength that fails says why */
+                    *why = *err;
+                    rep->not_imaged++;
                 }
             }
     if (rq->focus == FOCUS_BEST) {
@@ -71,15 +79,28 @@ int spot_run(const spot_request *rq, spot_report *rep, lens_err *err)
         shift += dz;
     }
     rep->sensor_shift = shift;
-    for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < n; i++) {
         if (spot_pool(&rep->spots[i * (size_t)nl], (size_t)nl, (size_t)rq->primary, &rep->pooled[i]) != 0) {
             lens_errf(err, NULL, 0, "out of memory");
             goto fail;
         }
+        if (rep->why[i].msg[0]) /* a wavelength missing: no pooled spot either */
+            spot_mark_not_imaged(&rep->pooled[i]);
+    }
     return 0;
 fail:
     spot_report_free(rep);
     return -1;
+}
+
+void spot_report_warn(FILE *f, const char *prog, const spot_request *rq, const spot_report *rep)
+{
+    for (int m = 0; m < rep->nmodels; m++)
+        for (int fi = 0; fi < rep->nfields; fi++) {
+            const lens_err *why = &rep->why[(size_t)m * rep->nfields + fi];
+            if (why->msg[0])
+                fprintf(f, "%s: warning: %s: %s; its rows are nan\n", prog, rq->model_names[m], why->msg);
+        }
 }
 
 static void row(FILE *f, const char *model, const spot *s, const char *lambda)

@@ -60,6 +60,10 @@ int agf_parse(const char *data, size_t len, const char *path, agf_add_fn add, vo
         lens_errf(err, path, 0, "out of memory");
         return -1;
     }
+    if (import_check_lines(text, path, err) != 0) {
+        free(text);
+        return -1;
+    }
     import_lines it = {text, 0};
     char *line, *tok[AGF_MAX_TOK];
     pending p;

@@ -1,4 +1,5 @@
 /* Shared machinery of the prescription and catalog importers (see import_common.h). */
+#include "base/line_reader.h"
 #include "lens/import_common.h"
 
 #include "sparselens/lens_import.h"
@@ -11,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #define IMPORT_MAX_FILE (64L << 20)
 
@@ -157,7 +159,27 @@ char *import_begin(const char *data, size_t len, const char *path, const char *p
     char *text = import_decode(data, len);
     if (!text)
         lens_errf(err, path, 0, "out of memory");
+    else if (import_check_lines(text, path, err) != 0) {
+        free(text);
+        text = NULL;
+    }
     return text;
+}
+
+int import_check_lines(const char *text, const char *path, lens_err *err)
+{
+    long line = 1;
+    for (const char *p = text;; line++) {
+        size_t n = strcspn(p, "\r\n");
+        if (n > LINE_MAX_BYTES) {
+            lens_errf(err, path, line, "line longer than %d bytes", LINE_MAX_BYTES);
+            return -1;
+        }
+        p += n;
+        if (!*p)
+            return 0;
+        p += (p[0] == '\r' && p[1] == '\n') ? 2 : 1;
+    }
 }
 
 int import_read_parse(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
@@ -249,6 +271,34 @@ int import_eq(const char *a, const char *b)
         if (toupper((unsigned char)*a) != toupper((unsigned char)*b))
             return 0;
     return *a == *b;
+}
+
+const char *import_rest_after(const char *line, const char *keyword)
+{
+    const char *p = line + strspn(line, " \t");
+    size_t k = strlen(keyword);
+    if (strncasecmp(p, keyword, k) != 0 || (p[k] && p[k] != ' ' && p[k] != '\t'))
+        return NULL;
+    p += k;
+    return p + strspn(p, " \t");
+}
+
+void import_set_name(lens_t *lens, const char *name)
+{
+    size_t n = strlen(name), room = sizeof lens->name - 1;
+    if (n <= room) {
+        memcpy(lens->name, name, n + 1);
+        return;
+    }
+    snprintf(lens->name, sizeof lens->name, "%.*s...", (int)(room - 3), name);
+    lens_add_note(lens, "name shortened from %zu characters", n);
+}
+
+void import_skip_word(import_skips *sk, const char *what, const char *word)
+{
+    char label[IMPORT_SKIP_LABEL];
+    snprintf(label, sizeof label, "%s %.40s%s", what, word, strlen(word) > 40 ? "..." : "");
+    import_skip(sk, label);
 }
 
 void import_skip(import_skips *sk, const char *label)

@@ -17,6 +17,10 @@
  * UTF-8 BOM is dropped; anything else is taken byte for byte. NULL when out of memory. */
 char *import_decode(const char *data, size_t len);
 
+/* -1 (err at path:line) when a line of decoded text is longer than LINE_MAX_BYTES
+ * (base/line_reader.h): the limit every reader states. */
+int import_check_lines(const char *text, const char *path, lens_err *err);
+
 /* Reads a whole file or stream (at most 64 MB; path names it in messages). 0 on success. */
 int import_read_file(const char *path, char **data, size_t *len, lens_err *err);
 int import_read_stream(FILE *f, const char *path, char **data, size_t *len, lens_err *err);
@@ -46,17 +50,28 @@ char *import_next_line(import_lines *it);
  * dropped. */
 int import_tokens(char *line, char **tok, int max);
 
+/* When line's first word is keyword (any case), the rest of the line after the blanks
+ * that follow it; else NULL. For values that are free text, blanks included. */
+const char *import_rest_after(const char *line, const char *keyword);
+
+/* Sets lens->name; a name too long for it is shortened with "..." and the full length
+ * said in a note, never cut silently. */
+void import_set_name(lens_t *lens, const char *name);
+
 /* Case-insensitive string equality (keywords are upper case in files, but not always). */
 int import_eq(const char *a, const char *b);
 
 /* Things read but not modelled, counted by a human-readable label, for the notes. */
 #define IMPORT_MAX_SKIPS 24
+#define IMPORT_SKIP_LABEL 96 /* longer than every fixed label; file words are shortened */
 typedef struct {
-    char label[IMPORT_MAX_SKIPS][40];
+    char label[IMPORT_MAX_SKIPS][IMPORT_SKIP_LABEL];
     int count[IMPORT_MAX_SKIPS];
     int n;
 } import_skips;
 void import_skip(import_skips *sk, const char *label);
+/* import_skip of "what WORD", a word from the file shortened to 40 characters with "...". */
+void import_skip_word(import_skips *sk, const char *what, const char *word);
 /* Appends "skipped: a (2), b" to lens->notes (nothing when there is nothing). */
 void import_skips_note(const import_skips *sk, lens_t *lens);
 

@@ -22,6 +22,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "base/line_reader.h"
 #include "sparselens/lens_import.h"
 
 #define FX_FLAT_RADIUS 10000.0
@@ -197,14 +198,14 @@ int lens_read_fx(FILE *f, const char *path, const lens_load_options *opt, lens_t
     fx_state st;
     memset(&st, 0, sizeof st);
     material_ctx_init(&st.mat, opt, path);
-    char *buf = NULL;
-    size_t cap = 0;
+    line_reader lr;
+    line_reader_init(&lr, f, path, LINE_MAX_BYTES);
     long line = 0;
     double scale = 1;
-    int rc = -1;
-    while (getline(&buf, &cap, f) >= 0) {
-        line++;
-        char *p = buf;
+    int rc = -1, rd;
+    while ((rd = line_next(&lr, err)) == LINE_OK) {
+        line = lr.line;
+        char *p = lr.buf;
         while (isspace((unsigned char)*p))
             p++;
         if (*p == '#') {
@@ -228,6 +229,8 @@ int lens_read_fx(FILE *f, const char *path, const lens_load_options *opt, lens_t
         if (fx_surface(p, lens, &st, path, line, err) != 0)
             goto out;
     }
+    if (rd != LINE_END)
+        goto out;
     if (lens->nsurf == 0) {
         lens_errf(err, path, line > 0 ? line : 1, "no surfaces");
         goto out;
@@ -246,7 +249,7 @@ int lens_read_fx(FILE *f, const char *path, const lens_load_options *opt, lens_t
         scale_lens(lens, scale);
     rc = lens_finish(lens, err);
 out:
-    free(buf);
+    line_reader_free(&lr);
     material_ctx_free(&st.mat);
     if (rc != 0)
         lens_free(lens);

@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/line_reader.h"
 #include "sparselens/lens_import.h"
 #include "sparselens/paraxial.h"
 
@@ -25,12 +26,13 @@ int lens_read_pbrt(FILE *f, const char *path, const lens_load_options *opt, lens
     (void)opt;
     lens_init(lens);
     snprintf(lens->path, sizeof lens->path, "%s", path);
-    char *buf = NULL;
-    size_t cap = 0;
+    line_reader lr;
+    line_reader_init(&lr, f, path, LINE_MAX_BYTES);
     long line = 0;
-    int rc = -1;
-    while (getline(&buf, &cap, f) >= 0) {
-        line++;
+    int rc = -1, rd;
+    while ((rd = line_next(&lr, err)) == LINE_OK) {
+        line = lr.line;
+        char *buf = lr.buf;
         char *hash = strchr(buf, '#');
         if (hash)
             *hash = '\0';
@@ -73,6 +75,8 @@ int lens_read_pbrt(FILE *f, const char *path, const lens_load_options *opt, lens
         }
         s->semi_diameter = v[3] / 2;
     }
+    if (rd != LINE_END)
+        goto out;
     if (lens->nsurf == 0) {
         lens_errf(err, path, line > 0 ? line : 1, "no surfaces");
         goto out;
@@ -109,7 +113,7 @@ int lens_read_pbrt(FILE *f, const char *path, const lens_load_options *opt, lens
     }
     rc = 0;
 out:
-    free(buf);
+    line_reader_free(&lr);
     if (rc != 0)
         lens_free(lens);
     return rc;

@@ -6,6 +6,7 @@
  * current surface. Conventions match sparselens's: radius positive with the centre of
  * curvature towards the image, thickness to the next surface, glass after the surface.
  * Lengths are in the file's units (DIM M/C/I) and converted to mm here. */
+#include "base/line_reader.h"
 #include "sparselens/import.h"
 
 #include <ctype.h>
@@ -294,7 +295,7 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
         st->curvature_mode = 1;
     } else if (import_eq(k, "TITLE") || import_eq(k, "TIT")) {
         if (n > 1)
-            snprintf(st->sys.lens->name, sizeof st->sys.lens->name, "%s", tok[1]);
+            import_set_name(st->sys.lens, tok[1]);
     } else if (import_eq(k, "DIM")) {
         const char *u = n > 1 ? tok[1] : "M";
         if (import_eq(u, "M"))
@@ -350,9 +351,7 @@ static int command(seq_state *st, char **tok, int n, long line, lens_err *err)
     } else if (import_eq(k, "TOL")) {
         import_skip(&st->sys.skips, "tolerances");
     } else {
-        char label[40];
-        snprintf(label, sizeof label, "command %.20s", k);
-        import_skip(&st->sys.skips, label);
+        import_skip_word(&st->sys.skips, "command", k);
     }
     return 0;
 #undef NEED_NUM
@@ -653,11 +652,17 @@ int lens_parse_seq(const char *data, size_t len, const char *path,
     import_lines it = {text, 0};
     char *line, *tok[SEQ_MAX_TOK];
     int rc = 0;
-    char joined[4096];
+    /* Lines are at most LINE_MAX_BYTES (import_begin checks), continued ones too. */
+    const size_t room = LINE_MAX_BYTES + 1;
+    char *joined = malloc(room);
+    if (!joined) {
+        lens_errf(err, path, 0, "out of memory");
+        rc = -1;
+    }
     while (rc == 0 && (line = import_next_line(&it))) {
         /* A line ending in '&' continues on the next. */
         long first = it.line;
-        snprintf(joined, sizeof joined, "%s", line);
+        snprintf(joined, room, "%s", line);
         for (;;) {
             size_t len = strlen(joined);
             while (len && isspace((unsigned char)joined[len - 1]))
@@ -669,9 +674,9 @@ int lens_parse_seq(const char *data, size_t len, const char *path,
             char *more = import_next_line(&it);
             if (!more)
                 break;
-            if (len + strlen(more) + 2 >= sizeof joined) {
-                lens_errf(err, path, first, "continued line longer than %zu characters",
-                          sizeof joined);
+            if (len + strlen(more) + 2 >= room) {
+                lens_errf(err, path, first, "continued line longer than %d bytes",
+                          LINE_MAX_BYTES);
                 rc = -1;
                 break;
             }
@@ -706,6 +711,7 @@ int lens_parse_seq(const char *data, size_t len, const char *path,
             p = next;
         }
     }
+    free(joined);
     if (rc == 0)
         rc = build(&st, opt, err);
     free(st.s);

@@ -163,15 +163,13 @@ static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, le
     } else if (import_eq(k, "TOL") || !strncmp(k, "TOL", 3)) {
         import_skip(&st->sys.skips, "tolerance data");
     } else if (!silent_surface_key(k)) {
-        char label[40];
-        snprintf(label, sizeof label, "surface keyword %.20s", k);
-        import_skip(&st->sys.skips, label);
+        import_skip_word(&st->sys.skips, "surface keyword", k);
     }
     return 0;
 #undef NEED_NUM
 }
 
-static int system_key(zmx_state *st, char *raw, char **tok, int n, long line, lens_err *err)
+static int system_key(zmx_state *st, char **tok, int n, long line, lens_err *err)
 {
     const char *k = tok[0];
     double v;
@@ -182,15 +180,6 @@ static int system_key(zmx_state *st, char *raw, char **tok, int n, long line, le
                       tok[1]);
             return -1;
         }
-    } else if (import_eq(k, "NAME")) {
-        /* The name is the rest of the line, blanks included. */
-        const char *p = raw;
-        while (*p == ' ' || *p == '\t')
-            p++;
-        p += 4; /* the keyword, in whatever case */
-        while (*p == ' ' || *p == '\t')
-            p++;
-        snprintf(st->sys.lens->name, sizeof st->sys.lens->name, "%s", p);
     } else if (import_eq(k, "UNIT")) {
         const char *u = n > 1 ? tok[1] : "MM";
         if (import_eq(u, "MM"))
@@ -273,9 +262,7 @@ static int system_key(zmx_state *st, char *raw, char **tok, int n, long line, le
         if (import_any_nonzero(tok, n, 1))
             import_skip(&st->sys.skips, "field vignetting factors");
     } else if (!silent_system_key(k)) {
-        char label[40];
-        snprintf(label, sizeof label, "keyword %.20s", k);
-        import_skip(&st->sys.skips, label);
+        import_skip_word(&st->sys.skips, "keyword", k);
     }
     return 0;
 }
@@ -477,12 +464,19 @@ int lens_parse_zmx(const char *data, size_t len, const char *path,
         return -1;
 
     import_lines it = {text, 0};
-    char *line, *tok[ZMX_MAX_TOK], raw[256];
+    char *line, *tok[ZMX_MAX_TOK];
     zsurf *cur = NULL;
     int rc = 0, seen_vers = 0;
     while (rc == 0 && (line = import_next_line(&it))) {
-        snprintf(raw, sizeof raw, "%s", line);
         int indented = line[0] == ' ' || line[0] == '\t';
+        /* The name is the rest of its line, blanks inside included: taken before the
+         * line is split into tokens in place. */
+        const char *name = import_rest_after(line, "NAME");
+        if (name && !(cur && indented)) {
+            import_set_name(lens, name);
+            cur = NULL;
+            continue;
+        }
         int n = import_tokens(line, tok, ZMX_MAX_TOK);
         if (n == 0)
             continue;
@@ -512,7 +506,7 @@ int lens_parse_zmx(const char *data, size_t len, const char *path,
             rc = surface_key(&st, cur, tok, n, it.line, err);
         else {
             cur = NULL;
-            rc = system_key(&st, raw, tok, n, it.line, err);
+            rc = system_key(&st, tok, n, it.line, err);
         }
     }
     if (rc == 0 && !seen_vers && st.ns == 0) {

@@ -11,6 +11,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "base/line_reader.h"
 #include "sparselens/lens.h"
 #include "sparselens/lens_import.h"
 
@@ -263,19 +264,14 @@ int lens_read_native(FILE *f, const char *path, const lens_load_options *opt, le
     snprintf(lens->path, sizeof lens->path, "%s", path);
     material_ctx mat;
     material_ctx_init(&mat, opt, path);
-    char *buf = NULL;
-    size_t cap = 0;
+    line_reader lr;
+    line_reader_init(&lr, f, path, LINE_MAX_BYTES);
     long line = 0;
     unsigned seen = 0;
-    int rc = -1;
-    ssize_t len;
-    while ((len = getline(&buf, &cap, f)) >= 0) {
-        line++;
-        if ((size_t)len != strlen(buf)) {
-            lens_errf(err, path, line, "NUL byte in the line (not a text file?)");
-            goto out;
-        }
-        char *p = trim(buf);
+    int rc = -1, st;
+    while ((st = line_next(&lr, err)) == LINE_OK) {
+        line = lr.line;
+        char *p = trim(lr.buf);
         if (!*p)
             continue;
         if (*p == '#') {
@@ -301,10 +297,8 @@ int lens_read_native(FILE *f, const char *path, const lens_load_options *opt, le
         if (parse_surface(tok, nt, lens, &mat, path, line, err) != 0)
             goto out;
     }
-    if (ferror(f)) {
-        lens_errf(err, path, 0, "read error");
+    if (st != LINE_END)
         goto out;
-    }
     if (lens->nsurf == 0) {
         lens_errf(err, path, line > 0 ? line : 1, "no surfaces (%s)",
                   line ? "only comments and blank lines" : "empty file");
@@ -320,7 +314,7 @@ int lens_read_native(FILE *f, const char *path, const lens_load_options *opt, le
     }
     rc = lens_finish(lens, err);
 out:
-    free(buf);
+    line_reader_free(&lr);
     material_ctx_free(&mat);
     if (rc != 0)
         lens_free(lens);

@@ -56,7 +56,8 @@ static int name_index(char *const *names, int n, const char *name)
 poly_system *poly_new(const char *lens_name, int ninputs, const char *const *inputs,
                       int noutputs, const char *const *outputs)
 {
-    if (ninputs < 1 || noutputs < 1 || !inputs || !outputs)
+    if (ninputs < 1 || noutputs < 1 || ninputs > POLY_MAX_INPUTS ||
+        noutputs > POLY_MAX_OUTPUTS || !inputs || !outputs)
         return NULL;
     for (int i = 0; i < ninputs; i++)
         if (!valid_name(inputs[i]) || name_index((char *const *)inputs, i, inputs[i]) >= 0)
@@ -124,6 +125,8 @@ static void free_mono(poly_mono *m)
     free(m->a);
     free(m->b);
     free(m->depth);
+    free(m->used_by);
+    index_hash_free(&m->index);
 }
 
 static void free_plan(poly_plan *pl)
@@ -250,10 +253,17 @@ static int append_slot(poly_mono *m, int nin, const int *e, int a, int b)
         if (!nd)
             return -1;
         m->depth = nd;
+        uint64_t *nu = realloc(m->used_by, (size_t)nc * sizeof(uint64_t));
+        if (!nu)
+            return -1;
+        m->used_by = nu;
         m->cap = nc;
     }
+    if (index_hash_add(&m->index, index_hash_bytes(e, (size_t)nin * sizeof(int)), m->nslots) != 0)
+        return -1;
     int k = m->nslots++;
     memcpy(m->exps + (size_t)k * (size_t)nin, e, (size_t)nin * sizeof(int));
+    m->used_by[k] = 0;
     m->a[k] = a;
     m->b[k] = b;
     m->depth[k] = a < 0 ? 0 : 1 + (m->depth[a] > m->depth[b] ? m->depth[a] : m->depth[b]);
@@ -276,12 +286,22 @@ static int init_mono(poly_mono *m, int nin)
     return ok ? 0 : -1;
 }
 
+struct slot_key {
+    const poly_mono *m;
+    int nin;
+    const int *e;
+};
+
+static int same_slot(const void *ctx, int k)
+{
+    const struct slot_key *q = ctx;
+    return memcmp(q->m->exps + (size_t)k * (size_t)q->nin, q->e, (size_t)q->nin * sizeof(int)) == 0;
+}
+
 static int find_slot(const poly_mono *m, int nin, const int *e)
 {
-    for (int k = 0; k < m->nslots; k++)
-        if (memcmp(m->exps + (size_t)k * (size_t)nin, e, (size_t)nin * sizeof(int)) == 0)
-            return k;
-    return -1;
+    struct slot_key q = {m, nin, e};
+    return index_hash_find(&m->index, index_hash_bytes(e, (size_t)nin * sizeof(int)), same_slot, &q);
 }
 
 /* The slot holding monomial e, created (with the slots it is built from) if missing. */
@@ -446,6 +466,8 @@ int poly_add_part(poly_system *s, double rmin, double rmax)
         return -1;
     if (rmin > 0 && (s->ix < 0 || s->iy < 0))
         return -1;
+    if (s->nparts >= POLY_MAX_PARTS)
+        return -1;
     for (int q = 0; q < s->nparts; q++)
         if (rmin < s->parts[q].rmax && s->parts[q].rmin < rmax)
             return -1;
@@ -467,7 +489,8 @@ int poly_add_part(poly_system *s, double rmin, double rmax)
         return -1;
     }
     s->nparts++;
-    poly_frame_on_change(s);
+    if (!s->bulk)
+        poly_frame_on_change(s);
     return s->nparts - 1;
 }
 
@@ -488,10 +511,12 @@ int poly_add_term(poly_system *s, int part, int output, const int *exps, double 
     poly_out_terms *ot = &p->out[output];
     const int nin = s->nin;
     size_t n = (size_t)nin;
-    for (int t = 0; t < ot->nterms; t++)
-        if (memcmp(ot->exps + (size_t)t * n, exps, n * sizeof(int)) == 0)
-            return -1;
-    int slot = ensure_slot(&p->mono, nin, exps);
+    const uint64_t bit = (uint64_t)1 << output;
+    int slot = find_slot(&p->mono, nin, exps);
+    if (slot >= 0 && (p->mono.used_by[slot] & bit))
+        return -1; /* a monomial the output already has */
+    if (slot < 0)
+        slot = ensure_slot(&p->mono, nin, exps);
     if (slot < 0 || push_term(ot, nin, exps, coef, slot) != 0)
         return -1;
     /* d/ds_i (c s^e) = (c e_i) s^(e - 1_i); c e_i is exact for the small e_i allowed
@@ -512,6 +537,10 @@ int poly_add_term(poly_system *s, int part, int output, const int *exps, double 
     }
     if (e != g)
         free(e);
+    if (ok && s->bulk) {
+        p->mono.used_by[slot] |= bit;
+        return 0;
+    }
     /* Replanned on every term: cheap at the sizes fits have, and the system is ready
      * to evaluate at any point of building. */
     if (!ok || build_plan(&p->plan, &p->mono, nin, s->nout, p->out) != 0 ||
@@ -524,7 +553,26 @@ int poly_add_term(poly_system *s, int part, int output, const int *exps, double 
         build_plan(&p->dplan, &p->dmono, nin, s->nout * nin, p->dout);
         return -1;
     }
+    p->mono.used_by[slot] |= bit;
     poly_frame_on_term(s, part, output, exps, coef);
+    return 0;
+}
+
+void poly_bulk_begin(poly_system *s)
+{
+    s->bulk = 1;
+}
+
+int poly_bulk_end(poly_system *s)
+{
+    s->bulk = 0;
+    for (int q = 0; q < s->nparts; q++) {
+        poly_part *p = &s->parts[q];
+        if (build_plan(&p->plan, &p->mono, s->nin, s->nout, p->out) != 0 ||
+            build_plan(&p->dplan, &p->dmono, s->nin, s->nout * s->nin, p->dout) != 0)
+            return -1;
+    }
+    poly_frame_on_change(s);
     return 0;
 }
 
@@ -545,35 +593,45 @@ void poly_set_meta(poly_system *s, const char *key, const char *value)
 {
     if (!valid_name(key))
         return;
-    char *v = one_line(value);
-    if (!v)
-        return;
     for (int m = 0; m < s->nmeta; m++)
         if (strcmp(s->meta_key[m], key) == 0) {
-            free(s->meta_val[m]);
-            s->meta_val[m] = v;
+            char *v = one_line(value);
+            if (v) {
+                free(s->meta_val[m]);
+                s->meta_val[m] = v;
+            }
             return;
         }
-    char **nk = realloc(s->meta_key, (size_t)(s->nmeta + 1) * sizeof *nk);
-    if (!nk) {
-        free(v);
-        return;
+    poly_append_meta(s, key, value);
+}
+
+int poly_append_meta(poly_system *s, const char *key, const char *value)
+{
+    if (!valid_name(key))
+        return -1;
+    /* Room doubles at powers of two: n appends cost O(n). */
+    int n = s->nmeta;
+    if ((n & (n - 1)) == 0) {
+        size_t cap = n ? 2 * (size_t)n : 1;
+        char **nk = realloc(s->meta_key, cap * sizeof *nk);
+        if (!nk)
+            return -1;
+        s->meta_key = nk;
+        char **nv = realloc(s->meta_val, cap * sizeof *nv);
+        if (!nv)
+            return -1;
+        s->meta_val = nv;
     }
-    s->meta_key = nk;
-    char **nv = realloc(s->meta_val, (size_t)(s->nmeta + 1) * sizeof *nv);
-    if (!nv) {
+    char *v = one_line(value), *k = dupstr(key);
+    if (!v || !k) {
         free(v);
-        return;
+        free(k);
+        return -1;
     }
-    s->meta_val = nv;
-    char *k = dupstr(key);
-    if (!k) {
-        free(v);
-        return;
-    }
-    s->meta_key[s->nmeta] = k;
-    s->meta_val[s->nmeta] = v;
-    s->nmeta++;
+    s->meta_key[n] = k;
+    s->meta_val[n] = v;
+    s->nmeta = n + 1;
+    return 0;
 }
 
 const char *poly_get_meta(const poly_system *s, const char *key)

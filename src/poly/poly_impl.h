@@ -25,6 +25,10 @@
  * so they give the same bits. */
 #include "sparselens/poly.h"
 
+#include <stdint.h>
+
+#include "base/index_hash.h"
+
 #define POLY_NSUMS 4
 
 /* A monomial table (see above). */
@@ -33,6 +37,8 @@ typedef struct {
     int *exps;            /* nslots x ninputs: the monomial each slot holds */
     int *a, *b;           /* factors of product slots (-1 for slot 0 and the inputs) */
     int *depth;           /* longest chain of products leading to the slot */
+    uint64_t *used_by;    /* per slot: bit o set when output o has a term on it */
+    index_hash index;     /* slot by exponent tuple: finding a monomial is O(1) */
 } poly_mono;
 
 /* The flat program evaluating nout sums of terms over one monomial table. */
@@ -105,7 +111,18 @@ struct poly_system {
     poly_circle *circles;
     int nmeta;
     char **meta_key, **meta_val;
+    int bulk; /* poly_bulk_begin: plans and views wait for poly_bulk_end */
 };
+
+/* Building many terms at once (a file being read, the views): between the two calls
+ * poly_add_term neither replans the part nor updates the views, so n terms cost O(n)
+ * rather than O(n^2); poly_bulk_end makes the system ready to evaluate (0, or -1 when
+ * out of memory). Evaluating in between is not allowed. */
+void poly_bulk_begin(poly_system *s);
+int poly_bulk_end(poly_system *s);
+/* poly_set_meta without the search for an existing key: for readers that checked
+ * (by hashing) that the key is new. 0, or -1 when out of memory or the key is bad. */
+int poly_append_meta(poly_system *s, const char *key, const char *value);
 
 /* The pass test on final outputs (rotated back when there is a frame, so every path,
  * scalar, batch and emitted C, agrees bit for bit): finite, and inside every circle. */
@@ -124,6 +141,8 @@ int poly_eval_part_core(const poly_system *sys, int part, const double *in, doub
 void poly_eval_batch_core(const poly_system *sys, size_t count, const double *in, double *out,
                           unsigned char *pass);
 int poly_eval_jacobian_core(const poly_system *sys, const double *in, double *out, double *jac);
+/* poly_eval_part_core on many rays (bit for bit), through the batch kernel. */
+void poly_eval_core_batch(const poly_system *sys, size_t count, const double *in, double *out);
 void poly_eval_jacobian_batch_core(const poly_system *sys, size_t count, const double *in,
                                    double *jac);
 
@@ -153,11 +172,12 @@ static inline void poly_scale_column(const poly_system *s, int i, double *x, int
         x[r] = (x[r] - off) * inv;
 }
 
-/* d out / d in_i from g = d out / d s_i (the chain rule through poly_scale_column). */
-static inline double poly_scale_chain(const poly_system *s, int i, double in_i, double g)
+/* d out / d in_i from g = d out / d s_i (the chain rule through poly_scale_column): a
+ * multiply by the same rounded 1 / scale_i, which the batch kernel applies to whole
+ * vectors (a divide per derivative had cost it as much as the sums). */
+static inline double poly_scale_chain(const poly_system *s, int i, double g)
 {
-    (void)in_i;
-    return g / s->scale[i];
+    return g * (1 / s->scale[i]);
 }
 
 #endif

@@ -4,6 +4,8 @@
  * does not depend on anything but the file's contents). */
 #include "poly/poly_impl.h"
 
+#include "base/line_reader.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -124,12 +126,35 @@ int poly_write(FILE *f, const poly_system *s)
     return ferror(f) ? -1 : 0;
 }
 
-/* ---- reading ---- */
+/* ---- reading ----
+ * One function per keyword. The reader's cost is linear in the file: names and meta
+ * keys are found by hashing, terms are added in bulk (planned once at the end), and a
+ * part costs memory for what the header declares (at most POLY_MAX_INPUTS inputs,
+ * POLY_MAX_OUTPUTS outputs, POLY_MAX_PARTS parts: man 5 lens-poly). */
+
+typedef struct {
+    char *lens;
+    char *path;
+    int nin, nout;
+    char **in, **out;
+    index_hash in_index, out_index;
+} header;
 
 typedef struct {
     const char *name;
     long line;
     lens_err *err;
+    line_reader lr;
+    char *raw;       /* the current line as read (tokenising cuts the line in place) */
+    size_t raw_cap;
+    char **tok;      /* its tokens */
+    int ntok, maxtok;
+    header h;
+    poly_system *s;
+    int have_version, part, ended;
+    int *exps;       /* one term's exponents */
+    int *seen;       /* outputs already given in the current part */
+    index_hash meta; /* meta keys given so far */
 } rd;
 
 #define FAIL(...)                                                                          \
@@ -159,6 +184,37 @@ static int tokenize(char *line, char **tok, int max)
     return n;
 }
 
+/* The next line with tokens into R->tok/R->ntok (0 tokens: blank or comment).
+ * 1, 0 at the end, -1 on error (err set: too long, a NUL byte, a read error). */
+static int next_line(rd *R)
+{
+    int st = line_next(&R->lr, R->err);
+    if (st == LINE_END)
+        return 0;
+    if (st != LINE_OK)
+        return -1;
+    R->line = R->lr.line;
+    size_t len = R->lr.len;
+    if (len + 1 > R->raw_cap) {
+        char *nr = realloc(R->raw, len + 1);
+        if (!nr)
+            FAIL("out of memory");
+        R->raw = nr;
+        R->raw_cap = len + 1;
+    }
+    memcpy(R->raw, R->lr.buf, len + 1);
+    int need = (int)(len / 2) + 2;
+    if (need > R->maxtok) {
+        char **nt = realloc(R->tok, (size_t)need * sizeof *nt);
+        if (!nt)
+            FAIL("out of memory");
+        R->tok = nt;
+        R->maxtok = need;
+    }
+    R->ntok = tokenize(R->lr.buf, R->tok, R->maxtok);
+    return 1;
+}
+
 /* A finite number, or inf / -inf where allow_inf. */
 static int num(rd *R, const char *t, const char *what, int allow_inf, double *v)
 {
@@ -175,9 +231,10 @@ static int num(rd *R, const char *t, const char *what, int allow_inf, double *v)
     return 0;
 }
 
-static char *rest_of_line(char *line, const char *key)
+/* The text after key and the blanks that follow it, end blanks removed, in R->raw. */
+static char *rest_of_line(rd *R, const char *key)
 {
-    char *p = line;
+    char *p = R->raw;
     while (isspace((unsigned char)*p))
         p++;
     p += strlen(key);
@@ -189,20 +246,22 @@ static char *rest_of_line(char *line, const char *key)
     return p;
 }
 
-static int find_name(char *const *names, int n, const char *name)
+struct name_key {
+    char *const *names;
+    const char *name;
+};
+
+static int same_name(const void *ctx, int i)
 {
-    for (int i = 0; i < n; i++)
-        if (strcmp(names[i], name) == 0)
-            return i;
-    return -1;
+    const struct name_key *k = ctx;
+    return strcmp(k->names[i], k->name) == 0;
 }
 
-typedef struct {
-    char *lens;
-    char *path;
-    int nin, nout;
-    char **in, **out;
-} header;
+static int find_name(const index_hash *index, char *const *names, const char *name)
+{
+    struct name_key k = {names, name};
+    return index_hash_find(index, index_hash_bytes(name, strlen(name)), same_name, &k);
+}
 
 static void header_free(header *h)
 {
@@ -214,365 +273,378 @@ static void header_free(header *h)
         free(h->out[o]);
     free(h->in);
     free(h->out);
+    index_hash_free(&h->in_index);
+    index_hash_free(&h->out_index);
 }
 
-static int name_list(rd *R, char **tok, int n, const char *what, int *count, char ***names)
+static int name_list(rd *R, const char *what, int limit, int *count, char ***names,
+                     index_hash *index)
 {
+    char **tok = R->tok;
+    int n = R->ntok;
     if (*names)
         FAIL("'%s' given twice", what);
     if (n < 2)
         FAIL("'%s' names no %s", what, what);
+    if (n - 1 > limit)
+        FAIL("%d %s: at most %d", n - 1, what, limit);
     *names = calloc((size_t)(n - 1), sizeof(char *));
     if (!*names)
         FAIL("out of memory");
     for (int k = 1; k < n; k++) {
-        if (find_name(*names, k - 1, tok[k]) >= 0)
+        if (find_name(index, *names, tok[k]) >= 0)
             FAIL("%s '%s' is named twice", what, tok[k]);
         (*names)[k - 1] = strdup(tok[k]);
-        if (!(*names)[k - 1])
+        if (!(*names)[k - 1] || index_hash_add(index, index_hash_bytes(tok[k], strlen(tok[k])), k - 1) != 0)
             FAIL("out of memory");
         *count = k;
     }
     return 0;
 }
 
+static int key_version(rd *R)
+{
+    long v;
+    if (strcmp(R->tok[0], "lens-poly") != 0 || R->ntok != 2)
+        FAIL("not a polynomial system: expected 'lens-poly %d' first", POLY_FORMAT_VERSION);
+    if (parse_long(R->tok[1], &v) != 0 || v != POLY_FORMAT_VERSION)
+        FAIL("format version '%s' is not supported (this reads %d)", R->tok[1],
+             POLY_FORMAT_VERSION);
+    R->have_version = 1;
+    return 0;
+}
+
+/* lens, lens-path, inputs, outputs: 1 when k is one of them (handled or refused). */
+static int header_key(rd *R, const char *k, int *bad)
+{
+    header *h = &R->h;
+    char **dst = strcmp(k, "lens") == 0 ? &h->lens : strcmp(k, "lens-path") == 0 ? &h->path : NULL;
+    int names = strcmp(k, "inputs") == 0 || strcmp(k, "outputs") == 0;
+    if (!dst && !names)
+        return 0;
+    if (R->s) {
+        lens_errf(R->err, R->name, R->line, "'%s' must come before scaling, pass, meta and "
+                                            "part lines", k);
+        *bad = 1;
+    } else if (dst) {
+        free(*dst);
+        *dst = strdup(rest_of_line(R, k));
+        if (!*dst)
+            *bad = (lens_errf(R->err, R->name, R->line, "out of memory"), 1);
+    } else if (k[0] == 'i') {
+        *bad = name_list(R, "inputs", POLY_MAX_INPUTS, &h->nin, &h->in, &h->in_index) != 0;
+    } else {
+        *bad = name_list(R, "outputs", POLY_MAX_OUTPUTS, &h->nout, &h->out, &h->out_index) != 0;
+    }
+    return 1;
+}
+
+/* The system, once the header is complete (at the first line that needs it). */
+static int start_system(rd *R)
+{
+    header *h = &R->h;
+    if (!h->in || !h->out)
+        FAIL("'%s' before the %s line", R->tok[0], h->in ? "outputs" : "inputs");
+    R->s = poly_new(h->lens ? h->lens : "", h->nin, (const char *const *)h->in, h->nout,
+                    (const char *const *)h->out);
+    if (!R->s)
+        FAIL("bad input or output names (empty, or with '#')");
+    poly_bulk_begin(R->s);
+    if (h->path)
+        poly_set_lens_path(R->s, h->path);
+    R->exps = calloc((size_t)h->nin, sizeof(int));
+    R->seen = calloc((size_t)h->nout, sizeof(int));
+    if (!R->exps || !R->seen)
+        FAIL("out of memory");
+    return 0;
+}
+
+static int input_index(rd *R, const char *name)
+{
+    int i = find_name(&R->h.in_index, R->h.in, name);
+    if (i < 0)
+        FAIL("unknown input '%s'", name);
+    return i;
+}
+
+static int output_index(rd *R, const char *name)
+{
+    int o = find_name(&R->h.out_index, R->h.out, name);
+    if (o < 0)
+        FAIL("unknown output '%s'", name);
+    return o;
+}
+
+static int key_scaling(rd *R)
+{
+    char **tok = R->tok;
+    double off, sc, lo, hi;
+    int i;
+    if (R->ntok != 6)
+        FAIL("scaling needs: INPUT OFFSET SCALE DOMAIN-MIN DOMAIN-MAX");
+    if ((i = input_index(R, tok[1])) < 0 || num(R, tok[2], "offset", 0, &off) ||
+        num(R, tok[3], "scale", 0, &sc) || num(R, tok[4], "domain minimum", 1, &lo) ||
+        num(R, tok[5], "domain maximum", 1, &hi))
+        return -1;
+    if (sc == 0)
+        FAIL("scale of '%s' is 0", tok[1]);
+    if (lo > hi)
+        FAIL("domain of '%s' is empty (min > max)", tok[1]);
+    poly_set_scaling(R->s, i, off, sc);
+    poly_set_domain(R->s, i, lo, hi);
+    return 0;
+}
+
+static int key_frame(rd *R)
+{
+    char **tok = R->tok;
+    int n = R->ntok, fr;
+    poly_system *s = R->s;
+    if (n < 2 || n == 3 || (n > 3 && strcmp(tok[2], "except") != 0))
+        FAIL("frame needs: none|meridional [except OUTPUT...]");
+    if ((fr = poly_frame_parse(tok[1])) < 0)
+        FAIL("unknown frame '%s'", tok[1]);
+    if (fr == POLY_FRAME_NONE && n > 2)
+        FAIL("frame none takes no outputs");
+    /* the exceptions first: the pairs left in the frame must be whole */
+    if (fr != POLY_FRAME_NONE && s->ix >= 0 && s->iy >= 0 && s->iu >= 0 && s->iv >= 0) {
+        s->frame = fr;
+        if (!s->plain && !(s->plain = calloc((size_t)R->h.nout, 1)))
+            FAIL("out of memory");
+        for (int q = 3; q < n; q++) {
+            int o = output_index(R, tok[q]);
+            if (o < 0)
+                return -1;
+            poly_set_output_plain(s, o, 1);
+        }
+    }
+    if (poly_set_frame(s, fr) != 0)
+        FAIL("frame %s needs inputs x, y, u, v and the outputs in it in pairs (..._x with "
+             "..._y, ..._u with ..._v)", tok[1]);
+    return 0;
+}
+
+static int key_transform(rd *R)
+{
+    int i, xf;
+    if (R->ntok != 3)
+        FAIL("transform needs: INPUT identity|inverse-square");
+    if ((i = input_index(R, R->tok[1])) < 0)
+        return -1;
+    if ((xf = poly_xform_parse(R->tok[2])) < 0)
+        FAIL("unknown transform '%s'", R->tok[2]);
+    poly_set_transform(R->s, i, xf);
+    return 0;
+}
+
+static int key_pass(rd *R)
+{
+    double r;
+    int a, b;
+    if (R->ntok != 4)
+        FAIL("pass needs: OUTPUT OUTPUT RADIUS");
+    if ((a = output_index(R, R->tok[1])) < 0 || (b = output_index(R, R->tok[2])) < 0 ||
+        num(R, R->tok[3], "radius", 0, &r))
+        return -1;
+    if (poly_add_pass_circle(R->s, a, b, r) != 0)
+        FAIL("pass radius must be > 0");
+    return 0;
+}
+
+struct meta_key {
+    const poly_system *s;
+    const char *key;
+};
+
+static int same_meta(const void *ctx, int m)
+{
+    const struct meta_key *k = ctx;
+    return strcmp(poly_meta_key(k->s, m), k->key) == 0;
+}
+
+static int key_meta(rd *R)
+{
+    if (R->ntok < 2)
+        FAIL("meta needs: KEY VALUE");
+    const char *key = R->tok[1];
+    uint64_t h = index_hash_bytes(key, strlen(key));
+    struct meta_key k = {R->s, key};
+    if (index_hash_find(&R->meta, h, same_meta, &k) >= 0)
+        FAIL("meta '%s' given twice", key);
+    char *v = rest_of_line(R, "meta");
+    v += strlen(key);
+    while (isspace((unsigned char)*v))
+        v++;
+    if (poly_append_meta(R->s, key, v) != 0 || index_hash_add(&R->meta, h, poly_nmeta(R->s) - 1) != 0)
+        FAIL("out of memory");
+    return 0;
+}
+
+static int key_part(rd *R)
+{
+    double a, b;
+    if (R->ntok != 3)
+        FAIL("part needs: RMIN RMAX");
+    if (num(R, R->tok[1], "rmin", 0, &a) || num(R, R->tok[2], "rmax", 1, &b))
+        return -1;
+    if (poly_nparts(R->s) >= POLY_MAX_PARTS)
+        FAIL("more than %d parts", POLY_MAX_PARTS);
+    /* parts are few (POLY_MAX_PARTS): the overlap test may scan them */
+    if ((R->part = poly_add_part(R->s, a, b)) < 0)
+        FAIL("bad part [%s, %s): needs 0 <= rmin < rmax, no overlap with another part, and "
+             "inputs x and y unless rmin is 0", R->tok[1], R->tok[2]);
+    memset(R->seen, 0, (size_t)R->h.nout * sizeof(int));
+    return 0;
+}
+
+/* One term line (its tokens in R->tok) of output o. */
+static int read_term(rd *R, int o)
+{
+    const header *h = &R->h;
+    char **tok = R->tok;
+    if (R->ntok != h->nin + 1)
+        FAIL("a term needs %d exponents and a coefficient, found %d fields", h->nin, R->ntok);
+    int deg = 0;
+    for (int i = 0; i < h->nin; i++) {
+        long e;
+        if (parse_long(tok[i], &e) != 0 || e < 0)
+            FAIL("exponent of %s '%s' is not a whole number >= 0", h->in[i], tok[i]);
+        if (e > POLY_MAX_DEGREE || deg + e > POLY_MAX_DEGREE)
+            FAIL("degree past the limit of %d", POLY_MAX_DEGREE);
+        R->exps[i] = (int)e;
+        deg += (int)e;
+    }
+    double c;
+    if (num(R, tok[h->nin], "coefficient", 0, &c))
+        return -1;
+    if (poly_add_term(R->s, R->part, o, R->exps, c) != 0)
+        FAIL("the same monomial twice in '%s' (or out of memory)", h->out[o]);
+    return 0;
+}
+
+static int key_output(rd *R)
+{
+    int o;
+    long nt;
+    if (R->part < 0)
+        FAIL("output before any part line");
+    if (R->ntok != 3)
+        FAIL("output needs: NAME NTERMS");
+    if ((o = output_index(R, R->tok[1])) < 0)
+        return -1;
+    if (R->seen[o])
+        FAIL("output '%s' given twice in this part", R->tok[1]);
+    if (parse_long(R->tok[2], &nt) != 0 || nt < 0 || nt > 10000000)
+        FAIL("bad term count '%s'", R->tok[2]);
+    R->seen[o] = 1;
+    /* the next nt non-comment lines are its terms; memory grows with the terms read,
+     * never with the count declared */
+    for (long got = 0; got < nt;) {
+        int st = next_line(R);
+        if (st < 0)
+            return -1;
+        if (st == 0) {
+            lens_errf(R->err, R->name, R->line + 1,
+                      "end of file inside the terms of '%s' (%ld of %ld)", R->h.out[o], got, nt);
+            return -1;
+        }
+        if (R->ntok == 0)
+            continue;
+        if (read_term(R, o) != 0)
+            return -1;
+        got++;
+    }
+    return 0;
+}
+
+static int key_body(rd *R, const char *k)
+{
+    static const struct {
+        const char *key;
+        int (*fn)(rd *R);
+    } keys[] = {{"scaling", key_scaling}, {"frame", key_frame}, {"transform", key_transform},
+                {"pass", key_pass},       {"meta", key_meta},   {"part", key_part},
+                {"output", key_output}};
+    if (!R->s && start_system(R) != 0)
+        return -1;
+    if (strcmp(k, "end") == 0) {
+        if (R->ntok != 1)
+            FAIL("text after 'end'");
+        R->ended = 1;
+        return 0;
+    }
+    for (size_t i = 0; i < sizeof keys / sizeof *keys; i++)
+        if (strcmp(k, keys[i].key) == 0)
+            return keys[i].fn(R);
+    FAIL("unknown keyword '%s'", k);
+}
+
+/* What the end of the file says about a file read without error so far. */
+static int finish(rd *R, poly_system **out)
+{
+    if (!R->have_version)
+        FAIL("empty file: not a polynomial system");
+    R->line++;
+    if (!R->s)
+        FAIL("end of file before the %s line",
+             !R->h.in ? "inputs" : !R->h.out ? "outputs" : "first part");
+    if (!R->ended)
+        FAIL("end of file without 'end' (truncated?)");
+    R->line--;
+    if (poly_nparts(R->s) == 0)
+        FAIL("no part: a system needs at least one");
+    if (poly_bulk_end(R->s) != 0)
+        FAIL("out of memory");
+    *out = R->s;
+    R->s = NULL;
+    return 0;
+}
+
 static int read_body(FILE *f, rd *R, poly_system **out)
 {
-    char *line = NULL;
-    size_t cap = 0;
-    header h = {0};
-    poly_system *s = NULL;
-    int rc = -1, have_version = 0, part = -1, ended = 0;
-    char **tok = NULL;
-    int maxtok = 0;
-    int *exps = NULL;
-    int *seen = NULL; /* outputs already given in the current part */
-    for (;;) {
-        errno = 0;
-        ssize_t len = getline(&line, &cap, f);
-        if (len < 0) {
-            if (ferror(f)) {
-                lens_errf(R->err, R->name, 0, "read error");
-                goto done;
-            }
-            break;
-        }
-        R->line++;
-        if (memchr(line, '\0', (size_t)len)) {
-            lens_errf(R->err, R->name, R->line, "binary data (a NUL byte) in a text file");
-            goto done;
-        }
-        char *copy = strdup(line);
-        if (!copy) {
-            lens_errf(R->err, R->name, R->line, "out of memory");
-            goto done;
-        }
-        int need = (int)(len / 2) + 2;
-        if (need > maxtok) {
-            char **nt = realloc(tok, (size_t)need * sizeof *nt);
-            if (!nt) {
-                free(copy);
-                lens_errf(R->err, R->name, R->line, "out of memory");
-                goto done;
-            }
-            tok = nt;
-            maxtok = need;
-        }
-        int n = tokenize(line, tok, maxtok);
-        if (n == 0) {
-            free(copy);
+    line_reader_init(&R->lr, f, R->name, LINE_MAX_BYTES);
+    R->part = -1;
+    int rc = -1, st;
+    while ((st = next_line(R)) > 0) {
+        if (R->ntok == 0)
             continue;
+        if (R->ntok > R->maxtok)
+            st = (lens_errf(R->err, R->name, R->line, "too many fields"), -1);
+        else if (R->ended)
+            st = (lens_errf(R->err, R->name, R->line, "text after 'end'"), -1);
+        else if (!R->have_version)
+            st = key_version(R) == 0 ? 1 : -1;
+        else {
+            int bad = 0;
+            if (!header_key(R, R->tok[0], &bad))
+                bad = key_body(R, R->tok[0]) != 0;
+            st = bad ? -1 : 1;
         }
-        if (ended) {
-            free(copy);
-            lens_errf(R->err, R->name, R->line, "text after 'end'");
-            goto done;
-        }
-        const char *k = tok[0];
-        int bad = 0;
-        if (!have_version) {
-            long v;
-            if (strcmp(k, "lens-poly") != 0 || n != 2)
-                bad = (lens_errf(R->err, R->name, R->line,
-                                 "not a polynomial system: expected 'lens-poly %d' first",
-                                 POLY_FORMAT_VERSION),
-                       1);
-            else if (parse_long(tok[1], &v) != 0 || v != POLY_FORMAT_VERSION)
-                bad = (lens_errf(R->err, R->name, R->line,
-                                 "format version '%s' is not supported (this reads %d)", tok[1],
-                                 POLY_FORMAT_VERSION),
-                       1);
-            have_version = 1;
-        } else if (!s && strcmp(k, "lens") == 0) {
-            free(h.lens);
-            h.lens = strdup(rest_of_line(copy, "lens"));
-        } else if (!s && strcmp(k, "lens-path") == 0) {
-            free(h.path);
-            h.path = strdup(rest_of_line(copy, "lens-path"));
-        } else if (!s && strcmp(k, "inputs") == 0) {
-            bad = name_list(R, tok, n, "inputs", &h.nin, &h.in) != 0;
-        } else if (!s && strcmp(k, "outputs") == 0) {
-            bad = name_list(R, tok, n, "outputs", &h.nout, &h.out) != 0;
-        } else if (strcmp(k, "lens") == 0 || strcmp(k, "lens-path") == 0 ||
-                   strcmp(k, "inputs") == 0 || strcmp(k, "outputs") == 0) {
-            bad = (lens_errf(R->err, R->name, R->line, "'%s' must come before scaling, pass, "
-                                                        "meta and part lines", k),
-                   1);
-        } else {
-            /* everything else needs the header complete */
-            if (!s) {
-                if (!h.in || !h.out) {
-                    lens_errf(R->err, R->name, R->line, "'%s' before the %s line", k,
-                              h.in ? "outputs" : "inputs");
-                    free(copy);
-                    goto done;
-                }
-                s = poly_new(h.lens ? h.lens : "", h.nin, (const char *const *)h.in, h.nout,
-                             (const char *const *)h.out);
-                if (!s) {
-                    lens_errf(R->err, R->name, R->line,
-                              "bad input or output names (empty, or with '#')");
-                    free(copy);
-                    goto done;
-                }
-                if (h.path)
-                    poly_set_lens_path(s, h.path);
-                exps = calloc((size_t)h.nin, sizeof(int));
-                seen = calloc((size_t)h.nout, sizeof(int));
-                if (!exps || !seen) {
-                    lens_errf(R->err, R->name, R->line, "out of memory");
-                    free(copy);
-                    goto done;
-                }
-            }
-            if (strcmp(k, "scaling") == 0) {
-                double off, sc, lo, hi;
-                int i;
-                if (n != 6)
-                    bad = (lens_errf(R->err, R->name, R->line,
-                                     "scaling needs: INPUT OFFSET SCALE DOMAIN-MIN DOMAIN-MAX"),
-                           1);
-                else if ((i = find_name(h.in, h.nin, tok[1])) < 0)
-                    bad = (lens_errf(R->err, R->name, R->line, "unknown input '%s'", tok[1]), 1);
-                else if (num(R, tok[2], "offset", 0, &off) || num(R, tok[3], "scale", 0, &sc) ||
-                         num(R, tok[4], "domain minimum", 1, &lo) ||
-                         num(R, tok[5], "domain maximum", 1, &hi))
-                    bad = 1;
-                else if (sc == 0)
-                    bad = (lens_errf(R->err, R->name, R->line, "scale of '%s' is 0", tok[1]), 1);
-                else if (lo > hi)
-                    bad = (lens_errf(R->err, R->name, R->line,
-                                     "domain of '%s' is empty (min > max)", tok[1]),
-                           1);
-                else {
-                    poly_set_scaling(s, i, off, sc);
-                    poly_set_domain(s, i, lo, hi);
-                }
-            } else if (strcmp(k, "frame") == 0) {
-                int fr, o = -1;
-                if (n < 2 || n == 3 || (n > 3 && strcmp(tok[2], "except") != 0))
-                    bad = (lens_errf(R->err, R->name, R->line,
-                                     "frame needs: none|meridional [except OUTPUT...]"),
-                           1);
-                else if ((fr = poly_frame_parse(tok[1])) < 0)
-                    bad = (lens_errf(R->err, R->name, R->line, "unknown frame '%s'", tok[1]), 1);
-                else if (fr == POLY_FRAME_NONE && n > 2)
-                    bad = (lens_errf(R->err, R->name, R->line, "frame none takes no outputs"), 1);
-                else {
-                    /* the exceptions first: the pairs left in the frame must be whole */
-                    if (fr != POLY_FRAME_NONE && s->ix >= 0 && s->iy >= 0 && s->iu >= 0 &&
-                        s->iv >= 0) {
-                        s->frame = fr;
-                        if (!s->plain)
-                            s->plain = calloc((size_t)h.nout, 1);
-                        for (int q = 3; q < n && s->plain && !bad; q++)
-                            if ((o = find_name(h.out, h.nout, tok[q])) < 0)
-                                bad = (lens_errf(R->err, R->name, R->line,
-                                                 "unknown output '%s'", tok[q]),
-                                       1);
-                            else
-                                poly_set_output_plain(s, o, 1);
-                    }
-                    if (!bad && poly_set_frame(s, fr) != 0)
-                        bad = (lens_errf(R->err, R->name, R->line,
-                                         "frame %s needs inputs x, y, u, v and the outputs in "
-                                         "it in pairs (..._x with ..._y, ..._u with ..._v)",
-                                         tok[1]),
-                               1);
-                }
-            } else if (strcmp(k, "transform") == 0) {
-                int i, xf;
-                if (n != 3)
-                    bad = (lens_errf(R->err, R->name, R->line,
-                                     "transform needs: INPUT identity|inverse-square"),
-                           1);
-                else if ((i = find_name(h.in, h.nin, tok[1])) < 0)
-                    bad = (lens_errf(R->err, R->name, R->line, "unknown input '%s'", tok[1]), 1);
-                else if ((xf = poly_xform_parse(tok[2])) < 0)
-                    bad = (lens_errf(R->err, R->name, R->line, "unknown transform '%s'", tok[2]), 1);
-                else
-                    poly_set_transform(s, i, xf);
-            } else if (strcmp(k, "pass") == 0) {
-                double r;
-                int a, b;
-                if (n != 4)
-                    bad = (lens_errf(R->err, R->name, R->line, "pass needs: OUTPUT OUTPUT RADIUS"),
-                           1);
-                else if ((a = find_name(h.out, h.nout, tok[1])) < 0 ||
-                         (b = find_name(h.out, h.nout, tok[2])) < 0)
-                    bad = (lens_errf(R->err, R->name, R->line, "unknown output '%s'",
-                                     find_name(h.out, h.nout, tok[1]) < 0 ? tok[1] : tok[2]),
-                           1);
-                else if (num(R, tok[3], "radius", 0, &r))
-                    bad = 1;
-                else if (poly_add_pass_circle(s, a, b, r) != 0)
-                    bad = (lens_errf(R->err, R->name, R->line, "pass radius must be > 0"), 1);
-            } else if (strcmp(k, "meta") == 0) {
-                if (n < 2)
-                    bad = (lens_errf(R->err, R->name, R->line, "meta needs: KEY VALUE"), 1);
-                else {
-                    char *v = rest_of_line(copy, "meta");
-                    v += strlen(tok[1]);
-                    while (isspace((unsigned char)*v))
-                        v++;
-                    poly_set_meta(s, tok[1], v);
-                }
-            } else if (strcmp(k, "part") == 0) {
-                double a, b;
-                if (n != 3)
-                    bad = (lens_errf(R->err, R->name, R->line, "part needs: RMIN RMAX"), 1);
-                else if (num(R, tok[1], "rmin", 0, &a) || num(R, tok[2], "rmax", 1, &b))
-                    bad = 1;
-                else if ((part = poly_add_part(s, a, b)) < 0)
-                    bad = (lens_errf(R->err, R->name, R->line,
-                                     "bad part [%s, %s): needs 0 <= rmin < rmax, no overlap "
-                                     "with another part, and inputs x and y unless rmin is 0",
-                                     tok[1], tok[2]),
-                           1);
-                else
-                    memset(seen, 0, (size_t)h.nout * sizeof(int));
-            } else if (strcmp(k, "output") == 0) {
-                int o;
-                long nt;
-                if (part < 0)
-                    bad = (lens_errf(R->err, R->name, R->line, "output before any part line"), 1);
-                else if (n != 3)
-                    bad = (lens_errf(R->err, R->name, R->line, "output needs: NAME NTERMS"), 1);
-                else if ((o = find_name(h.out, h.nout, tok[1])) < 0)
-                    bad = (lens_errf(R->err, R->name, R->line, "unknown output '%s'", tok[1]), 1);
-                else if (seen[o])
-                    bad = (lens_errf(R->err, R->name, R->line,
-                                     "output '%s' given twice in this part", tok[1]),
-                           1);
-                else if (parse_long(tok[2], &nt) != 0 || nt < 0 || nt > 10000000)
-                    bad = (lens_errf(R->err, R->name, R->line, "bad term count '%s'", tok[2]), 1);
-                else {
-                    seen[o] = 1;
-                    /* the next nt non-comment lines are its terms */
-                    long got = 0;
-                    while (!bad && got < nt) {
-                        ssize_t l2 = getline(&line, &cap, f);
-                        if (l2 < 0) {
-                            bad = (lens_errf(R->err, R->name, R->line + 1,
-                                             "end of file inside the terms of '%s' (%ld of %ld)",
-                                             h.out[o], got, nt),
-                                   1);
-                            break;
-                        }
-                        R->line++;
-                        if ((size_t)l2 + 2 > (size_t)maxtok * 2) {
-                            int nm = (int)(l2 / 2) + 2;
-                            char **nt2 = realloc(tok, (size_t)nm * sizeof *nt2);
-                            if (!nt2) {
-                                bad = (lens_errf(R->err, R->name, R->line, "out of memory"), 1);
-                                break;
-                            }
-                            tok = nt2;
-                            maxtok = nm;
-                        }
-                        int m = tokenize(line, tok, maxtok);
-                        if (m == 0)
-                            continue;
-                        if (m != h.nin + 1) {
-                            bad = (lens_errf(R->err, R->name, R->line,
-                                             "a term needs %d exponents and a coefficient, "
-                                             "found %d fields",
-                                             h.nin, m),
-                                   1);
-                            break;
-                        }
-                        int deg = 0;
-                        for (int i = 0; i < h.nin && !bad; i++) {
-                            long e;
-                            if (parse_long(tok[i], &e) != 0 || e < 0)
-                                bad = (lens_errf(R->err, R->name, R->line,
-                                                 "exponent of %s '%s' is not a whole number >= 0",
-                                                 h.in[i], tok[i]),
-                                       1);
-                            else if (e > POLY_MAX_DEGREE || deg + e > POLY_MAX_DEGREE)
-                                bad = (lens_errf(R->err, R->name, R->line,
-                                                 "degree past the limit of %d", POLY_MAX_DEGREE),
-                                       1);
-                            else {
-                                exps[i] = (int)e;
-                                deg += (int)e;
-                            }
-                        }
-                        double c;
-                        if (bad)
-                            break;
-                        if (num(R, tok[h.nin], "coefficient", 0, &c)) {
-                            bad = 1;
-                            break;
-                        }
-                        if (poly_add_term(s, part, o, exps, c) != 0) {
-                            bad = (lens_errf(R->err, R->name, R->line,
-                                             "the same monomial twice in '%s'", h.out[o]),
-                                   1);
-                            break;
-                        }
-                        got++;
-                    }
-                }
-            } else if (strcmp(k, "end") == 0) {
-                if (n != 1)
-                    bad = (lens_errf(R->err, R->name, R->line, "text after 'end'"), 1);
-                ended = 1;
-            } else {
-                bad = (lens_errf(R->err, R->name, R->line, "unknown keyword '%s'", k), 1);
-            }
-        }
-        free(copy);
-        if (bad)
-            goto done;
+        if (st < 0)
+            break;
     }
-    if (!have_version)
-        lens_errf(R->err, R->name, 0, "empty file: not a polynomial system");
-    else if (!s)
-        lens_errf(R->err, R->name, R->line + 1, "end of file before the %s line",
-                  !h.in ? "inputs" : !h.out ? "outputs" : "first part");
-    else if (!ended)
-        lens_errf(R->err, R->name, R->line + 1, "end of file without 'end' (truncated?)");
-    else if (s->nparts == 0)
-        lens_errf(R->err, R->name, R->line, "no part: a system needs at least one");
-    else {
-        *out = s;
-        s = NULL;
-        rc = 0;
+    if (st == 0) {
+        if (!R->have_version)
+            R->line = 0;
+        rc = finish(R, out);
     }
-done:
-    poly_free(s);
-    header_free(&h);
-    free(line);
-    free(tok);
-    free(exps);
-    free(seen);
+    poly_free(R->s);
+    header_free(&R->h);
+    line_reader_free(&R->lr);
+    index_hash_free(&R->meta);
+    free(R->raw);
+    free(R->tok);
+    free(R->exps);
+    free(R->seen);
     return rc;
 }
 
 int poly_read_stream(FILE *f, const char *name, poly_system **sys, lens_err *err)
 {
-    rd R = {name ? name : "-", 0, err};
+    rd R;
+    memset(&R, 0, sizeof R);
+    R.name = name ? name : "-";
+    R.err = err;
     *sys = NULL;
     return read_body(f, &R, sys);
 }

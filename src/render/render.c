@@ -8,17 +8,18 @@
  * element point s_f (air on both sides of the lens, so radiance is not rescaled).
  *
  * Eq. 13 of the supplement, term by term, and where each one is in this file:
- *   1/N sum            spp samples per pixel, the mean in render_pixel (N counts rays
+ *   1/N sum            spp samples per pixel, the mean in render_image.c (N counts rays
  *                      that fail the lens too: they score 0).
- *   W_e / p_A(s0)      = 1: s0 is uniform over the pixel, p_A(s0) = 1/A_pixel = W_e.
+ *   W_e / p_A(s0)      = 1: s0 is uniform over the pixel, p_A(s0) = 1/A_pixel = W_e
+ *                      (with a tent filter, W_e is the filter and s0 is drawn from it).
  *   P_a                the return value of cam->map (exact: the tracer's status;
- *                      polynomial: the system's pass circles). See render_sample.
+ *                      polynomial: the system's pass circles). See render_image.c.
  *   T_r                eta from cam->map when job->use_eta, else the constant
  *                      job->eta_const (the lens's mean transmittance when the scene
- *                      leaves out its variation). See render_sample.
+ *                      leaves out its variation). See render_image.c.
  *   L                  radiance from s1 towards s_f: L_e if s1 is on an emitter (seen
- *                      directly), else the next-event estimate scene_direct (one light
- *                      sample per emitter). See scene_radiance.
+ *                      directly), else the direct light of scene_direct_mis (one light
+ *                      and BSDF sample, combined by MIS: scene_light.c).
  *   p_A(s0')           the line pupil is the plane 1 mm in front of the sensor, where
  *                      s0' = s0 + (u, v, -1) mm; its area measure is du dv, so
  *                      p_A(s0') = p(u, v), the sampler's density (render_sampler.c).
@@ -67,19 +68,12 @@
 #include "sparselens/render.h"
 
 #include <math.h>
-#include <omp.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "sparselens/glass.h"
 #include "sparselens/trace.h"
-
-double render_channel_lambda(int c)
-{
-    static const double lam[3] = {0.61, 0.55, 0.465}; /* red, green, blue band centres */
-    return lam[c];
-}
 
 void render_lens_to_scene(const double l[3], double s[3])
 {
@@ -92,36 +86,6 @@ double render_ray_weight(double u, double v, double pdf_uv, double eta)
 {
     double c2 = 1 / (1 + u * u + v * v); /* cos^2(theta_s0) */
     return eta * c2 * c2 / pdf_uv;
-}
-
-/* A small counter-based generator (splitmix64): each pixel gets its own stream from
- * (seed, pixel), so images do not depend on the number of threads. */
-typedef struct {
-    uint64_t s;
-} pix_rng;
-
-static double rng_next(pix_rng *r)
-{
-    uint64_t z = (r->s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * 0x1.0p-53;
-}
-
-/* L: radiance leaving the scene point h towards the lens along d (scene frame). */
-static void hit_radiance(const scene_t *sc, const double d[3], const scene_hit *h, pix_rng *rng,
-                         double *u, double rgb[3])
-{
-    rgb[0] = rgb[1] = rgb[2] = 0;
-    if (scene_is_emitter(&sc->obj[h->obj])) {
-        double back[3] = {-d[0], -d[1], -d[2]};
-        scene_emitted(sc, h->obj, h->p, back, rgb);
-        return;
-    }
-    size_t ne = scene_emitter_count(sc);
-    for (size_t j = 0; j < 2 * ne; j++) u[j] = rng_next(rng);
-    scene_direct(sc, h->obj, h->p, h->n, u, rgb);
 }
 
 static double dot3(const double a[3], const double b[3])
@@ -204,161 +168,6 @@ int render_full_weight(const lens_t *lens, const double in[5], const double o[4]
     /* Eq. 3 with W_e / p_A(s0) = 1 */
     t->weight = eta * t->G / t->pA_s1;
     return isfinite(t->weight) && t->weight > 0 && isfinite(t->pA_s1) && t->pA_s1 > 0 ? 0 : -1;
-}
-
-/* One camera sample, number k of spp, at pixel (px, py): adds its contribution per
- * channel to acc. Wavelengths are stratified over the pixel's samples: rgb mode
- * cycles through the three bands (each band's samples are weighted by spp / their
- * count, so the pixel's mean is each band's mean), spectral mode jitters lambda in
- * spp equal strata (so lambda is still uniform, p = 1 / range). */
-static void render_sample(const render_job *job, int px, int py, long k, pix_rng *rng,
-                          double *u_nee, double acc[3], int *passed, long *nfull,
-                          long *nfallback)
-{
-    const render_camera *cam = job->cam;
-    const scene_t *sc = job->scene;
-    /* s0 uniform over the pixel (row 0 at the top; see scene.h for why no flip) */
-    double x = ((px + rng_next(rng)) / sc->width - 0.5) * cam->sensor_w;
-    double y = ((py + rng_next(rng)) / sc->height - 0.5) * cam->sensor_h;
-    /* wavelength and the channel(s) it scores in, with the weight of that choice */
-    double lambda, cw[3] = {0, 0, 0};
-    double r = rng_next(rng);
-    long spp = job->spp;
-    if (sc->mode == SCENE_GREY) {
-        lambda = GLASS_D_LINE;
-        cw[0] = cw[1] = cw[2] = 1;
-    } else if (sc->mode == SCENE_RGB) {
-        long shift = (px + 7L * py) % 3; /* neighbours start on different bands */
-        int c = (int)((k + shift) % 3);
-        long count = spp / 3 + ((spp % 3) > ((c - shift + 3) % 3) ? 1 : 0);
-        lambda = render_channel_lambda(c);
-        cw[c] = (double)spp / count;
-    } else {
-        lambda = RENDER_LAMBDA_MIN + (k + r) / spp * (RENDER_LAMBDA_MAX - RENDER_LAMBDA_MIN);
-        int c = lambda < 0.49 ? 2 : lambda < 0.58 ? 1 : 0;
-        double width = c == 2 ? 0.09 : c == 1 ? 0.09 : 0.12;
-        /* the band's mean over lambda: 1 / (p(lambda) * width) */
-        cw[c] = (RENDER_LAMBDA_MAX - RENDER_LAMBDA_MIN) / width;
-    }
-    double uu, vv;
-    double pdf = render_sampler_sample(job->sampler, x, y, rng_next(rng), rng_next(rng), &uu, &vv);
-    if (!(pdf > 0)) return;
-    double in[5] = {x, y, uu, vv, lambda}, ol[3], dl[3], eta = 1, o[4], jac[16];
-    int full = job->estimator == RENDER_ESTIMATOR_FULL;
-    if (full) {
-        /* the same ray through the outer pupil's coordinates, with their Jacobian */
-        lens_ray lr;
-        if (!cam->outer(cam->ctx, in, o, jac, &eta) || ray_from_outer(cam->lens, o, &lr)) return;
-        memcpy(ol, lr.o, sizeof ol);
-        memcpy(dl, lr.d, sizeof dl);
-    } else if (!cam->map(cam->ctx, in, ol, dl, &eta)) {
-        return; /* P_a = 0 */
-    }
-    (*passed)++;
-    double tr = job->use_eta ? eta : job->eta_const > 0 ? job->eta_const : 1;
-    double w = render_ray_weight(uu, vv, pdf, tr);
-    double os[3], ds[3], rgb[3];
-    render_lens_to_scene(ol, os);
-    render_lens_to_scene(dl, ds);
-    scene_hit h;
-    if (!scene_intersect(sc, os, ds, 1e-6, INFINITY, &h)) return; /* L = 0 */
-    if (full) {
-        render_full_terms t;
-        (*nfull)++;
-        if (render_full_weight(cam->lens, in, o, jac, pdf, tr, h.p, h.n, &t) == 0) w = t.weight;
-        else (*nfallback)++;
-    }
-    hit_radiance(sc, ds, &h, rng, u_nee, rgb);
-    if (sc->mode == SCENE_GREY) {
-        double g = (rgb[0] + rgb[1] + rgb[2]) / 3;
-        rgb[0] = rgb[1] = rgb[2] = g;
-    }
-    for (int c = 0; c < 3; c++) acc[c] = w * cw[c] * rgb[c];
-}
-
-int render_image(const render_job *job, float *rgb, float *var, render_stats *st,
-                 lens_err *err)
-{
-    const scene_t *sc = job->scene;
-    int W = sc->width, H = sc->height;
-    if (job->spp < 1 || W < 1 || H < 1) {
-        lens_errf(err, sc->path, 0, "nothing to render (spp %ld, %dx%d)", job->spp, W, H);
-        return -1;
-    }
-    size_t ne = scene_emitter_count(sc);
-    double t0 = omp_get_wtime();
-    long rows_done = 0;
-    double passed_total = 0, full_total = 0, fallback_total = 0;
-    if (job->estimator == RENDER_ESTIMATOR_FULL && (!job->cam->outer || !job->cam->lens)) {
-        lens_errf(err, sc->path, 0, "the full estimator needs a lens with an outer-pupil Jacobian");
-        return -1;
-    }
-    int threads = job->threads > 0 ? job->threads : omp_get_max_threads();
-    int fail = 0;
-#pragma omp parallel num_threads(threads) reduction(+ : passed_total, full_total, fallback_total)
-    {
-        double *u_nee = malloc((2 * ne + 1) * sizeof *u_nee);
-        if (!u_nee) {
-#pragma omp atomic write
-            fail = 1;
-        }
-#pragma omp for schedule(dynamic, 1)
-        for (int py = 0; py < H; py++) {
-            if (!u_nee) continue;
-            for (int px = 0; px < W; px++) {
-                size_t pix = (size_t)py * W + px;
-                if (job->x1 > 0 && (px < job->x0 || px >= job->x1 || py < job->y0 || py >= job->y1)) {
-                    for (int c = 0; c < 3; c++) {
-                        rgb[3 * pix + c] = 0;
-                        if (var) var[3 * pix + c] = 0;
-                    }
-                    continue;
-                }
-                pix_rng rng = {sc->seed * 0x632BE59BD9B4E019ull + pix * 0xD1B54A32D192ED03ull};
-                double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
-                int passed = 0;
-                long nfull = 0, nfallback = 0;
-                for (long k = 0; k < job->spp; k++) {
-                    double a[3] = {0, 0, 0};
-                    render_sample(job, px, py, k, &rng, u_nee, a, &passed, &nfull, &nfallback);
-                    for (int c = 0; c < 3; c++) sum[c] += a[c], sum2[c] += a[c] * a[c];
-                }
-                passed_total += passed;
-                full_total += nfull;
-                fallback_total += nfallback;
-                double n = (double)job->spp;
-                for (int c = 0; c < 3; c++) {
-                    double mean = sum[c] / n;
-                    rgb[3 * pix + c] = (float)mean;
-                    if (var) {
-                        double v = n > 1 ? (sum2[c] - n * mean * mean) / (n - 1) : 0;
-                        var[3 * pix + c] = (float)(fmax(v, 0) / n);
-                    }
-                }
-            }
-            long done;
-#pragma omp atomic capture
-            done = ++rows_done;
-            if (job->progress && omp_get_thread_num() == 0)
-                job->progress(job->progress_ctx, (double)done / H);
-        }
-        free(u_nee);
-    }
-    if (fail) {
-        lens_errf(err, sc->path, 0, "out of memory");
-        return -1;
-    }
-    if (st) {
-        double npix = job->x1 > 0 ? (double)(fmin(job->x1, W) - fmax(job->x0, 0)) *
-                                        (fmin(job->y1, H) - fmax(job->y0, 0))
-                                  : (double)W * H;
-        st->camera_rays = npix * job->spp;
-        st->passed_rays = passed_total;
-        st->full_rays = full_total;
-        st->full_fallback = fallback_total;
-        st->seconds = omp_get_wtime() - t0;
-    }
-    return 0;
 }
 
 static int cmp_double(const void *a, const void *b)

@@ -81,6 +81,46 @@ static int map_poly(void *ctx, const double in[5], double org[3], double dir[3],
     return 1;
 }
 
+static void map_exact_batch(void *ctx, size_t n, const double *in, double *org, double *dir,
+                            double *eta, unsigned char *pass)
+{
+    for (size_t r = 0; r < n; r++)
+        pass[r] = (unsigned char)map_exact(ctx, in + 5 * r, org + 3 * r, dir + 3 * r, eta + r);
+}
+
+/* n rays through poly_eval_batch, in chunks that fit on the stack. */
+#define POLY_CHUNK 64
+static void map_poly_batch(void *ctx, size_t n, const double *in, double *org, double *dir,
+                           double *eta, unsigned char *pass)
+{
+    const render_lens_ctx *c = ctx;
+    double x[POLY_CHUNK * 16], y[POLY_CHUNK * 16];
+    for (size_t r0 = 0; r0 < n; r0 += POLY_CHUNK) {
+        size_t m = n - r0 < POLY_CHUNK ? n - r0 : POLY_CHUNK;
+        for (size_t r = 0; r < m; r++) {
+            double *row = x + r * c->nin;
+            for (int i = 0; i < c->nin; i++) row[i] = 0;
+            for (int k = 0; k < 5; k++)
+                if (c->in_idx[k] >= 0) row[c->in_idx[k]] = in[5 * (r0 + r) + k];
+        }
+        poly_eval_batch(c->sys, m, x, y, pass + r0);
+        for (size_t r = 0; r < m; r++) {
+            const double *yr = y + r * c->nout;
+            size_t q = r0 + r;
+            double e = c->out_idx[4] >= 0 ? yr[c->out_idx[4]] : 1, outer[4];
+            lens_ray ray;
+            for (int k = 0; k < 4; k++) outer[k] = yr[c->out_idx[k]];
+            if (!pass[q] || !(e > 0) || ray_from_outer(c->lens, outer, &ray)) {
+                pass[q] = 0;
+                continue;
+            }
+            eta[q] = e > 1 ? 1 : e; /* as map_poly */
+            memcpy(org + 3 * q, ray.o, sizeof ray.o);
+            memcpy(dir + 3 * q, ray.d, sizeof ray.d);
+        }
+    }
+}
+
 /* Outer-pupil coordinates and their Jacobian, for the full estimator (render.h).
  * Exact: central differences of the tracer (steps 1e-5 mm in x, y and 1e-6 in u, v:
  * rounding and truncation both near 1e-10 relative); a step the lens blocks leaves the
@@ -158,6 +198,7 @@ render_lens_ctx *render_lens_exact(const lens_t *lens, double sw, double sh,
         }
     }
     fill_camera(cam, c, map_exact, lens, sw, sh);
+    cam->map_batch = map_exact_batch;
     cam->outer = outer_exact;
     return c;
 }
@@ -193,6 +234,7 @@ render_lens_ctx *render_lens_poly(const poly_system *sys, const lens_t *lens, do
         }
     }
     fill_camera(cam, c, map_poly, lens, sw, sh);
+    cam->map_batch = map_poly_batch;
     cam->outer = outer_poly;
     return c;
 }

@@ -27,6 +27,7 @@ void scene_init(scene_t *s)
     s->seed = 1;
     s->transmittance = EFFECT_AUTO;
     s->vignetting = EFFECT_AUTO;
+    s->dispersion = EFFECT_AUTO;
 }
 
 void scene_free(scene_t *s)
@@ -351,6 +352,8 @@ static int statement(scene_t *s, line_ctx *c, int *have_camera)
         return effect(c, &s->transmittance);
     } else if (!strcmp(k, "vignetting")) {
         return effect(c, &s->vignetting);
+    } else if (!strcmp(k, "dispersion")) {
+        return effect(c, &s->dispersion);
     } else if (!strcmp(k, "plane")) {
         return add_object(s, c, OBJ_PLANE);
     } else if (!strcmp(k, "disk")) {

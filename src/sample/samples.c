@@ -1,12 +1,15 @@
 /* Streaming reader and writer of sample files (man 5 lens-samples). */
 #include "sparselens/samples.h"
 
+#include "base/line_reader.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define SAMPLES_MAX_COLS 64
+#define SAMPLES_MAX_META 32
 
 struct samples_reader {
     FILE *f;
@@ -16,8 +19,8 @@ struct samples_reader {
     long row_line; /* line of the last row returned */
     int ncols;
     char *names[SAMPLES_MAX_COLS];
-    char *buf;
-    size_t cap;
+    line_reader lr;
+    char *buf; /* the current line (lr.buf) */
     /* The fields of the last row: where each starts in buf, and its length. */
     int nfields;
     size_t field_at[SAMPLES_MAX_COLS];
@@ -26,22 +29,56 @@ struct samples_reader {
      * text, never parsed, nan in vals. */
     unsigned char opaque[SAMPLES_MAX_COLS];
     int npass, pass[SAMPLES_MAX_COLS];
+    /* "# key: value" comments before the header (samples_meta) */
+    int nmeta;
+    char *meta_key[SAMPLES_MAX_META], *meta_value[SAMPLES_MAX_META];
 };
+
+/* Keeps a "# key: value" comment (key a word of letters, digits, '-' and '_'); the
+ * first of a key wins. Other comments are ignored. */
+static void keep_meta(samples_reader *r, const char *s)
+{
+    size_t k = strspn(s, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_");
+    if (k == 0 || s[k] != ':' || r->nmeta == SAMPLES_MAX_META)
+        return;
+    for (int i = 0; i < r->nmeta; i++)
+        if (strlen(r->meta_key[i]) == k && strncmp(r->meta_key[i], s, k) == 0)
+            return;
+    const char *v = s + k + 1;
+    v += strspn(v, " \t");
+    size_t n = strlen(v);
+    while (n > 0 && (v[n - 1] == ' ' || v[n - 1] == '\t'))
+        n--;
+    char *key = strndup(s, k), *value = strndup(v, n);
+    if (!key || !value) {
+        free(key);
+        free(value);
+        return;
+    }
+    r->meta_key[r->nmeta] = key;
+    r->meta_value[r->nmeta++] = value;
+}
+
+const char *samples_meta(const samples_reader *r, const char *key)
+{
+    for (int i = 0; i < r->nmeta; i++)
+        if (strcmp(r->meta_key[i], key) == 0)
+            return r->meta_value[i];
+    return NULL;
+}
 
 static const char *display(const samples_reader *r)
 {
     return r->path;
 }
 
-static ssize_t next_line(samples_reader *r)
+/* line_next's codes; r->buf is the line when LINE_OK. */
+static int next_line(samples_reader *r, lens_err *err)
 {
-    ssize_t n = getline(&r->buf, &r->cap, r->f);
-    if (n >= 0) {
-        r->line++;
-        while (n > 0 && (r->buf[n - 1] == '\n' || r->buf[n - 1] == '\r'))
-            r->buf[--n] = '\0';
-    }
-    return n;
+    int st = line_next(&r->lr, err);
+    r->line = r->lr.line;
+    r->buf = r->lr.buf;
+    return st;
 }
 
 static int is_blank(const char *s)
@@ -105,9 +142,14 @@ samples_reader *samples_open(const char *path, lens_err *err)
             return NULL;
         }
     }
+    line_reader_init(&r->lr, r->f, r->path, LINE_MAX_BYTES);
     for (;;) {
-        ssize_t n = next_line(r);
-        if (n < 0) {
+        int st = next_line(r, err);
+        if (st < 0) {
+            samples_close(r);
+            return NULL;
+        }
+        if (st == LINE_END) {
             lens_errf(err, display(r), 0,
                       r->line == 0 ? "empty file: expected a '# columns:' header line"
                                    : "no '# columns:' header line");
@@ -125,6 +167,7 @@ samples_reader *samples_open(const char *path, lens_err *err)
                 }
                 return r;
             }
+            keep_meta(r, s);
             continue;
         }
         if (is_blank(s))
@@ -189,9 +232,16 @@ static int parse_field(const samples_reader *r, int k, double *v)
 int samples_next(samples_reader *r, double *vals, lens_err *err)
 {
     for (;;) {
-        ssize_t n = next_line(r);
-        if (n < 0)
+        int st = next_line(r, err);
+        if (st == LINE_END)
             return 0;
+        if (st != LINE_OK) {
+            r->row_line = r->line;
+            r->nfields = 0; /* pass-through columns of this row: nan */
+            for (int i = 0; i < r->ncols; i++)
+                vals[i] = NAN;
+            return st == LINE_FAIL ? SAMPLES_FAIL : -1;
+        }
         char *s = r->buf + strspn(r->buf, " \t");
         if (*s == '#' || *s == '\0')
             continue;
@@ -271,7 +321,11 @@ void samples_close(samples_reader *r)
         fclose(r->f);
     for (int i = 0; i < r->ncols; i++)
         free(r->names[i]);
-    free(r->buf);
+    for (int i = 0; i < r->nmeta; i++) {
+        free(r->meta_key[i]);
+        free(r->meta_value[i]);
+    }
+    line_reader_free(&r->lr);
     free(r);
 }
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Every example of the documentation runs as printed (tools/doc-examples.sh says what an
 # example is): the README's "$ " lines in a plain copy of the repository (the files git
-# tracks, plus new files not yet ignored, with nothing beside them: no ../shared), with
+# tracks, plus new files not yet ignored, with nothing beside them), with
 # bin/ the built commands; every man page's EXAMPLES in an empty directory, with the
 # built commands on PATH and lenses named as a user names them. New examples and new
 # man pages are picked up by themselves. A failing example is one FAIL line with its

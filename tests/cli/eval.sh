@@ -53,7 +53,7 @@ cat >$T/main.c <<'C'
 int lens_fn(const double in[5], double out[5]);
 int main(void) {
     char line[512];
-    double in[5], out[5];
+    double in[5], out[64];
     while (fgets(line, sizeof line, stdin)) {
         if (line[0] == '#' || sscanf(line, "%lf %lf %lf %lf %lf", &in[0], &in[1], &in[2], &in[3], &in[4]) != 5)
             continue;

@@ -71,7 +71,7 @@ a=$(run "$BIN/lens-info" "$D/singlet.seq" 2>/dev/null | value efl)
 s=$(run "$BIN/lens-info" --lens-format seq "$T/singlet.txt" 2>/dev/null | value efl)
 if [ -n "$a" ] && [ "$a" = "$s" ]; then ok lens-format-seq; else fail lens-format-seq "'$a' vs '$s'"; fi
 expect_error lens-format-wrong "^lens-info: $T/singlet.txt: not a Zemax" "$BIN/lens-info" --lens-format zmx "$T/singlet.txt"
-expect_error lens-format-unknown "^lens-info: --lens-format takes one of lens, fx, pbrt, zmx, seq" \
+expect_error lens-format-unknown "^lens-info: --lens-format: expected one of lens, fx, pbrt, zmx, seq" \
   "$BIN/lens-info" --lens-format codev "$T/singlet.txt"
 
 # Model glasses out of range (n_d below 1, above 3, V_d <= 0) are refused at their line,

@@ -110,11 +110,13 @@ static void test_cache(void **state)
     lens_err err = {{0}};
     render_effects e, g;
     assert_int_equal(render_effects_decide(&s, &lens, 36, 24, &e, &err), 0);
-    assert_true(e.dispersion); /* colour needs lambda */
+    /* colour alone does not call for lambda: the double Gauss's glasses are bare indices */
+    assert_false(render_lens_disperses(&lens));
+    assert_false(e.dispersion);
     /* a tenth of a 1.5 mm pixel over the efl */
     assert_true(fabs(e.tolerance - 0.1 * 1.5 / e.efl) < 1e-12);
     g = e;
-    g.dispersion = 0;
+    g.dispersion = 1;
     char k1[17], k2[17];
     render_effects_key(&lens, &e, k1);
     render_effects_key(&lens, &g, k2);

@@ -1,0 +1,20 @@
+#ifndef SPARSELENS_EVAL_CLI_H
+#define SPARSELENS_EVAL_CLI_H
+/* lens-eval's options: its option table (options.h) and the struct it fills. */
+#include "sparselens/eval_run.h"
+#include "sparselens/options.h"
+
+typedef struct {
+    const char *system;   /* SYSTEM.poly */
+    const char *input;    /* the sample file ("-": standard input) */
+    const char *output;   /* "-": standard output */
+    int emit_c;           /* write the system as C instead of reading rays */
+    const char *name;     /* the C function's name */
+    eval_run_options run;
+} eval_cli;
+
+extern const opt_command eval_command;
+
+void eval_cli_default(eval_cli *o);
+
+#endif

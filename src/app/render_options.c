@@ -1,0 +1,67 @@
+/* lens-render's option table (see render_cli.h, options.h). */
+#include "sparselens/render_cli.h"
+
+#include <string.h>
+
+static const opt_choice estimators[] = {
+    {"eq13", RENDER_ESTIMATOR_EQ13}, {"full", RENDER_ESTIMATOR_FULL}, {NULL, 0}};
+
+static const opt_spec render_table[] = {
+    {'o', "output", "FILE", OPT_STRING, OPT_AT(render_cli, run.exr),
+     .help = "the OpenEXR image (required)",
+     .man =
+     "Written through a temporary file; no partial file is left on failure.\n"},
+    {0, "png", "FILE", OPT_STRING, OPT_AT(render_cli, run.png),
+     .help = "an 8-bit preview (exposed to the 99th percentile, sRGB)"},
+    {0, "exact", NULL, OPT_FLAG, OPT_AT(render_cli, run.exact),
+     .help = "trace every camera ray exactly instead of a polynomial system"},
+    {0, "spp", "N", OPT_INT, OPT_AT(render_cli, run.spp), .lo = 1, .hi = 1073741824.0,
+     .help = "samples per pixel", .def = "the scene's"},
+    {0, "threads", "N", OPT_INT, OPT_AT(render_cli, run.threads), .lo = 1, .hi = 1024,
+     .help = "threads", .def = "all",
+     .man =
+     "Pictures do not depend on the number of threads.\n"},
+    {0, "cache", "DIR", OPT_STRING, OPT_AT(render_cli, run.cache_dir),
+     .help = "where fitted systems and line pupils are kept",
+     .def = "$XDG_CACHE_HOME/sparselens, else ~/.cache/sparselens"},
+    {0, "rear-sampling", NULL, OPT_FLAG, OPT_AT(render_cli, run.rear_sampling),
+     .help = "draw directions over the rear element instead of the line pupil",
+     .man =
+     "The naive sampler, for comparisons.\n"},
+    {0, "reference", "FILE", OPT_STRING, OPT_AT(render_cli, run.reference),
+     .help = "print the RMS error against this image (same size)",
+     .man =
+     "Also its share of the reference's mean; e.g. against an\n"
+     ".B \\-\\-exact\n"
+     "render at many samples per pixel.\n"},
+    {0, "seed", "N", OPT_INT, OPT_AT(render_cli, run.seed), .lo = 1, .hi = 4611686018427387904.0,
+     .help = "random seed", .def = "the scene's"},
+    {0, "noise-against", "FILE", OPT_STRING, OPT_AT(render_cli, run.noise_against),
+     .help = "print the noise figure against FILE, a render of the same scene with another "
+             "seed"},
+    {0, "estimator", NULL, OPT_CHOICE, OPT_AT(render_cli, run.estimator), .choices = estimators,
+     .help = "eq13: the simplified weight of Eq. 13; full: Eq. 3 with G-bar (Eq. 12) and "
+             "p_A(s1) (Eq. 8) evaluated, |A| from the system's Jacobian (the same image, "
+             "slower: a check)",
+     .def = "eq13",
+     .man =
+     "See the estimator above.\n"},
+    {'q', "quiet", NULL, OPT_FLAG, OPT_AT(render_cli, quiet),
+     .help = "no decisions, progress or figures on stderr"},
+    {.type = OPT_GROUP, OPT_AT(render_cli, lens), .group = lens_cli_table},
+    {0}};
+
+const opt_command render_command = {
+    "lens-render", "SCENE -o IMAGE.exr [options]",
+    "Renders SCENE (man 5 lens-scene) through its lens with the Monte Carlo estimator of the "
+    "supplement (Eq. 13): camera rays start on the pixel, take their direction from the line "
+    "pupil, cross the lens by a polynomial system fitted for the effects the scene needs "
+    "(cached), or by exact tracing with --exact, and gather light by next-event estimation. "
+    "Writes R, G, B float channels to IMAGE.exr.",
+    render_table};
+
+void render_cli_default(render_cli *o)
+{
+    memset(o, 0, sizeof *o);
+    lens_cli_options_init(&o->lens);
+}

@@ -1,0 +1,311 @@
+/* The render loop (render.h, render_image): camera samples drawn per pixel from
+ * low-discrepancy points (render_samples.h), sent through the lens in blocks (one
+ * cam->map_batch call per block: a polynomial system evaluates them in vector blocks),
+ * then the scene, with several wavelengths per sample.
+ *
+ * Wavelengths and channels:
+ *  - grey: one wavelength (the d line); the scene's colours averaged, every channel alike;
+ *  - rgb: the three band wavelengths of render_channel_lambda, each scoring its channel;
+ *  - spectral: RENDER_HERO wavelengths, a hero lambda_0 uniform over the range and
+ *    lambda_j = lambda_0 + j / RENDER_HERO of the range (wrapped): each is uniform, so
+ *    each scores the channels by render_rgb_bar / p(lambda) and the sample is their mean
+ *    (the scene's r g b turned into spectra by render_rgb_spectrum).
+ * With job->achromatic the wavelengths share one camera ray and one scene path (the
+ * geometry does not depend on lambda); else each wavelength has its own ray through the
+ * lens and its own path. Either way every sample scores every channel: no colour comes
+ * from a different set of samples than another. */
+#include "sparselens/render.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/render_samples.h"
+#include "sparselens/glass.h"
+#include "sparselens/render_spectrum.h"
+#include "sparselens/trace.h"
+
+#define BLOCK 64 /* camera samples per lens batch */
+#define MAX_WAVE (RENDER_HERO > 3 ? RENDER_HERO : 3)
+
+/* sample dimensions (render_samples.h): pairs and singles are numbered apart */
+enum { DIM_PIXEL, DIM_PUPIL, DIM_LIGHT, DIM_BSDF };       /* 2D */
+enum { DIM_LAMBDA, DIM_SELECT };                          /* 1D */
+
+double render_channel_lambda(int c)
+{
+    static const double lam[3] = {0.61, 0.55, 0.465}; /* red, green, blue band centres */
+    return lam[c];
+}
+
+typedef struct {
+    int nwave;                 /* wavelengths per sample */
+    double lambda[MAX_WAVE];   /* um */
+    double score[MAX_WAVE][3]; /* a unit of radiance at wavelength j adds this per channel */
+} wave_set;
+
+static void waves_of(const scene_t *sc, double xi, wave_set *w)
+{
+    memset(w, 0, sizeof *w);
+    if (sc->mode == SCENE_GREY) {
+        w->nwave = 1;
+        w->lambda[0] = GLASS_D_LINE;
+        w->score[0][0] = w->score[0][1] = w->score[0][2] = 1;
+    } else if (sc->mode == SCENE_RGB) {
+        w->nwave = 3;
+        for (int c = 0; c < 3; c++) w->lambda[c] = render_channel_lambda(c), w->score[c][c] = 1;
+    } else {
+        double range = RENDER_LAMBDA_MAX - RENDER_LAMBDA_MIN;
+        w->nwave = RENDER_HERO;
+        for (int j = 0; j < RENDER_HERO; j++) {
+            double f = xi + (double)j / RENDER_HERO;
+            w->lambda[j] = RENDER_LAMBDA_MIN + (f - floor(f)) * range;
+            render_rgb_bar(w->lambda[j], w->score[j]);
+            for (int c = 0; c < 3; c++) w->score[j][c] *= range / RENDER_HERO;
+        }
+    }
+}
+
+/* The value of colour rgb (a scene albedo or emission) at wavelength j of w. */
+static double colour_at(const scene_t *sc, const wave_set *w, int j, const double rgb[3])
+{
+    if (sc->mode == SCENE_GREY) return (rgb[0] + rgb[1] + rgb[2]) / 3;
+    if (sc->mode == SCENE_RGB) return rgb[j];
+    return render_rgb_spectrum(rgb, w->lambda[j]);
+}
+
+/* The uniforms of sample k's direct-light estimate (drawn only where a path needs them). */
+static void light_uniforms(uint64_t key, long spp, long k, double u[5])
+{
+    double l2[2];
+    u[0] = ld_1d(key, DIM_SELECT, spp, k);
+    ld_2d(key, DIM_LIGHT, spp, k, l2);
+    u[1] = l2[0], u[2] = l2[1];
+    ld_2d(key, DIM_BSDF, spp, k, l2);
+    u[3] = l2[0], u[4] = l2[1];
+}
+
+/* Radiance leaving the scene along the camera ray (o, d) (scene frame), at the
+ * wavelengths j0 .. j1-1 of w, into L[j]; sample k of the pixel with key. */
+static void scene_radiance(const scene_t *sc, const wave_set *w, int j0, int j1,
+                           const scene_hit *h, const double d[3], uint64_t key, long spp,
+                           long k, double *L)
+{
+    const scene_object *ob = &sc->obj[h->obj];
+    for (int j = j0; j < j1; j++) L[j] = 0;
+    if (scene_is_emitter(ob)) {
+        double back[3] = {-d[0], -d[1], -d[2]}, le[3];
+        if (scene_emitted(sc, h->obj, h->p, back, le))
+            for (int j = j0; j < j1; j++) L[j] = colour_at(sc, w, j, le);
+        return;
+    }
+    double alb[3];
+    for (int c = 0; c < 3; c++) alb[c] = scene_albedo(sc, h->obj, h->p, c);
+    if (alb[0] <= 0 && alb[1] <= 0 && alb[2] <= 0) return;
+    scene_light_terms t;
+    double u[5];
+    light_uniforms(key, spp, k, u);
+    scene_direct_mis(sc, h, u, &t);
+    for (int i = 0; i < t.n; i++)
+        for (int j = j0; j < j1; j++)
+            L[j] += t.w[i] * colour_at(sc, w, j, sc->obj[t.emitter[i]].emit);
+    for (int j = j0; j < j1; j++) L[j] *= colour_at(sc, w, j, alb);
+}
+
+/* A tent of radius r (pixels) by inversion of its distribution. */
+static double tent(double u, double r)
+{
+    return u < 0.5 ? r * (sqrt(2 * u) - 1) : r * (1 - sqrt(2 * (1 - u)));
+}
+
+typedef struct {
+    double in[BLOCK * MAX_WAVE * 5], org[BLOCK * MAX_WAVE * 3], dir[BLOCK * MAX_WAVE * 3];
+    double eta[BLOCK * MAX_WAVE], pdf[BLOCK];
+    unsigned char pass[BLOCK * MAX_WAVE];
+    wave_set waves[BLOCK];
+} block_buf;
+
+/* Per pixel: the sums of the samples' contributions and of their squares, the counts. */
+typedef struct {
+    double sum[3], sum2[3];
+    double passed, full, fallback;
+} pixel_acc;
+
+/* The lens part of one block: rows are (sample, wavelength ray). */
+static void lens_block(const render_job *job, size_t rows, block_buf *b)
+{
+    const render_camera *cam = job->cam;
+    if (cam->map_batch) {
+        cam->map_batch(cam->ctx, rows, b->in, b->org, b->dir, b->eta, b->pass);
+        return;
+    }
+    for (size_t r = 0; r < rows; r++)
+        b->pass[r] = (unsigned char)cam->map(cam->ctx, b->in + 5 * r, b->org + 3 * r,
+                                             b->dir + 3 * r, b->eta + r);
+}
+
+/* The full estimator's lens part for row r: the outer-pupil coordinates o and their
+ * Jacobian, and the ray they give in the row's place; P_a. */
+static int full_row(const render_job *job, block_buf *b, size_t r, double o[4], double jac[16])
+{
+    const render_camera *cam = job->cam;
+    lens_ray lr;
+    double eta;
+    if (!cam->outer(cam->ctx, b->in + 5 * r, o, jac, &eta) || ray_from_outer(cam->lens, o, &lr))
+        return 0;
+    memcpy(b->org + 3 * r, lr.o, sizeof lr.o);
+    memcpy(b->dir + 3 * r, lr.d, sizeof lr.d);
+    b->eta[r] = eta;
+    return 1;
+}
+
+static void render_block(const render_job *job, uint64_t key, int px, int py, long k0, int m,
+                         block_buf *b, pixel_acc *acc)
+{
+    const scene_t *sc = job->scene;
+    const render_camera *cam = job->cam;
+    long spp = job->spp;
+    int full = job->estimator == RENDER_ESTIMATOR_FULL;
+    double rad = job->filter_radius > 0 ? job->filter_radius : 1;
+    /* the camera rays of the block */
+    int nray = 0; /* rays per sample */
+    for (int i = 0; i < m; i++) {
+        long k = k0 + i;
+        double q[2], p2[2];
+        ld_2d(key, DIM_PIXEL, spp, k, q);
+        if (job->filter == RENDER_FILTER_TENT) q[0] = 0.5 + tent(q[0], rad), q[1] = 0.5 + tent(q[1], rad);
+        double x = ((px + q[0]) / sc->width - 0.5) * cam->sensor_w;
+        double y = ((py + q[1]) / sc->height - 0.5) * cam->sensor_h;
+        wave_set *w = &b->waves[i];
+        waves_of(sc, sc->mode == SCENE_SPECTRAL ? ld_1d(key, DIM_LAMBDA, spp, k) : 0, w);
+        ld_2d(key, DIM_PUPIL, spp, k, p2);
+        double uu, vv;
+        b->pdf[i] = render_sampler_sample(job->sampler, x, y, p2[0], p2[1], &uu, &vv);
+        nray = job->achromatic ? 1 : w->nwave;
+        for (int j = 0; j < nray; j++) {
+            double *row = b->in + 5 * ((size_t)i * nray + j);
+            row[0] = x, row[1] = y, row[2] = uu, row[3] = vv;
+            row[4] = job->achromatic ? GLASS_D_LINE : w->lambda[j];
+        }
+    }
+    if (!full) lens_block(job, (size_t)m * nray, b);
+    for (int i = 0; i < m; i++) {
+        long k = k0 + i;
+        const wave_set *w = &b->waves[i];
+        double a[3] = {0, 0, 0};
+        int any = 0;
+        for (int j = 0; j < nray && b->pdf[i] > 0; j++) {
+            size_t r = (size_t)i * nray + j;
+            double o4[4], jac[16];
+            if (full) b->pass[r] = (unsigned char)full_row(job, b, r, o4, jac);
+            if (!b->pass[r]) continue; /* P_a = 0 */
+            any = 1;
+            const double *in = b->in + 5 * r;
+            double tr = job->use_eta ? b->eta[r] : job->eta_const > 0 ? job->eta_const : 1;
+            double wt = render_ray_weight(in[2], in[3], b->pdf[i], tr);
+            double os[3], ds[3], L[MAX_WAVE];
+            render_lens_to_scene(b->org + 3 * r, os);
+            render_lens_to_scene(b->dir + 3 * r, ds);
+            scene_hit h;
+            if (!scene_intersect(sc, os, ds, 1e-6, INFINITY, &h)) continue; /* L = 0 */
+            if (full) {
+                render_full_terms t;
+                acc->full++;
+                if (render_full_weight(cam->lens, in, o4, jac, b->pdf[i], tr, h.p, h.n, &t) == 0)
+                    wt = t.weight;
+                else
+                    acc->fallback++;
+            }
+            int j0 = job->achromatic ? 0 : j, j1 = job->achromatic ? w->nwave : j + 1;
+            scene_radiance(sc, w, j0, j1, &h, ds, key, spp, k, L);
+            for (int jj = j0; jj < j1; jj++)
+                for (int c = 0; c < 3; c++) a[c] += wt * L[jj] * w->score[jj][c];
+        }
+        acc->passed += any;
+        for (int c = 0; c < 3; c++) acc->sum[c] += a[c], acc->sum2[c] += a[c] * a[c];
+    }
+}
+
+int render_image(const render_job *job, float *rgb, float *var, render_stats *st,
+                 lens_err *err)
+{
+    const scene_t *sc = job->scene;
+    int W = sc->width, H = sc->height;
+    if (job->spp < 1 || W < 1 || H < 1) {
+        lens_errf(err, sc->path, 0, "nothing to render (spp %ld, %dx%d)", job->spp, W, H);
+        return -1;
+    }
+    if (job->estimator == RENDER_ESTIMATOR_FULL && (!job->cam->outer || !job->cam->lens)) {
+        lens_errf(err, sc->path, 0, "the full estimator needs a lens with an outer-pupil Jacobian");
+        return -1;
+    }
+    double t0 = omp_get_wtime();
+    long rows_done = 0;
+    double passed_total = 0, full_total = 0, fallback_total = 0;
+    int threads = job->threads > 0 ? job->threads : omp_get_max_threads();
+    int fail = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : passed_total, full_total, fallback_total)
+    {
+        block_buf *b = malloc(sizeof *b);
+        if (!b) {
+#pragma omp atomic write
+            fail = 1;
+        }
+#pragma omp for schedule(dynamic, 1)
+        for (int py = 0; py < H; py++) {
+            if (!b) continue;
+            for (int px = 0; px < W; px++) {
+                size_t pix = (size_t)py * W + px;
+                if (job->x1 > 0 && (px < job->x0 || px >= job->x1 || py < job->y0 || py >= job->y1)) {
+                    for (int c = 0; c < 3; c++) {
+                        rgb[3 * pix + c] = 0;
+                        if (var) var[3 * pix + c] = 0;
+                    }
+                    continue;
+                }
+                uint64_t key = ld_pixel_key(sc->seed, pix);
+                pixel_acc acc;
+                memset(&acc, 0, sizeof acc);
+                for (long k0 = 0; k0 < job->spp; k0 += BLOCK) {
+                    int m = (int)(job->spp - k0 < BLOCK ? job->spp - k0 : BLOCK);
+                    render_block(job, key, px, py, k0, m, b, &acc);
+                }
+                passed_total += acc.passed;
+                full_total += acc.full;
+                fallback_total += acc.fallback;
+                double n = (double)job->spp;
+                for (int c = 0; c < 3; c++) {
+                    double mean = acc.sum[c] / n;
+                    rgb[3 * pix + c] = (float)mean;
+                    if (var) {
+                        double v = n > 1 ? (acc.sum2[c] - n * mean * mean) / (n - 1) : 0;
+                        var[3 * pix + c] = (float)(fmax(v, 0) / n);
+                    }
+                }
+            }
+            long done;
+#pragma omp atomic capture
+            done = ++rows_done;
+            if (job->progress && omp_get_thread_num() == 0)
+                job->progress(job->progress_ctx, (double)done / H);
+        }
+        free(b);
+    }
+    if (fail) {
+        lens_errf(err, sc->path, 0, "out of memory");
+        return -1;
+    }
+    if (st) {
+        double npix = job->x1 > 0 ? (double)(fmin(job->x1, W) - fmax(job->x0, 0)) *
+                                        (fmin(job->y1, H) - fmax(job->y0, 0))
+                                  : (double)W * H;
+        st->camera_rays = npix * job->spp;
+        st->passed_rays = passed_total;
+        st->full_rays = full_total;
+        st->full_fallback = fallback_total;
+        st->seconds = omp_get_wtime() - t0;
+    }
+    return 0;
+}

@@ -1,0 +1,164 @@
+/* Direct light at a diffuse point by multiple importance sampling (scene.h,
+ * scene_direct_mis): one light sample and one BSDF sample, combined by the power
+ * heuristic (Veach 1997, ch. 9).
+ *
+ *  - light sample: one emitter is chosen with probability P_j proportional to a cheap
+ *    estimate of what it sends to the point (its luminance times the solid angle it
+ *    fills, times the cosine towards its centre plus a floor); a sphere is then sampled
+ *    uniformly within the cone it subtends (pdf 1 / (2 pi (1 - cos theta_max))), a disk
+ *    by area (pdf d^2 / (A cos theta_l) per solid angle); one shadow ray.
+ *  - BSDF sample: a cosine-weighted direction (pdf cos / pi); if the first thing it meets
+ *    is an emitter's front, that emitter's radiance. Emitting infinite planes are only
+ *    found this way (they cannot be sampled by area): their weight is 1.
+ * Each term's weight w multiplies albedo * L_e of its emitter; for the Lambertian
+ * f = albedo / pi, the light term is cos / (pi P_j pdf) times its MIS weight and the BSDF
+ * term (f cos / pdf = albedo) is its MIS weight alone. An emitter with P_j = 0 at the
+ * point is left to the BSDF sample with weight 1, so the sum stays unbiased. */
+#include <math.h>
+#include <string.h>
+
+#include "sparselens/scene.h"
+
+#define EPS_T 1e-6 /* mm: as scene_geometry.c */
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static double luminance(const double c[3])
+{
+    return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+}
+
+/* An orthonormal frame around unit n (Duff et al. 2017, "Building an orthonormal basis,
+ * revisited"). */
+static void frame_of(const double n[3], double t[3], double b[3])
+{
+    double s = n[2] >= 0 ? 1 : -1, a = -1 / (s + n[2]), c = n[0] * n[1] * a;
+    t[0] = 1 + s * n[0] * n[0] * a, t[1] = s * c, t[2] = -s * n[0];
+    b[0] = c, b[1] = s + n[1] * n[1] * a, b[2] = -n[1];
+}
+
+/* The selection weight of emitter o at point p with normal n. */
+static double select_weight(const scene_object *o, const double p[3], const double n[3])
+{
+    double q[3] = {o->p[0] - p[0], o->p[1] - p[1], o->p[2] - p[2]};
+    double d2 = dot3(q, q), d = sqrt(d2), omega;
+    if (!(d > 0)) return 0;
+    if (o->kind == OBJ_SPHERE) {
+        omega = d <= o->radius ? 2 * M_PI
+                               : 2 * M_PI * (1 - sqrt(fmax(0, 1 - o->radius * o->radius / d2)));
+    } else if (o->kind == OBJ_DISK) {
+        double cl = -dot3(o->n, q) / d; /* the disk emits towards its normal */
+        if (cl <= 0) return 0;
+        omega = fmin(2 * M_PI, M_PI * o->radius * o->radius * cl / d2);
+    } else {
+        return 0;
+    }
+    return luminance(o->emit) * omega * (fmax(0, dot3(n, q) / d) + 0.05);
+}
+
+/* Solid-angle density with which emitter o's sampling gives direction w from p, hitting
+ * it at q with unit normal nq. */
+static double light_pdf(const scene_object *o, const double p[3], const double q[3],
+                        const double nq[3], const double w[3])
+{
+    double c[3] = {o->p[0] - p[0], o->p[1] - p[1], o->p[2] - p[2]};
+    double e[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, dq2 = dot3(e, e);
+    if (o->kind == OBJ_SPHERE) {
+        double d2 = dot3(c, c), r2 = o->radius * o->radius;
+        if (d2 > r2 * (1 + 1e-12)) {
+            double one_minus = 1 - sqrt(1 - r2 / d2);
+            return 1 / (2 * M_PI * one_minus);
+        }
+        double cl = fabs(dot3(nq, w));
+        return cl > 0 ? dq2 / (cl * 4 * M_PI * r2) : 0;
+    }
+    double cl = fabs(dot3(nq, w));
+    return cl > 0 ? dq2 / (cl * M_PI * o->radius * o->radius) : 0;
+}
+
+/* Draws direction w towards emitter o from p; q its point there, nq the outward normal.
+ * Returns the solid-angle pdf (0: nothing drawn). */
+static double sample_light(const scene_object *o, const double p[3], double u1, double u2,
+                           double w[3], double q[3], double nq[3])
+{
+    double c[3] = {o->p[0] - p[0], o->p[1] - p[1], o->p[2] - p[2]};
+    double d2 = dot3(c, c), r2 = o->radius * o->radius;
+    if (o->kind == OBJ_SPHERE && d2 > r2 * (1 + 1e-12)) {
+        double d = sqrt(d2), axis[3] = {c[0] / d, c[1] / d, c[2] / d}, t[3], b[3];
+        double cos_max = sqrt(1 - r2 / d2), one_minus = 1 - cos_max;
+        double ct = 1 - u1 * one_minus, st = sqrt(fmax(0, 1 - ct * ct)), phi = 2 * M_PI * u2;
+        frame_of(axis, t, b);
+        for (int k = 0; k < 3; k++) w[k] = ct * axis[k] + st * (cos(phi) * t[k] + sin(phi) * b[k]);
+        /* the nearer root of |p + s w - centre| = r (it exists: w is inside the cone) */
+        double bb = dot3(c, w), disc = fmax(0, bb * bb - (d2 - r2)), s = bb - sqrt(disc);
+        for (int k = 0; k < 3; k++) q[k] = p[k] + s * w[k], nq[k] = (q[k] - o->p[k]) / o->radius;
+        return 1 / (2 * M_PI * one_minus);
+    }
+    if (o->kind == OBJ_SPHERE) { /* inside: by area */
+        double z = 1 - 2 * u1, r = sqrt(fmax(0, 1 - z * z)), phi = 2 * M_PI * u2;
+        nq[0] = r * cos(phi), nq[1] = r * sin(phi), nq[2] = z;
+        for (int k = 0; k < 3; k++) q[k] = o->p[k] + o->radius * nq[k];
+    } else {
+        double e1[3], e2[3], r = o->radius * sqrt(u1), phi = 2 * M_PI * u2;
+        frame_of(o->n, e1, e2);
+        for (int k = 0; k < 3; k++) q[k] = o->p[k] + r * (cos(phi) * e1[k] + sin(phi) * e2[k]);
+        memcpy(nq, o->n, 3 * sizeof *nq);
+    }
+    double e[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, dq = sqrt(dot3(e, e));
+    if (!(dq > 0)) return 0;
+    for (int k = 0; k < 3; k++) w[k] = e[k] / dq;
+    return light_pdf(o, p, q, nq, w);
+}
+
+void scene_direct_mis(const scene_t *s, const scene_hit *h, const double u[5],
+                      scene_light_terms *t)
+{
+    t->n = 0;
+    double sel[64], total = 0;
+    size_t ne = 0;
+    int idx[64];
+    for (size_t i = 0; i < s->nobj && ne < 64; i++) {
+        if (!scene_is_emitter(&s->obj[i])) continue;
+        sel[ne] = select_weight(&s->obj[i], h->p, h->n);
+        idx[ne++] = (int)i;
+        total += sel[ne - 1];
+    }
+    /* the light sample */
+    if (total > 0) {
+        double x = u[0] * total, acc = 0;
+        size_t j = 0;
+        while (j + 1 < ne && (acc + sel[j] <= x || sel[j] == 0)) acc += sel[j++];
+        const scene_object *o = &s->obj[idx[j]];
+        double P = sel[j] / total, w[3] = {0, 0, 0}, q[3], nq[3];
+        double pdf = P > 0 ? sample_light(o, h->p, u[1], u[2], w, q, nq) : 0;
+        double cr = dot3(h->n, w), back[3] = {-w[0], -w[1], -w[2]}, le[3];
+        if (pdf > 0 && cr > 0 && scene_emitted(s, idx[j], q, back, le) && scene_visible(s, h->p, q)) {
+            double pl = P * pdf, pb = cr / M_PI;
+            t->emitter[t->n] = idx[j];
+            t->w[t->n++] = cr / (M_PI * pl) * pl * pl / (pl * pl + pb * pb);
+        }
+    }
+    /* the BSDF sample */
+    double r = sqrt(u[3]), phi = 2 * M_PI * u[4], ct = sqrt(fmax(0, 1 - u[3])), tt[3], bb[3], w[3];
+    frame_of(h->n, tt, bb);
+    for (int k = 0; k < 3; k++) w[k] = ct * h->n[k] + r * (cos(phi) * tt[k] + sin(phi) * bb[k]);
+    scene_hit g;
+    if (!(ct > 0) || !scene_intersect(s, h->p, w, EPS_T, INFINITY, &g)) return;
+    const scene_object *o = &s->obj[g.obj];
+    double back[3] = {-w[0], -w[1], -w[2]}, le[3];
+    if (!scene_is_emitter(o) || !scene_emitted(s, g.obj, g.p, back, le)) return;
+    double pl = 0;
+    if (total > 0 && o->kind != OBJ_PLANE)
+        for (size_t j = 0; j < ne; j++)
+            if (idx[j] == g.obj) {
+                double nq[3];
+                for (int k = 0; k < 3; k++) nq[k] = g.n[k];
+                pl = sel[j] / total * light_pdf(o, h->p, g.p, nq, w);
+            }
+    double pb = ct / M_PI;
+    t->emitter[t->n] = g.obj;
+    t->w[t->n++] = pb * pb / (pb * pb + pl * pl);
+}

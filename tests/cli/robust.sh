@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# Hostile input (issue 16): what an adversarial user tries, each answered by a clean
+# one-line error or by the right result, never by a crash, a silent cut or lost data.
+# Kept fast: small files, except where a size is the point (then a few MB at most).
+source "$(dirname "$0")/lib.sh"
+
+# A Zemax NAME after 250 blanks once read past a 256-byte copy of its line: the name
+# must be the file's text (shortened with "..." and a note), not stack bytes.
+reg=tests/fuzz/regressions/zmx/name-after-250-blanks.zmx
+out=$(run "$BIN/lens-info" --format lens "$reg" 2>"$T/err")
+name=$(sed -n 's/^# name: //p' <<<"$out")
+if [[ $name == "Long Long Long "*"..." ]] && [ ${#name} -le 127 ] &&
+   grep -q 'name shortened from 300 characters' <<<"$out"; then ok zmx_long_indented_name
+else fail zmx_long_indented_name "name '$name'"; fi
+
+# ---- readers: bounded lines, read errors, NUL bytes, byte-order marks ----------------
+LENS=lenses/simple.lens
+# err_has NAME PATTERN CMD...: non-zero exit, stderr one line matching PATTERN.
+err_has() {
+  local n=$1 pat=$2; shift 2
+  local err rc
+  err=$(run "$@" 2>&1 >/dev/null); rc=$?
+  if [ $rc -eq 0 ]; then fail "$n" "exit 0"; return; fi
+  if [ $rc -gt 128 ] || grep -qE 'Sanitizer|runtime error' <<<"$err"; then fail "$n" "crashed: $err"; return; fi
+  if [ "$(grep -c '' <<<"$err")" -ne 1 ] || ! grep -qE -- "$pat" <<<"$err"; then
+    fail "$n" "stderr '$err' does not match '$pat'"; return; fi
+  ok "$n"
+}
+# A read error (here: a directory where a file is expected) is an error, never an end.
+mkdir -p "$T/dir.lens"
+err_has read_error_lens 'dir.lens: read error' "$BIN/lens-info" "$T/dir.lens"
+err_has read_error_fit '<stdin>: read error' "$BIN/lens-fit" --terms 3 <"$T/dir.lens"
+err_has read_error_trace '<stdin>: read error' "$BIN/lens-trace" "$LENS" - <"$T/dir.lens"
+"$BIN/lens-trace" "$LENS" -n 200 --seed 1 >"$T/s.txt" 2>/dev/null
+"$BIN/lens-fit" --terms 4 --degree 3 <"$T/s.txt" >"$T/s.poly" 2>/dev/null
+err_has read_error_eval 'read error' "$BIN/lens-eval" "$T/s.poly" <"$T/dir.lens"
+
+# Lines past 64 KiB are refused with their line, in every reader.
+long=$(head -c 70000 /dev/zero | tr '\0' 1)
+{ head -3 "$LENS"; echo "$long"; } >"$T/long.lens"
+err_has long_line_lens 'long.lens:4: line longer than 65536 bytes' "$BIN/lens-info" "$T/long.lens"
+{ echo "VERS 190000"; echo "NOTE 0 $long"; } >"$T/long.zmx"
+err_has long_line_zmx 'long.zmx:2: line longer than 65536 bytes' "$BIN/lens-info" "$T/long.zmx"
+{ head -2 lenses/glass.catalog; echo "X$long sellmeier1 1 1 1 1 1 1 0.3 2.5 1.5 60"; } >"$T/long.catalog"
+err_has long_line_catalog 'long.catalog:3: line longer than 65536 bytes' \
+  "$BIN/lens-info" --glass-catalog "$T/long.catalog" lenses/lensbaby.lens
+{ head -4 "$T/s.poly"; echo "meta x $long"; } >"$T/long.poly"
+err_has long_line_poly 'long.poly:5: line longer than 65536 bytes' "$BIN/lens-eval" "$T/long.poly" <"$T/s.txt"
+
+# In a stream, a long line or a NUL byte costs its row only (written as nan), named.
+{ echo "# columns: x y u v lambda"; echo "0 0 0 0 0.55"; echo "$long"; printf '0 0\0 0 0 0.55\n'; echo "0 0 0 0 0.55"; } >"$T/rows.txt"
+out=$(run "$BIN/lens-trace" "$LENS" - <"$T/rows.txt" 2>"$T/err"); rc=$?
+rows=$(grep -v '^#' <<<"$out" | awk '{print $1}' | tr '\n' ' ')
+if [ $rc -ne 0 ] && [ "$rows" = "0 nan nan 0 " ] && grep -q '<stdin>:3: line longer than' "$T/err" \
+   && grep -q '<stdin>:4: NUL byte at column 4' "$T/err"; then ok stream_long_line_and_nul
+else fail stream_long_line_and_nul "rc $rc rows '$rows' $(tr '\n' '|' <"$T/err")"; fi
+
+# A UTF-8 byte-order mark before the first line is read as nothing, by every reader.
+bom() { printf '\xef\xbb\xbf'; cat "$1"; }
+bom "$LENS" >"$T/bom.lens"
+a=$(run "$BIN/lens-info" "$LENS" 2>/dev/null | value efl)
+b=$(run "$BIN/lens-info" "$T/bom.lens" 2>/dev/null | value efl)
+[ -n "$a" ] && [ "$a" = "$b" ] && ok bom_lens || fail bom_lens "efl '$a' vs '$b'"
+bom "$T/s.txt" >"$T/bom.txt"
+cmp -s <(run "$BIN/lens-trace" "$LENS" - <"$T/s.txt" 2>&1) <(run "$BIN/lens-trace" "$LENS" - <"$T/bom.txt" 2>&1) &&
+  ok bom_samples || fail bom_samples "output differs"
+bom "$T/s.poly" >"$T/bom.poly"
+cmp -s <(run "$BIN/lens-eval" "$T/s.poly" <"$T/s.txt" 2>&1) <(run "$BIN/lens-eval" "$T/bom.poly" <"$T/s.txt" 2>&1) &&
+  ok bom_poly || fail bom_poly "output differs"
+bom lenses/glass.catalog >"$T/bom.catalog"
+a=$(run "$BIN/lens-info" --glass-catalog "$T/bom.catalog" lenses/lensbaby.lens 2>/dev/null | value efl)
+b=$(run "$BIN/lens-info" lenses/lensbaby.lens 2>/dev/null | value efl)
+[ -n "$a" ] && [ "$a" = "$b" ] && ok bom_catalog || fail bom_catalog "efl '$a' vs '$b'"
+
+# CODE V lines are not cut: a value past column 4095 is read whole.
+python3 - "$T/long.seq" <<'PY'
+import sys
+s = open('tests/data/import/asphere.seq').read().replace('  K -0.6\n', ' ' * 4088 + 'K -0.6123456789\n')
+open(sys.argv[1], 'w').write(s)
+PY
+grep -q 'k=-0.6123456789 ' <(run "$BIN/lens-info" --format lens "$T/long.seq" 2>/dev/null) &&
+  ok seq_long_line_whole || fail seq_long_line_whole "k not read whole"
+
+# A text-catalog n_d beyond lens(5)'s bound is refused with its line.
+{ head -2 lenses/glass.catalog; echo "HUGE sellmeier1 1 1 1 1 1 1 0.3 2.5 1e154 60"; } >"$T/nd.catalog"
+err_has catalog_nd_bound 'nd.catalog:3: glass HUGE: n_d 1e\+154 is above' \
+  "$BIN/lens-info" --glass-catalog "$T/nd.catalog" lenses/lensbaby.lens
