@@ -48,6 +48,8 @@ typedef struct {
     long spp;
     unsigned long seed;
     effect_setting transmittance, vignetting, dispersion;
+    int filter_tent;       /* 0: box (the pixel); 1: tent of filter_radius pixels */
+    double filter_radius;
     size_t nobj;
     scene_object *obj;
 } scene_t;

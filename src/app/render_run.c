@@ -230,6 +230,8 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
                                                       : "estimator of Eq. 13");
     render_job job = {.scene = &sc, .cam = &cam, .sampler = &smp, .estimator = o->estimator,
                       .use_eta = use_eta, .achromatic = achromatic,
+                      .filter = sc.filter_tent ? RENDER_FILTER_TENT : RENDER_FILTER_BOX,
+                      .filter_radius = sc.filter_radius,
                       .eta_const = eta_const, .spp = sc.spp, .threads = o->threads, .progress = o->progress,
                       .progress_ctx = o->progress_ctx};
     if (render_image(&job, img, NULL, st, err)) goto done;

@@ -354,6 +354,16 @@ static int statement(scene_t *s, line_ctx *c, int *have_camera)
         return effect(c, &s->vignetting);
     } else if (!strcmp(k, "dispersion")) {
         return effect(c, &s->dispersion);
+    } else if (!strcmp(k, "filter")) {
+        double r = 1;
+        int tent = c->n >= 2 && !strcmp(c->tok[1], "tent");
+        if (!((c->n == 2 && (tent || !strcmp(c->tok[1], "box"))) ||
+              (c->n == 3 && tent && !num(c, 2, &r) && r >= 0.5 && r <= 4))) {
+            lens_errf(c->err, c->path, c->line, "filter takes box, or tent [RADIUS] (pixels, 0.5 to 4)");
+            return -1;
+        }
+        s->filter_tent = tent;
+        s->filter_radius = r;
     } else if (!strcmp(k, "plane")) {
         return add_object(s, c, OBJ_PLANE);
     } else if (!strcmp(k, "disk")) {
