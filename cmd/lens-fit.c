@@ -12,6 +12,7 @@
 #include "sparselens/outfile.h"
 #include "sparselens/poly.h"
 #include "sparselens/samples.h"
+#include "sparselens/numparse.h"
 
 
 static const char *prog = "lens-fit";

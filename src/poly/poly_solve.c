@@ -5,7 +5,6 @@
 #include <math.h>
 #include <string.h>
 
-#include "sparselens/intersect.h"
 
 static const char *const in_names[5] = {"x", "y", "u", "v", "lambda"};
 static const char *const out_names[4] = {"out_x", "out_y", "out_u", "out_v"};
@@ -31,17 +30,6 @@ int poly_solve_check(const poly_system *sys, lens_err *err)
             return -1;
         }
     return 0;
-}
-
-int outer_of_object_ray(const lens_t *lens, const lens_ray *r, double outer[4])
-{
-    double t, p[3], nrm[3];
-    if (intersect_surface(&lens->surf[0], lens->vertex_z[0], r->o, r->d, INFINITY, &t, p, nrm) !=
-        ISECT_HIT)
-        return -1;
-    lens_ray back = {{p[0], p[1], p[2]}, {-r->d[0], -r->d[1], -r->d[2]}};
-    ray_to_outer(lens, &back, outer);
-    return isfinite(outer[0] + outer[1] + outer[2] + outer[3]) ? 0 : -1;
 }
 
 /* Solves the 4x4 system a x = b by Gaussian elimination with partial pivoting. */

@@ -1,6 +1,7 @@
 /* The plain-text scene format of man 5 lens-scene: one statement per line, '#' starts a
  * comment, words separated by blanks. Every error names FILE:LINE. */
 #include "sparselens/scene.h"
+#include "sparselens/numparse.h"
 
 #include <ctype.h>
 #include <errno.h>

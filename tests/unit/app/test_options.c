@@ -20,6 +20,7 @@
 #include "sparselens/render_cli.h"
 #include "sparselens/spot_cli.h"
 #include "sparselens/trace_cli.h"
+#include "sparselens/numparse.h"
 
 typedef struct {
     int all, quiet;
