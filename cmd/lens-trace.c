@@ -40,6 +40,7 @@ typedef struct {
     double *clip_share;      /* pilot: light share per surface (trace_clip.h), or NULL */
     double clip_leak;        /* pilot: light no modelled surface blocks */
     char **names;            /* column names */
+    double fnumber;          /* --fnumber, or NAN */
 } trace_args;
 
 static int ncols(const trace_args *a)
@@ -61,6 +62,8 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
     fprintf(f, "# lens: %s\n", lens->name[0] ? lens->name : "-");
     if (strcmp(a->lens_path, "-") != 0 && !strchr(a->lens_path, '\n'))
         fprintf(f, "# lens-path: %s\n", a->lens_path);
+    if (!isnan(a->fnumber))
+        fprintf(f, "# fnumber: %.10g (the stop stopped down by --fnumber)\n", a->fnumber);
     /* lens-fit reads this line: a system's passage is complete only from a pilot */
     if (a->clip_share) {
         fprintf(f, "# passage: full (pilot of %d rays over the full ray space, shares of the "
@@ -346,6 +349,13 @@ int main(int argc, char **argv)
     lens_t lens;
     cli_load_lens(prog, a.lens_path, lens_cli_options_get(&o.lens), &lens);
     lens_cli_options_free(&o.lens);
+    lens_err err;
+    if (!isnan(o.fnumber) && lens_set_fnumber(&lens, o.fnumber, &err) != 0) {
+        diag_print(prog, &err);
+        lens_free(&lens);
+        return 1;
+    }
+    a.fnumber = o.fnumber;
     if (isnan(a.sensor_w)) {
         a.sensor_w = lens.sensor_w;
         a.sensor_h = lens.sensor_h;
@@ -353,7 +363,6 @@ int main(int argc, char **argv)
     if (!a.from_stdin && isnan(a.sensor_w))
         diag_die(prog, "%s: no sensor size in the lens header; give --sensor WxH", a.lens_path);
 
-    lens_err err;
     a.sel = malloc((lens.nsurf + 1) * sizeof *a.sel);
     if (!a.sel)
         diag_die(prog, "out of memory");

@@ -2,7 +2,8 @@
 # Equal-time noise of the shipped scenes for reports/render.md: per scene, polynomial and
 # exact, a render with seed 2, then three timed renders with seed 1 (one thread, best
 # time) and their noise figure against it (lens-render --noise-against).
-# usage: measure.sh BINARY LABEL [extra opts]; prints scene mode best_time noise product
+# usage (repository root, after make): tools/render-noise.sh BINARY LABEL [lens-render options]
+# prints per scene and path: best time, noise figure, their product
 R=$1; L=$2; shift 2
 for s in dgauss fisheye bokeh-fisheye; do for mode in "" "--exact"; do
   $R scenes/$s.scene -o ${TMPDIR:-/tmp}/$L-$s$mode-2.exr --seed 2 --cache ${CACHE:-/tmp/render-noise-cache} --threads 1 $mode "$@" --quiet

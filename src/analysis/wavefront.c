@@ -7,10 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sparselens/intersect.h"
 #include "sparselens/paraxial.h"
 #include "sparselens/ray_bundle.h"
-#include "sparselens/refract.h"
+#include "sparselens/ray_path.h"
 
 void wavefront_free(wavefront *wf)
 {
@@ -48,26 +47,11 @@ static double disc_coverage(double x0, double y0, double h)
  * last surface; r ends there with its direction in image space. */
 static int trace_path_length(const imaging *im, const double *n, lens_ray *r, double *opl)
 {
-    const lens_t *lens = im->lens;
-    double L;
-    if (isinf(im->object_distance))
-        L = r->d[0] * r->o[0] + r->d[1] * r->o[1] + r->d[2] * r->o[2];
-    else
-        L = 0; /* aim_from_object starts a finite object's rays at the object point */
-    double n1 = 1;
-    for (size_t i = 0; i < lens->nsurf; i++) {
-        const lens_surface *s = &lens->surf[i];
-        double t, p[3], nrm[3], T;
-        if (intersect_surface(s, lens->vertex_z[i], r->o, r->d, s->semi_diameter * s->semi_diameter, &t,
-                              p, nrm) != ISECT_HIT)
-            return -1;
-        L += n1 * t;
-        memcpy(r->o, p, sizeof p);
-        if (n[i] != n1 && refract(r->d, nrm, n1, n[i], r->d, &T) != 0)
-            return -1;
-        n1 = n[i];
-    }
-    *opl = L;
+    /* object at infinity: from the plane through the origin normal to the beam;
+     * finite: aim_from_object starts the rays at the object point */
+    *opl = isinf(im->object_distance) ? r->d[0] * r->o[0] + r->d[1] * r->o[1] + r->d[2] * r->o[2] : 0;
+    if (ray_path(im->lens, n, r, NULL, opl, NULL) != (int)im->lens->nsurf)
+        return -1;
     return r->d[2] > 0 ? 0 : -1;
 }
 

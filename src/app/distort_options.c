@@ -52,6 +52,7 @@ static const opt_spec distort_table[] = {
              "prints coefficients and residuals",
      .man =
      "Object at infinity only.\n"},
+    {.type = OPT_GROUP, OPT_AT(distort_cli, out), .group = output_cli_table},
     {.type = OPT_GROUP, OPT_AT(distort_cli, im), .group = imaging_cli_table},
     {0}};
 
@@ -71,4 +72,5 @@ void distort_cli_default(distort_cli *o)
     o->exaggerate = NAN;
     o->map = o->png = NULL;
     o->opencv = (cli_size){0, 0};
+    o->out = (output_cli){0, 0};
 }

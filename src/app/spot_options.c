@@ -44,6 +44,7 @@ static const opt_spec spot_table[] = {
      "in rays per square micrometre per launched ray, so that each panel integrates to the\n"
      "fraction of rays that pass.\n"
      "The pixel size is printed as a comment line.\n"},
+    {.type = OPT_GROUP, OPT_AT(spot_cli, out), .group = output_cli_table},
     {.type = OPT_GROUP, OPT_AT(spot_cli, im), .group = imaging_cli_table},
     {0}};
 
@@ -60,4 +61,5 @@ void spot_cli_default(spot_cli *o)
     o->rays = 400;
     o->seed = 1;
     o->png = o->exr = NULL;
+    o->out = (output_cli){0, 0};
 }

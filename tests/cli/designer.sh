@@ -5,7 +5,7 @@ source "$(dirname "$0")/lib.sh"
 DG=lenses/dgauss.50mm.lens
 W=tests/data/window.lens P=tests/data/perfect-50mm.poly
 
-for c in fan field mtf; do
+for c in fan field mtf layout; do
   if run $BIN/lens-$c --help | grep -q "^usage: lens-$c"; then ok designer_help_$c; else fail designer_help_$c; fi
 done
 
@@ -63,3 +63,17 @@ expect_error designer_bad_points "--points" run $BIN/lens-fan $DG --points 1
 expect_error designer_no_lens "no lens given" run $BIN/lens-field
 run $BIN/lens-mtf $DG --fields 0 --png $T/no/such/dir/x.png >/dev/null 2>&1
 if [ $? -ne 0 ] && [ -z "$(ls $T/no 2>/dev/null)" ]; then ok designer_png_error; else fail designer_png_error; fi
+
+# layout: the surface table, every ray of a plain lens reaches the sensor, PNG and SVG
+run $BIN/lens-layout lenses/cooke-triplet.zmx --fields 0,20 --rays 5 --png $T/l.png --svg $T/l.svg >$T/l.txt 2>$T/err.txt
+if head -1 $T/l.txt | grep -q '^# columns: surface z_mm radius_mm conic semi_diameter_mm sag_rim_mm material stop' &&
+   [ "$(grep -vc '^#' $T/l.txt)" = 7 ] && grep -q '^# rays at 0.5875618 um: 10 of 10 reach the sensor' $T/l.txt &&
+   [ "$(head -c 4 $T/l.png | od -An -tx1 | tr -d ' ')" = 89504e47 ] &&
+   [ "$(grep -c '<polygon' $T/l.svg)" = 3 ] && [ "$(grep -c '<polyline' $T/l.svg)" -ge 14 ] && tail -1 $T/l.svg | grep -q '</svg>'
+then ok designer_layout; else fail designer_layout "$(cat $T/err.txt $T/l.txt)"; fi
+# through a system: its rays beside the lens's, and their difference
+run $BIN/lens-layout $W --compare $P --fields 0,5 --rays 3 --svg $T/w.svg >$T/w.txt 2>$T/err.txt
+if grep -q '^# poly - lens: sensor points differ by at most' $T/w.txt && grep -q 'stroke-dasharray="1 1"' $T/w.svg
+then ok designer_layout_system; else fail designer_layout_system "$(cat $T/err.txt $T/w.txt)"; fi
+run $BIN/lens-layout $DG --svg $T/no/such/dir/x.svg >/dev/null 2>&1
+if [ $? -ne 0 ] && [ -z "$(ls $T/no 2>/dev/null)" ]; then ok designer_svg_error; else fail designer_svg_error; fi
