@@ -52,13 +52,16 @@ script_for() { # FILE LOGDIR
   local file=$1 logs=$2 n=0 loc="" body="" at=3
   echo 'set -o pipefail'
   echo "fails=$logs/fails; : > \"\$fails\""
-  echo 'trap '\''rc=$?; if [ $rc -ne 141 ] && [ "${reported:-}" != "$K" ]; then echo "$K $F:$((L0 + LINENO - B0)) $rc $((LINENO - B0 + 1))" >> "$fails"; reported=$K; fi'\'' ERR'
+  # A pipeline element that met a reader which stopped early is no failure: killed by
+  # SIGPIPE (141), or, not last, exited with EPIPE (32, python3's way).
+  echo 'trap '\''ps=("${PIPESTATUS[@]}"); rc=0; n=${#ps[@]}; for ((i = 0; i < n; i++)); do s=${ps[i]}; if [ "$s" != 0 ] && [ "$s" != 141 ] && { [ "$s" != 32 ] || [ $i -eq $((n - 1)) ]; }; then rc=$s; fi; done; if [ $rc -ne 0 ] && [ "${reported:-}" != "$K" ]; then echo "$K $F:$((L0 + LINENO - B0)) $rc $((LINENO - B0 + 1))" >> "$fails"; reported=$K; fi'\'' ERR'
   flush() {
     [ -n "$loc" ] || return 0
     n=$((n + 1))
-    printf 'K=%d F=%q L0=%d B0=%d\n{\n%s\n} < /dev/null > %q 2> %q\n' "$n" "${loc%:*}" "${loc##*:}" \
+    # the block ends in ':' so that only its commands, never the block, trip the trap
+    printf 'K=%d F=%q L0=%d B0=%d\n{\n%s\n:\n} < /dev/null > %q 2> %q\n' "$n" "${loc%:*}" "${loc##*:}" \
       $((at + 3)) "$body" "$logs/$n.out" "$logs/$n.err"
-    at=$((at + 3 + $(printf '%s\n' "$body" | wc -l)))
+    at=$((at + 4 + $(printf '%s\n' "$body" | wc -l)))
     printf '%s\n' "$body" > "$logs/$n.cmd"
   }
   while IFS= read -r line; do
