@@ -19,9 +19,9 @@ report="${poly%.poly}.test.report"
 id=$(basename "$poly" .poly)
 
 # Error against field radius: the report's radius bins of the position outputs.
-awk '/^# columns: output rmin rmax/ { on = 1; next } on && /^$/ { exit }
-     on && $1 == "out_x" && $NF == "mm" { x[$2] = $5; r[$2] = 0.5 * ($2 + $3) }
-     on && $1 == "out_y" && $NF == "mm" { y[$2] = $5 }
+awk '/^# columns: key rmin_mm rmax_mm/ { on = 1; next } on && /^$/ { exit }
+     on && $1 == "out_x_mm" { x[$2] = $5; r[$2] = 0.5 * ($2 + $3) }
+     on && $1 == "out_y_mm" { y[$2] = $5 }
      END { for (k in r) printf "%g %g\n", r[k], sqrt(x[k] ^ 2 + y[k] ^ 2) }' "$report" | sort -g > "$pics/$name-error-radius.dat"
 gnuplot <<GP
 set terminal pngcairo size 640,400 noenhanced

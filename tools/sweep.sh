@@ -44,8 +44,8 @@ points() {
 }
 
 row() { # error report -> pos_rms_mm dir_rms_arcmin
-  awk '$1 == "out_x" && $NF == "mm" && !x { x = $3 } $1 == "out_y" && $NF == "mm" && !y { y = $3 }
-       $1 == "out_u" && $NF == "arcmin" && !u { u = $3 } $1 == "out_v" && $NF == "arcmin" && !v { v = $3 }
+  awk '$1 == "out_x_mm" && !x { x = $3 } $1 == "out_y_mm" && !y { y = $3 }
+       $1 == "out_u_arcmin" && !u { u = $3 } $1 == "out_v_arcmin" && !v { v = $3 }
        /^$/ { exit } END { printf "%.6g %.6g\n", sqrt(x * x + y * y), sqrt(u * u + v * v) }' "$1"
 }
 

@@ -69,6 +69,7 @@ static const opt_spec eval_table[] = {
      .def = "lens_poly_eval"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(eval_cli, output),
      .help = "output file, never left half-written", .def = "standard output"},
+    {.type = OPT_GROUP, OPT_AT(eval_cli, out), .group = output_cli_table},
     {0}};
 
 const opt_command eval_command = {
@@ -88,5 +89,6 @@ void eval_cli_default(eval_cli *o)
     o->output = "-";
     o->emit_c = 0;
     o->name = "lens_poly_eval";
+    o->out = (output_cli){0, 0};
     eval_run_options_default(&o->run);
 }
