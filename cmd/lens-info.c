@@ -31,17 +31,9 @@ int main(int argc, char **argv)
         lens_free(&lens);
         return 1;
     }
-    if (rep.p.afocal)
-        fprintf(stderr, "%s: warning: %s: the lens has no power (afocal): efl, bfl, ffl and "
-                        "fnumber are infinite\n", prog, path);
-    if (!rep.have_sensor)
-        fprintf(stderr, "%s: warning: %s: no sensor size in the lens header; give --sensor WxH "
-                        "for field_of_view_deg\n", prog, path);
-    else if (rep.image_circle_radius < rep.sensor_radius)
-        fprintf(stderr, "%s: warning: the sensor diagonal (%.4g mm) reaches past the image circle "
-                        "(radius %.4g mm); field_of_view_deg is the image circle's\n",
-                prog, 2 * rep.sensor_radius, rep.image_circle_radius);
-    info_report_print(stdout, &lens, &rep);
+    for (int k = 0; k < rep.nwarnings; k++)
+        fprintf(stderr, "%s: warning: %s: %s\n", prog, path, rep.warnings[k]);
+    info_report_print(stdout, &lens, &rep, &o.out);
     lens_free(&lens);
     return fflush(stdout) == 0 ? 0 : 1;
 }

@@ -16,6 +16,12 @@ typedef struct {
     double field_of_view_deg;    /* full angle of the chief ray at image_circle_radius */
     double image_circle_radius;  /* the sensor radius, or the image circle's where the
                                     sensor corners reach past it */
+    /* What a designer would question, one line each (without "lens-info: warning: "):
+     * an afocal lens, no sensor size, a sensor past the image circle, a focal length or
+     * f-number more than 5 % from the header's, a focus distance that is negative or not
+     * at infinity. */
+    int nwarnings;
+    char warnings[8][400];
 } info_report;
 
 /* Applies --sensor and --focus to the lens: refocusing sets the last thickness so that an
@@ -28,7 +34,7 @@ int info_prepare(const info_cli *o, lens_t *lens, lens_err *err);
  * size. 0, or -1 with err set. */
 int info_run(const info_cli *o, const lens_t *lens, info_report *rep, lens_err *err);
 
-/* The report as "key value" lines (lens-info(1)). */
-void info_report_print(FILE *f, const lens_t *lens, const info_report *rep);
+/* The report as "key value unit" lines, or as JSON (lens-info(1)). */
+void info_report_print(FILE *f, const lens_t *lens, const info_report *rep, const output_cli *out);
 
 #endif

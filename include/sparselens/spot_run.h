@@ -4,6 +4,7 @@
 #include <stdio.h>
 
 #include "sparselens/spot.h"
+#include "sparselens/table_out.h"
 
 typedef enum { FOCUS_FILE, FOCUS_PARAXIAL, FOCUS_BEST } focus_mode;
 
@@ -47,10 +48,14 @@ int spot_run(const spot_request *rq, spot_report *rep, lens_err *err);
  * the lens) is prefixed with its name ("poly: ..."); the lens's own (m 0) is left as is. */
 void run_error_model(lens_err *err, int m, const char *name);
 void spot_report_free(spot_report *rep);
-/* "prog: warning: MODEL: why; its rows are nan" for each field not imaged. */
-void spot_report_warn(FILE *f, const char *prog, const spot_request *rq, const spot_report *rep);
-/* Header line, then a row per model, field and wavelength, and a row "all" per field
- * (the pooled wavelengths) when there are several. */
-void spot_report_print(FILE *f, const spot_request *rq, const spot_report *rep);
+/* "MODEL: why; its rows are nan" for each field not imaged, at most max of them, into
+ * w[]; returns how many. */
+typedef char report_warning[640];
+int spot_report_warnings(const spot_request *rq, const spot_report *rep, report_warning *w, int max);
+/* The table "spots" (text: header line, then a row per model, field and wavelength, and a
+ * row "all" per field, the pooled wavelengths, when there are several), and how the
+ * sensor plane was placed (text: a comment when it moved; JSON: "sensor"). */
+void spot_report_print(table_out *t, const spot_request *rq, const spot_report *rep,
+                       const char *focus_name);
 
 #endif

@@ -20,6 +20,7 @@ typedef struct {
     int passing_only;         /* --passing-only (--all is the default) */
     int stop_columns, clip_columns, no_passage_columns;
     const char *clip_list;    /* --clip-surfaces, or NULL */
+    double fnumber;           /* --fnumber: stop the lens down to it; NAN: as it is */
     lens_cli_options lens;
 } trace_cli;
 

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sparselens/aim.h"
 #include "sparselens/paraxial.h"
 
 int distort_scale(const imaging *im, double lambda, double *scale, lens_err *err)

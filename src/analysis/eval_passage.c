@@ -73,11 +73,22 @@ int eval_passage_add(eval_passage *p, const double *in, const double *pred, int 
 
 int eval_passage_measured(const eval_passage *p) { return p->lens_blocked > 0; }
 
-void eval_passage_write(FILE *f, const eval_passage *p)
+static void share(table_out *t, const char *key, double v)
+{
+    table_out_str(t, key);
+    table_out_num(t, v, 0);
+    table_out_row_end(t);
+}
+
+void eval_passage_write(table_out *t, const eval_passage *p)
 {
     if (!eval_passage_measured(p)) {
-        fputs("passage not measured\n# (the test set holds no ray the lens blocks: trace "
-              "it without --passing-only, best with --sampling full)\n", f);
+        table_out_str(t, "passage_measured");
+        table_out_int(t, 0);
+        table_out_row_end(t);
+        if (!t->json)
+            fputs("# (the test set holds no ray the lens blocks: trace it without "
+                  "--passing-only, best with --sampling full)\n", t->f);
         return;
     }
     double light = 0, fp = 0, fb = 0, worst = 0;
@@ -89,16 +100,27 @@ void eval_passage_write(FILE *f, const eval_passage *p)
             worst = d, wk = k;
     }
     double L = light > 0 ? light : 1;
-    fprintf(f, "light_false_pass %.6g\nlight_false_block %.6g\nlight_disagree %.6g\n"
-               "worst_ring_mm %zu\nworst_ring_disagree %.6g\n",
-            fp / L, fb / L, (fp + fb) / L, wk, worst);
-    fputs("\n# passage by 1 mm ring of sensor radius: shares of the light the lens passes\n"
-          "# there (rays weighted by cos^4 theta times the transmittance)\n"
-          "# columns: rmin rmax rays false_pass false_block disagree\n", f);
+    share(t, "light_false_pass", fp / L);
+    share(t, "light_false_block", fb / L);
+    share(t, "light_disagree", (fp + fb) / L);
+    table_out_str(t, "worst_ring_mm");
+    table_out_int(t, (long long)wk);
+    table_out_row_end(t);
+    share(t, "worst_ring_disagree", worst);
+    static const char *const cols[] = {"rmin_mm", "rmax_mm", "rays", "false_pass", "false_block",
+                                       "disagree"};
+    table_out_table(t, "passage_by_ring",
+                    "passage by 1 mm ring of sensor radius: shares of the light the lens passes\n"
+                    "there (rays weighted by cos^4 theta times the transmittance)", cols, 6);
     for (size_t k = 0; k < p->nring; k++) {
         double l = p->light[k] > 0 ? p->light[k] : 1;
-        fprintf(f, "%zu %zu %zu %.6g %.6g %.6g\n", k, k + 1, p->rays[k], p->fpass[k] / l,
-                p->fblock[k] / l, (p->fpass[k] + p->fblock[k]) / l);
+        table_out_int(t, (long long)k);
+        table_out_int(t, (long long)k + 1);
+        table_out_int(t, (long long)p->rays[k]);
+        table_out_num(t, p->fpass[k] / l, 0);
+        table_out_num(t, p->fblock[k] / l, 0);
+        table_out_num(t, (p->fpass[k] + p->fblock[k]) / l, 0);
+        table_out_row_end(t);
     }
 }
 

@@ -11,6 +11,7 @@
 #include <stdio.h>
 
 #include "sparselens/poly.h"
+#include "sparselens/table_out.h"
 
 typedef struct {
     int ix, iy, iu, iv, ieta;    /* inputs x y u v, output out_eta; -1 if absent */
@@ -24,9 +25,10 @@ int eval_passage_init(eval_passage *p, const poly_system *s);
 /* One ray, as eval_report_add. 0, or -1 out of memory. */
 int eval_passage_add(eval_passage *p, const double *in, const double *pred, int sys_pass,
                      const double *ref, int lens_pass);
-/* The key-value lines (light_false_pass, light_false_block, light_disagree, worst
- * ring) and the ring table; or "passage not measured" when no ray was blocked. */
-void eval_passage_write(FILE *f, const eval_passage *p);
+/* Into the open key-value table: light_false_pass, light_false_block, light_disagree,
+ * the worst ring; then the table "passage_by_ring". When no ray was blocked, only
+ * passage_measured 0 (and in text a comment saying how to measure it). */
+void eval_passage_write(table_out *t, const eval_passage *p);
 int eval_passage_measured(const eval_passage *p);
 void eval_passage_free(eval_passage *p);
 

@@ -5,8 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sparselens/aim.h"
 #include "sparselens/paraxial.h"
 #include "sparselens/poly_solve.h"
+#include "sparselens/numparse.h"
 
 /* Fraunhofer line wavelengths, um (Schott's table of the lines used in glass data). */
 static const struct {

@@ -1,5 +1,6 @@
 #include "sparselens/cli.h"
 #include "sparselens/lens_cli_options.h"
+#include "sparselens/numparse.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -99,12 +99,9 @@ static const opt_spec fit_table[] = {
      "Also its many-ray variant\n"
      ".IB NAME _batch\n"
      "(see\n"
-     ".BR lens-eval (1)).\n"
-     "With the meridional frame or a transform (the defaults),\n"
-     ".IB NAME _batch\n"
-     "calls\n"
-     ".I NAME\n"
-     "ray by ray: the same values, not vectorised.\n"},
+     ".BR lens-eval (1)),\n"
+     "which runs blocks of 8 rays that compilers vectorise, the meridional frame and the\n"
+     "transforms (the defaults) included.\n"},
     {0, "name", "NAME", OPT_STRING, OPT_AT(fit_cli, name), .help = "function name for --emit c",
      .def = "lens_poly"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(fit_cli, out_path),

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "sparselens/diag.h"
+#include "sparselens/numparse.h"
 
 #ifndef SPARSELENS_VERSION
 #define SPARSELENS_VERSION "unknown"

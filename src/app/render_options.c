@@ -46,6 +46,16 @@ static const opt_spec render_table[] = {
      .def = "eq13",
      .man =
      "See the estimator above.\n"},
+    {0, "emit-camera", "FILE", OPT_STRING, OPT_AT(render_cli, run.emit_camera),
+     .help = "write the scene's camera as one C file (system, line pupil, front element, "
+             "weight) instead of rendering",
+     .man =
+     "The module defines\n"
+     ".I double lens_camera_ray(sx, sy, lambda, r1, r2, org[3], dir[3]):\n"
+     "the weight of the camera ray from sensor point (sx, sy) (fractions of the sensor, the\n"
+     "top-left at 0, 0), with its origin and direction in the scene frame\n"
+     ".RB ( lens-scene (5)).\n"
+     "It compiles on its own as C99; -o is not needed.\n"},
     {'q', "quiet", NULL, OPT_FLAG, OPT_AT(render_cli, quiet),
      .help = "no decisions, progress or figures on stderr"},
     {.type = OPT_GROUP, OPT_AT(render_cli, lens), .group = lens_cli_table},

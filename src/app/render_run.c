@@ -5,7 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sparselens/camera.h"
 #include "sparselens/exr_io.h"
+#include "sparselens/outfile.h"
 #include "sparselens/glass.h"
 #include "sparselens/image.h"
 #include "sparselens/lens.h"
@@ -121,6 +123,25 @@ int render_compare(const char *ref, int w, int h, const float *rgb, double *rms,
     return 0;
 }
 
+/* --emit-camera: the scene's camera as one C file (camera.h), instead of the render. */
+static int emit_camera(const render_options *o, const lens_t *lens, const poly_system *sys,
+                       double sw, double sh, lens_err *err)
+{
+    if (!sys) {
+        lens_errf(err, o->scene, 0, "--emit-camera needs a polynomial system (not --exact)");
+        return -1;
+    }
+    outfile *of = outfile_open(o->emit_camera, err);
+    if (!of) return -1;
+    if (lens_camera_emit(outfile_stream(of), lens, sys, sw, sh, "lens_camera", err)) {
+        outfile_abort(of);
+        return -1;
+    }
+    if (outfile_commit(of, err)) return -1;
+    if (o->log) fprintf(o->log, "camera module: wrote %s (lens_camera_ray)\n", o->emit_camera);
+    return 0;
+}
+
 int render_run(const render_options *o, render_stats *st, lens_err *err)
 {
     scene_t sc;
@@ -204,6 +225,10 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         lc = render_lens_poly(sys, &lens, sw, sh, &cam, err);
     }
     if (!lc) goto done;
+    if (o->emit_camera) {
+        rc = emit_camera(o, &lens, sys, sw, sh, err);
+        goto done;
+    }
 
     double rmax = 0.5 * hypot(sw, sh);
     if (o->rear_sampling) {
@@ -230,6 +255,8 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
                                                       : "estimator of Eq. 13");
     render_job job = {.scene = &sc, .cam = &cam, .sampler = &smp, .estimator = o->estimator,
                       .use_eta = use_eta, .achromatic = achromatic,
+                      .filter = sc.filter_tent ? RENDER_FILTER_TENT : RENDER_FILTER_BOX,
+                      .filter_radius = sc.filter_radius,
                       .eta_const = eta_const, .spp = sc.spp, .threads = o->threads, .progress = o->progress,
                       .progress_ctx = o->progress_ctx};
     if (render_image(&job, img, NULL, st, err)) goto done;

@@ -30,6 +30,9 @@ static const opt_spec spot_table[] = {
      .help = "seed for --pupil random", .def = "1"},
     {0, "png", "FILE", OPT_STRING, OPT_AT(spot_cli, png), .help = "the spot diagram picture",
      .man =
+     "PNG, or SVG or PDF (vector) when FILE ends in .svg or .pdf (drawn through cairo, in\n"
+     "DejaVu Sans). The title names the lens, then the f-number, the object and where the\n"
+     "sensor is focused; a wavelength a model cannot image at a field is named in its panel.\n"
      "One panel per field (one row per model), the landing points in a colour per\n"
      "wavelength, the chief ray as a cross, the Airy disc of the first wavelength as a grey\n"
      "circle, a scale bar in micrometres and the RMS radius under each panel.\n"
@@ -44,6 +47,7 @@ static const opt_spec spot_table[] = {
      "in rays per square micrometre per launched ray, so that each panel integrates to the\n"
      "fraction of rays that pass.\n"
      "The pixel size is printed as a comment line.\n"},
+    {.type = OPT_GROUP, OPT_AT(spot_cli, out), .group = output_cli_table},
     {.type = OPT_GROUP, OPT_AT(spot_cli, im), .group = imaging_cli_table},
     {0}};
 
@@ -60,4 +64,5 @@ void spot_cli_default(spot_cli *o)
     o->rays = 400;
     o->seed = 1;
     o->png = o->exr = NULL;
+    o->out = (output_cli){0, 0};
 }

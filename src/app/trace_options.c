@@ -65,6 +65,13 @@ static const opt_spec trace_table[] = {
      .help = "no passage columns: the ten default columns alone"},
     {0, "sensor", "WxH", OPT_CALL, OPT_AT(trace_cli, sensor), .set = cli_set_size,
      .help = "sensor size in mm", .def = "the lens header's"},
+    {0, "fnumber", "N", OPT_POSITIVE, OPT_AT(trace_cli, fnumber),
+     .help = "stop the lens down to f-number N (efl over entrance pupil diameter, paraxial, "
+             "object at infinity) by scaling the aperture stop's semi-diameter",
+     .def = "the lens's own",
+     .man = "A comment line of the samples records it\n"
+            ".RB ( \"# fnumber: N\" ).\n"
+            "A lens opens no wider than its stop allows (an error).\n"},
     {0, "threads", "T", OPT_INT, OPT_AT(trace_cli, threads), .lo = 1, .hi = 1024,
      .help = "threads", .def = "all"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(trace_cli, out_path),
@@ -96,6 +103,7 @@ void trace_cli_default(trace_cli *o)
     o->strategy = SAMPLING_PUPIL;
     o->lambda[0] = 0.4, o->lambda[1] = 0.7;
     o->sensor = (cli_size){NAN, NAN};
+    o->fnumber = NAN;
     o->target = TRACE_TO_OUTER;
     lens_cli_options_init(&o->lens);
 }

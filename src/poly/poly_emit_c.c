@@ -103,16 +103,26 @@ static int emit_part(FILE *f, const poly_system *s, const poly_part *p, const ch
         comment_name(f, s->outputs[o]);
         fprintf(f, ": %d terms */\n", ot->nterms);
         fputs("            double a0 = 0, a1 = 0, a2 = 0, a3 = 0;\n", f);
-        /* the plan's order: single terms, then fused ones, each run from sum a0 on */
-        for (int q = t0; q < pl->start[o + 1]; q++) {
-            int t = pl->src[q], k = ot->slot[t];
-            fprintf(f, "            a%d += ", (q - t0 - (q - t0 >= ns ? ns : 0)) % POLY_NSUMS);
-            num(f, ot->coef[t]);
-            if (q - t0 < ns)
-                fprintf(f, " * m%d;\n", k);
-            else
-                fprintf(f, " * (m%d * m%d);\n", m->a[k], m->b[k]);
+        /* the plan's runs (poly_impl.h): single terms, then the fused ones by quads,
+         * pairs and lone terms, each run from sum a0 on */
+        int q = t0;
+        for (int i = 0; i < ns; i++, q++) {
+            fprintf(f, "            a%d += ", i % POLY_NSUMS);
+            num(f, ot->coef[pl->src[q]]);
+            fprintf(f, " * m%d;\n", ot->slot[pl->src[q]]);
         }
+        const int nq = pl->nquad[o], np = pl->npair[o];
+        const int nl = pl->start[o + 1] - t0 - ns - 4 * nq - 2 * np;
+        for (int w = 4; w >= 1; w /= 2)
+            for (int i = 0; i < (w == 4 ? nq : w == 2 ? np : nl); i++, q += w) {
+                fprintf(f, "            a%d += %s", i % POLY_NSUMS, w == 4 ? "((" : "(");
+                for (int j = 0; j < w; j++) {
+                    fputs(j == 0 ? "" : j == 2 ? ") + (" : " + ", f);
+                    num(f, ot->coef[pl->src[q + j]]);
+                    fprintf(f, " * m%d", pl->vslot[pl->fa[q + j]]);
+                }
+                fprintf(f, "%s * m%d;\n", w == 4 ? "))" : ")", pl->vslot[pl->fb[q]]);
+            }
         fputs("            ", f);
         fprintf(f, outfmt, o);
         fputs(" = (a0 + a1) + (a2 + a3);\n        }\n", f);
@@ -256,7 +266,7 @@ static int emit_batch(FILE *f, const poly_system *s, const char *func)
             "\n/* %s on n rays: in holds n rows of %d inputs, out gets n rows of %d outputs\n"
             " * and pass (unless NULL) n flags, the values of %s ray by ray. With GCC on\n"
             " * x86-64 also compiled for AVX2 (4 lanes instead of SSE2's 2), the clone picked\n"
-            " * when the program loads: without -march, -O2 measured 35 ns a ray, 18-22 with it\n"
+            " * when the program loads: without -march, -O2 measured 35 ns a ray, 22-25 with it\n"
             " * (the same bits: no contraction into FMA in ISO C mode). */\n"
             "#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && __GNUC__ >= 12\n"
             "__attribute__((target_clones(\"arch=x86-64-v3\", \"default\")))\n"
@@ -410,8 +420,9 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
             "\n * Returns 1 if the ray passes the lens, 0 if not (out[] is filled either way).\n"
             " * %s_batch does the same for many rays, in blocks of 8 that compilers vectorise.\n"
             " * Measured on the 5 x 40 term fisheye-ii system of lens-fit's defaults (GCC 12,\n"
-            " * one thread of a 2.5 GHz Xeon with AVX-512): one call 72 ns a ray at -O2, 91 at\n"
-            " * -O3 -march=native; the batch function 22 ns a ray at both.\n"
+            " * one thread of a 2.5 GHz Xeon with AVX-512, make bench): one call 72 ns a ray at\n"
+            " * -O2, 92 at -O3 -march=native; the batch function 25 and 24 ns a ray, about\n"
+            " * liblens's own batch kernel (27 ns).\n"
             " * Compile without floating-point contraction (-ffp-contract=off, the default\n"
             " * with -std=c99 or -std=c11) to get exactly the values of lens-eval. */\n"
             "#include <math.h>\n#include <stddef.h>\n\n",

@@ -161,8 +161,24 @@ static int full_row(const render_job *job, block_buf *b, size_t r, double o[4], 
     return 1;
 }
 
-static void render_block(const render_job *job, uint64_t key, int px, int py, long k0, int m,
-                         block_buf *b, pixel_acc *acc)
+/* Camera rays leave the lens within this distance of the scene's origin (the front
+ * vertex): the front element's rim, widened by a tenth; 0 when unknown (analytic lens). */
+static double origin_radius(const render_camera *cam)
+{
+    if (!cam->lens) return 0;
+    const lens_surface *f = &cam->lens->surf[0];
+    double sag = lens_sag(f, f->semi_diameter * f->semi_diameter);
+    if (!isfinite(sag)) sag = fabs(f->radius);
+    return 1.1 * (fabs(cam->lens->vertex_z[0]) + hypot(f->semi_diameter, sag));
+}
+
+typedef struct {
+    const scene_cull *cull;
+    double rho;
+} camera_cull;
+
+static void render_block(const render_job *job, const camera_cull *cc, uint64_t key, int px,
+                         int py, long k0, int m, block_buf *b, pixel_acc *acc)
 {
     const scene_t *sc = job->scene;
     const render_camera *cam = job->cam;
@@ -209,7 +225,10 @@ static void render_block(const render_job *job, uint64_t key, int px, int py, lo
             render_lens_to_scene(b->org + 3 * r, os);
             render_lens_to_scene(b->dir + 3 * r, ds);
             scene_hit h;
-            if (!scene_intersect(sc, os, ds, 1e-6, INFINITY, &h)) continue; /* L = 0 */
+            int near = os[0] * os[0] + os[1] * os[1] + os[2] * os[2] <= cc->rho * cc->rho;
+            if (!(near ? scene_intersect_camera(sc, cc->cull, os, ds, 1e-6, &h)
+                       : scene_intersect(sc, os, ds, 1e-6, INFINITY, &h)))
+                continue; /* L = 0 */
             if (full) {
                 render_full_terms t;
                 acc->full++;
@@ -246,6 +265,9 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
     double passed_total = 0, full_total = 0, fallback_total = 0;
     int threads = job->threads > 0 ? job->threads : omp_get_max_threads();
     int fail = 0;
+    camera_cull cc = {NULL, origin_radius(job->cam)};
+    scene_cull *cull = cc.rho > 0 ? scene_cull_new(sc, cc.rho) : NULL;
+    cc.cull = cull;
 #pragma omp parallel num_threads(threads) reduction(+ : passed_total, full_total, fallback_total)
     {
         block_buf *b = malloc(sizeof *b);
@@ -270,7 +292,7 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
                 memset(&acc, 0, sizeof acc);
                 for (long k0 = 0; k0 < job->spp; k0 += BLOCK) {
                     int m = (int)(job->spp - k0 < BLOCK ? job->spp - k0 : BLOCK);
-                    render_block(job, key, px, py, k0, m, b, &acc);
+                    render_block(job, &cc, key, px, py, k0, m, b, &acc);
                 }
                 passed_total += acc.passed;
                 full_total += acc.full;
@@ -293,6 +315,7 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
         }
         free(b);
     }
+    scene_cull_free(cull);
     if (fail) {
         lens_errf(err, sc->path, 0, "out of memory");
         return -1;

@@ -1,6 +1,7 @@
 /* The plain-text scene format of man 5 lens-scene: one statement per line, '#' starts a
  * comment, words separated by blanks. Every error names FILE:LINE. */
 #include "sparselens/scene.h"
+#include "sparselens/numparse.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -8,6 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
+
+#include "sparselens/data_path.h"
 
 #define MAX_TOKENS 40
 
@@ -295,6 +299,10 @@ static int statement(scene_t *s, line_ctx *c, int *have_camera)
             return -1;
         }
         resolve(c->path, c->tok[1], s->camera, sizeof s->camera);
+        /* a bare name with no such file beside the scene is a lens name (lens_load
+         * looks in ./, $SPARSELENS_LENS_PATH and the shipped lenses) */
+        if (!strchr(c->tok[1], '/') && access(s->camera, R_OK) != 0)
+            snprintf(s->camera, sizeof s->camera, "%s", c->tok[1]);
         size_t l = strlen(s->camera);
         s->camera_is_poly = l > 5 && !strcmp(s->camera + l - 5, ".poly");
         *have_camera = 1;
@@ -347,6 +355,16 @@ static int statement(scene_t *s, line_ctx *c, int *have_camera)
         return effect(c, &s->vignetting);
     } else if (!strcmp(k, "dispersion")) {
         return effect(c, &s->dispersion);
+    } else if (!strcmp(k, "filter")) {
+        double r = 1;
+        int tent = c->n >= 2 && !strcmp(c->tok[1], "tent");
+        if (!((c->n == 2 && (tent || !strcmp(c->tok[1], "box"))) ||
+              (c->n == 3 && tent && !num(c, 2, &r) && r >= 0.5 && r <= 4))) {
+            lens_errf(c->err, c->path, c->line, "filter takes box, or tent [RADIUS] (pixels, 0.5 to 4)");
+            return -1;
+        }
+        s->filter_tent = tent;
+        s->filter_radius = r;
     } else if (!strcmp(k, "plane")) {
         return add_object(s, c, OBJ_PLANE);
     } else if (!strcmp(k, "disk")) {
@@ -408,6 +426,13 @@ fail:
 
 int scene_load(const char *path, scene_t *s, lens_err *err)
 {
+    /* A bare name that is not a file here is a scene name: ./, $SPARSELENS_SCENE_PATH,
+     * then the shipped scenes (data_path.h); the camera is then found beside it. */
+    static const char *const exts[] = {".scene", NULL};
+    char found[1024];
+    if (strcmp(path, "-") && data_find("scenes", "SPARSELENS_SCENE_PATH", path, exts, found,
+                                       sizeof found) == 0)
+        path = found;
     FILE *f = strcmp(path, "-") ? fopen(path, "rb") : stdin;
     if (!f) {
         lens_errf(err, path, 0, "cannot open: %s", strerror(errno));

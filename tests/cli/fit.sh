@@ -30,7 +30,7 @@ then ok fit_fisheye_finite; else fail fit_fisheye_finite "$(grep -ciE 'nan|inf' 
 # about +-25 mm on this lens, and a usable system errs by well under 0.1 mm.
 run $E $T/fe.poly $T/test.txt --report >$T/rep.txt 2>/dev/null
 for o in out_x out_y; do
-  rms=$(awk -v o=$o '$1 == o && $NF == "mm" && NF == 7 { print $3; exit }' $T/rep.txt)
+  rms=$(awk -v o=${o}_mm '$1 == o && NF == 7 { print $3; exit }' $T/rep.txt)
   est=$(awk -v o="fit_$o" '$1 == "meta" && $2 == o { for (i = 3; i < NF; i++) if ($i == "holdout_rms") print $(i + 1) }' $T/fe.poly)
   if [ -n "$rms" ] && [ -n "$est" ] && awk -v r="$rms" -v e="$est" 'BEGIN { exit !(r <= 1.5 * e && r >= e / 1.5 && r < 0.1) }'
   then ok fit_fisheye_error_$o; else fail fit_fisheye_error_$o "test rms '$rms', held-out estimate '$est'"; fi

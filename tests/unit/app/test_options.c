@@ -11,6 +11,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "sparselens/design_cli.h"
 #include "sparselens/distort_cli.h"
 #include "sparselens/eval_cli.h"
 #include "sparselens/fit_cli.h"
@@ -19,6 +20,7 @@
 #include "sparselens/render_cli.h"
 #include "sparselens/spot_cli.h"
 #include "sparselens/trace_cli.h"
+#include "sparselens/numparse.h"
 
 typedef struct {
     int all, quiet;
@@ -206,6 +208,20 @@ static void documented_defaults_are_the_defaults(void **state)
         render_cli_default(&o);
         n += check_defaults(render_command.table, (const char *)&o, 0, "lens-render");
         lens_cli_options_free(&o.lens);
+    }
+    {
+#define DESIGN_DEFAULTS(type, fn, cmd, name)                                  \
+    {                                                                         \
+        type o;                                                               \
+        fn(&o);                                                               \
+        n += check_defaults(cmd.table, (const char *)&o, 0, name);            \
+        lens_cli_options_free(&o.im.lopt);                                    \
+    }
+        DESIGN_DEFAULTS(fan_cli, fan_cli_default, fan_command, "lens-fan")
+        DESIGN_DEFAULTS(field_cli, field_cli_default, field_command, "lens-field")
+        DESIGN_DEFAULTS(mtf_cli, mtf_cli_default, mtf_command, "lens-mtf")
+        DESIGN_DEFAULTS(layout_cli, layout_cli_default, layout_command, "lens-layout")
+#undef DESIGN_DEFAULTS
     }
     assert_true(n >= 30); /* the walk reached the tables' numbers, words and names */
 }
