@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "sparselens/cli.h"
 #include "sparselens/fit_cli.h"
 #include "sparselens/outfile.h"
 #include "sparselens/poly.h"
@@ -94,6 +95,7 @@ int main(int argc, char **argv)
     int quiet = c.quiet, outputs_given = c.outputs != NULL;
     const char *tol_s = c.tolerance, *frame_s = c.frame, *lxf_s = c.lambda_transform;
     const char *except_s = c.frame_except;
+    cli_check_output(prog, outpath);
     /* Everything below is released at `done`, on success and on every error, so that a
      * leak checker sees none either way. */
     lens_err err;
