@@ -66,8 +66,17 @@ TESTS    := $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(TEST_SRC)))
 BENCHES  := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/bench_*.c))
 LIB      := $(BUILD)/liblens.a
 
-.PHONY: all deps test check demo bench reports install fuzz clean
-all: $(CMDS) $(TESTS) $(BENCHES)
+.PHONY: all deps test check demo bench reports install fuzz clean man
+all: $(CMDS) $(TESTS) $(BENCHES) man
+
+# The OPTIONS section of each command's man page is generated from its option table
+# (lens-x --help-man, spliced in by tools/man-options.sh): rebuilt with the command.
+MAN_STAMPS := $(patsubst $(BIN)/%,$(BUILD)/man/%.stamp,$(CMDS))
+man: $(MAN_STAMPS)
+$(BUILD)/man/%.stamp: $(BIN)/% man/%.1 tools/man-options.sh
+	@mkdir -p $(dir $@)
+	tools/man-options.sh man/$*.1 $(BIN)/$*
+	@touch $@
 
 deps:
 	@tools/install-deps.sh
@@ -93,19 +102,19 @@ $(BUILD)/src/app/options.o: CPPFLAGS += -DSPARSELENS_VERSION='"$(VERSION)"'
 $(BUILD)/src/app/options.o: VERSION
 
 $(BIN)/lens-%: cmd/lens-%.c $(LIB)
-	@mkdir -p $(BIN) $(BUILD)/cmd
-	$(CC) $(CPPFLAGS) $(DEPFLAGS) -MF $(BUILD)/cmd/lens-$*.d -MT $@ $(CFLAGS) $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+	@mkdir -p $(BIN) $(BUILD)/deps
+	$(CC) $(CPPFLAGS) $(DEPFLAGS) -MF $(BUILD)/deps/lens-$*.d -MT $@ $(CFLAGS) $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
 vpath test_%.c $(sort $(dir $(TEST_SRC)))
 $(BUILD)/tests/test_%: test_%.c $(LIB)
-	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(DEPFLAGS) -MF $@.d -MT $@ $(CMOCKA_CFLAGS) -Itests/unit $(CFLAGS) $< $(LIB) $(LDFLAGS) $(CMOCKA_LIBS) $(LDLIBS) -o $@
+	@mkdir -p $(dir $@) $(BUILD)/deps
+	$(CC) $(CPPFLAGS) $(DEPFLAGS) -MF $(BUILD)/deps/$(notdir $@).d -MT $@ $(CMOCKA_CFLAGS) -Itests/unit $(CFLAGS) $< $(LIB) $(LDFLAGS) $(CMOCKA_LIBS) $(LDLIBS) -o $@
 
 $(BUILD)/bench/%: bench/%.c $(LIB)
-	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(DEPFLAGS) -MF $@.d -MT $@ $(CFLAGS) -O3 $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+	@mkdir -p $(dir $@) $(BUILD)/deps
+	$(CC) $(CPPFLAGS) $(DEPFLAGS) -MF $(BUILD)/deps/$(notdir $@).d -MT $@ $(CFLAGS) -O3 $< $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
--include $(LIB_OBJ:.o=.d) $(patsubst $(BIN)/%,$(BUILD)/cmd/%.d,$(CMDS)) $(TESTS:=.d) $(BENCHES:=.d)
+-include $(LIB_OBJ:.o=.d) $(wildcard $(BUILD)/deps/*.d)
 
 # The whole suite: unit tests, command-line tests, hard cases, short fuzz runs.
 test: deps

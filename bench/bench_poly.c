@@ -1,26 +1,32 @@
-/* Evaluation throughput of a polynomial system of 5 outputs x 40 terms, degree <= 11, in
- * 5 inputs (the size of the supplement's fisheye-ii system; the term set of
- * tests/unit/poly_fixture.h, random coefficients: speed does not depend on them),
- * single thread, CPU time of this thread.
- * Prints "bench NAME VALUE UNIT" lines, each the median of 5 runs (11 shorter ones for
- * the batch paths; their best run too, the figure of a quiet machine), for
- *   naive     each term's powers computed from scratch (the baseline)
- *   scalar    poly_eval, one ray at a time
- *   batch     poly_eval_batch, the system as lens-fit's defaults make it: the meridional
- *             frame except out_u, out_v, and 1/lambda^2 (the fixture's terms, so the
- *             same count; with a SYSTEM.poly, that file)
- *   batch_noframe  poly_eval_batch of the same terms without frame or transform (lens-fit
- *             --frame none --lambda-transform identity; with SYSTEM.poly, NOFRAME.poly
- *             if given), for the cost of the frame
- *   emitted   the C of poly_emit_c, compiled now with $CC (or cc) -O2, one call per ray
- *   emitted_c_batch         its NAME_batch function on all rays, -O2 as well
- *   emitted_c_batch_native  the same compiled with -O2 -march=native (this CPU's vectors)
- *   jacobian  poly_eval_jacobian (outputs and all 25 derivatives), one ray at a time
- *   jacobian_batch  poly_eval_jacobian_batch (the 25 derivatives)
- *   trace     the exact tracer (trace_batch, one thread) on passing fisheye-ii rays,
- *             for the speed-up of the polynomial system over tracing
- * Usage: bench_poly [RAYS [SYSTEM.poly [NOFRAME.poly]]]   (default 1000000 rays, the
- * fixture system; a system file must have the inputs x y u v lambda) */
+/* Evaluation speed of a polynomial system against the exact tracer, single thread, CPU
+ * time of this thread, on the rays a renderer would ask for: sensor points uniform over
+ * fisheye-ii's sensor aimed at uniform points of its rear element, wavelengths uniform
+ * over 0.4..0.7 um (lens-trace's rear sampling); some of them the lens blocks.
+ *   bench_poly [RAYS [SYSTEM.poly [NOFRAME.poly]]]
+ * SYSTEM.poly: the system measured (inputs x y u v lambda, outputs out_x out_y out_u
+ * out_v out_eta, one part); make bench passes the default fit of fisheye-ii (lens-fit
+ * --terms 40 --degree 11: the meridional frame except out_u, out_v, and 1/lambda^2).
+ * Without it, the 5 x 40 term fixture of tests/unit/poly_fixture.h laid out the same way.
+ * NOFRAME.poly: the same fit with --frame none --lambda-transform identity.
+ *
+ * Every method is timed once per round, the methods in turn, for ROUNDS rounds
+ * (interleaved, so a slow phase of a shared machine touches them all alike); each prints
+ * its best round (the figure of a quiet machine), its median, and the spread
+ * (median / best - 1). Ratios are taken between best rounds of this run.
+ *   trace, trace_passing  the exact tracer (trace_batch, 1 thread) on all the rays / on
+ *                     the rays it passes
+ *   batch, batch_passing  poly_eval_batch on the same rays (pass test included)
+ *   batch_noframe     poly_eval_batch of NOFRAME.poly (the cost of the frame)
+ *   scalar            poly_eval, one ray at a time
+ *   naive             each term's powers from scratch (the textbook baseline)
+ *   jacobian, jacobian_batch  poly_eval_jacobian one ray at a time, and
+ *                     poly_eval_jacobian_batch (the 25 derivatives)
+ *   emitted_c, emitted_c_native  the C of poly_emit_c compiled now with $CC (or cc),
+ *                     -O2 and -O3 -march=native, one call per ray
+ *   emitted_c_batch, emitted_c_batch_native  its NAME_batch function on all rays
+ * Per passing ray: time over all rays / the rays the lens passes, the cost of one ray
+ * that reaches the sensor (the same denominator for both: the system's own pass flags
+ * are printed beside, as a check of its passage). */
 #include <dlfcn.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -31,7 +37,10 @@
 #include "../tests/unit/poly_fixture.h"
 #include "sparselens/lens.h"
 #include "sparselens/poly.h"
+#include "sparselens/sampling.h"
 #include "sparselens/trace.h"
+
+#define ROUNDS 9
 
 static double now(void)
 {
@@ -40,17 +49,23 @@ static double now(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
+static int cmp(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
 typedef int (*emitted_fn)(const double *in, double *out);
 typedef void (*emitted_batch_fn)(size_t n, const double *in, double *out, unsigned char *pass);
 
-/* Compiles the emitted C into a shared object with the extra flags and loads it; NULL if
- * no compiler. *batch gets its NAME_batch function. */
-static emitted_fn load_emitted(const poly_system *s, char *dir, const char *flags, void **handle,
-                               emitted_batch_fn *batch)
+/* Compiles the emitted C into a shared object with flags and loads it; NULL if no
+ * compiler. *batch gets its NAME_batch function. */
+static emitted_fn load_emitted(const poly_system *s, const char *dir, const char *tag,
+                               const char *flags, void **handle, emitted_batch_fn *batch)
 {
     char src[300], so[300], cmd[1024];
     snprintf(src, sizeof src, "%s/fn.c", dir);
-    snprintf(so, sizeof so, "%s/fn%s.so", dir, *flags ? "_native" : "");
+    snprintf(so, sizeof so, "%s/fn_%s.so", dir, tag);
     FILE *f = fopen(src, "w");
     if (!f || poly_emit_c(f, s, "bench_fn") != 0) {
         if (f)
@@ -59,7 +74,7 @@ static emitted_fn load_emitted(const poly_system *s, char *dir, const char *flag
     }
     fclose(f);
     const char *cc = getenv("CC");
-    snprintf(cmd, sizeof cmd, "%s -std=c99 -O2 %s -fPIC -shared %s -o %s -lm", cc && *cc ? cc : "cc",
+    snprintf(cmd, sizeof cmd, "%s -std=c99 %s -fPIC -shared %s -o %s -lm", cc && *cc ? cc : "cc",
              flags, src, so);
     if (system(cmd) != 0)
         return NULL;
@@ -70,42 +85,6 @@ static emitted_fn load_emitted(const poly_system *s, char *dir, const char *flag
     return (emitted_fn)(uintptr_t)dlsym(*handle, "bench_fn");
 }
 
-/* Passing fisheye-ii rays: sensor points over the sensor, aimed at the rear element
- * at 0.55 um, keeping those the tracer passes. Returns how many it made (0 if the lens is not found). */
-static size_t tracer_rays(lens_t *lens, double *in, size_t n)
-{
-    lens_err err;
-    lens_init(lens);
-    if (lens_load("lenses/fisheye-ii.lens", NULL, lens, &err) != 0)
-        return 0;
-    double idx[64];
-    if (lens->nsurf + 1 > 64 || lens_indices(lens, 0.55, idx, &err) != 0)
-        return 0;
-    double w = isfinite(lens->sensor_w) ? lens->sensor_w : 24, h = isfinite(lens->sensor_h) ? lens->sensor_h : 16;
-    size_t last = lens->nsurf - 1;
-    double rear = lens->surf[last].semi_diameter;
-    double dist = lens_total_track(lens) - lens->vertex_z[last];
-    fixture_rng g = {5};
-    size_t m = 0;
-    for (size_t tries = 0; m < n && tries < 20 * n; tries++) {
-        double x = w * (fixture_uniform(&g) - 0.5), y = h * (fixture_uniform(&g) - 0.5);
-        double a = 6.283185307179586 * fixture_uniform(&g), r = rear * sqrt(fixture_uniform(&g));
-        double u = (r * cos(a) - x) / dist, v = (r * sin(a) - y) / dist, out[4];
-        double xyuv[4] = {x, y, u, v};
-        if (trace_sample(lens, idx, TRACE_TO_OUTER, xyuv, out).status != TRACE_PASSED)
-            continue;
-        double *row = in + 5 * m++;
-        row[0] = x, row[1] = y, row[2] = u, row[3] = v, row[4] = 0.55;
-    }
-    return m;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
 typedef struct {
     int nterms[5];
     int *exps; /* 5 x 40 x 5 */
@@ -113,6 +92,8 @@ typedef struct {
     double off[5], scale[5];
 } flat;
 
+/* The baseline: every term's powers multiplied out from the scaled inputs (no frame:
+ * the work of a textbook evaluator of the same terms). */
 static void naive(const flat *F, size_t n, const double *in, double *out)
 {
     for (size_t r = 0; r < n; r++) {
@@ -135,157 +116,243 @@ static void naive(const flat *F, size_t n, const double *in, double *out)
     }
 }
 
-int main(int argc, char **argv)
+static void flatten(const poly_system *s, flat *F)
 {
-    size_t n = argc > 1 ? strtoul(argv[1], NULL, 10) : 1000000;
-    if (n == 0)
-        n = 1000000;
-    poly_system *s = NULL, *s0 = NULL;
-    for (int a = 2; a < argc && a < 4; a++) {
-        lens_err err;
-        poly_system **d = a == 2 ? &s : &s0;
-        if (poly_read(argv[a], d, &err) != 0) {
-            fprintf(stderr, "bench_poly: %s\n", err.msg);
-            return 1;
-        }
-        for (int i = 0; i < 5; i++)
-            if (poly_ninputs(*d) != 5 || poly_input_index(*d, fixture_inputs[i]) != i ||
-                poly_noutputs(*d) != 5 || poly_nparts(*d) != 1) {
-                fprintf(stderr, "bench_poly: %s: needs inputs x y u v lambda, 5 outputs, 1 part\n",
-                        argv[a]);
-                return 1;
-            }
-    }
-    if (!s) {
-        /* the fixture twice: as lens-fit's defaults lay it out, and without the frame */
-        s = fixture_system(40, 11, 1, 2016);
-        s0 = fixture_system(40, 11, 1, 2016);
-        if (!s || !s0 || poly_set_frame(s, POLY_FRAME_MERIDIONAL) != 0 ||
-            poly_set_output_plain(s, 2, 1) != 0 || poly_set_output_plain(s, 3, 1) != 0 ||
-            poly_set_transform(s, 4, POLY_XFORM_INVERSE_SQUARE) != 0) {
-            fprintf(stderr, "bench_poly: cannot build the framed fixture\n");
-            return 1;
-        }
-        poly_set_scaling(s, 4, 4.25, 2.0); /* 1/lambda^2 over 0.40..0.70 um */
-    }
-    double *in = malloc(n * 5 * sizeof(double)), *out = malloc(n * 5 * sizeof(double));
-    unsigned char *pass = malloc(n);
-    fixture_rng g = {77};
-    for (size_t r = 0; r < n; r++)
-        fixture_ray(&g, in + r * 5);
-
-    flat F;
     int total = 0;
     for (int o = 0; o < 5; o++)
         total += poly_nterms(s, 0, o);
-    F.exps = malloc((size_t)total * 5 * sizeof(int));
-    F.coef = malloc((size_t)total * sizeof(double));
+    F->exps = malloc((size_t)total * 5 * sizeof(int));
+    F->coef = malloc((size_t)total * sizeof(double));
     int k = 0;
     for (int o = 0; o < 5; o++) {
-        F.nterms[o] = poly_nterms(s, 0, o);
-        for (int t = 0; t < F.nterms[o]; t++, k++)
-            poly_get_term(s, 0, o, t, F.exps + 5 * k, F.coef + k);
+        F->nterms[o] = poly_nterms(s, 0, o);
+        for (int t = 0; t < F->nterms[o]; t++, k++)
+            poly_get_term(s, 0, o, t, F->exps + 5 * k, F->coef + k);
     }
     for (int i = 0; i < 5; i++)
-        poly_get_scaling(s, i, &F.off[i], &F.scale[i]);
+        poly_get_scaling(s, i, &F->off[i], &F->scale[i]);
+}
 
-    char dir[] = "/tmp/bench_poly_XXXXXX";
-    void *handle = NULL, *handle_native = NULL;
-    emitted_batch_fn fn_batch = NULL, fn_batch_native = NULL;
-    emitted_fn fn = mkdtemp(dir) ? load_emitted(s, dir, "", &handle, &fn_batch) : NULL;
-    if (fn && !load_emitted(s, dir, "-march=native", &handle_native, &fn_batch_native))
-        fn_batch_native = NULL;
-    const char *names[9] = {"naive",           "scalar",         "batch",
-                            "emitted_c",       "jacobian",       "jacobian_batch",
-                            "emitted_c_batch", "emitted_c_batch_native", "batch_noframe"};
-    double checksum = 0, batch_ns = 0;
-    double *jac = malloc(n * 25 * sizeof(double));
-    for (int m = 0; m < 9; m++) {
-        if (m == 8 && !s0)
-            continue;
-        if ((m == 3 && !fn) || (m == 6 && !fn_batch) || (m == 7 && !fn_batch_native)) {
-            fprintf(stderr, "bench_poly: no C compiler: emitted C (%s) not measured\n", names[m]);
-            continue;
-        }
-        /* the batch paths are fast: more, shorter runs (a tenth of the rays each) give a
-         * steadier median on a shared machine */
-        const int batchlike = m == 2 || m >= 5, runs = batchlike ? 11 : 5;
-        const size_t nr = batchlike ? (n / 10 ? n / 10 : n) : m == 4 ? (n / 10 ? n / 10 : n) : n;
-        double t[11];
-        for (int run = 0; run < runs; run++) {
-            const double *rin = in + (batchlike ? (size_t)run % 10 * nr * 5 : 0);
-            double t0 = now();
-            if (m == 0)
-                naive(&F, nr, rin, out);
-            else if (m == 1)
-                for (size_t r = 0; r < nr; r++)
-                    pass[r] = (unsigned char)poly_eval(s, rin + r * 5, out + r * 5);
-            else if (m == 2)
-                poly_eval_batch(s, nr, rin, out, pass);
-            else if (m == 3)
-                for (size_t r = 0; r < nr; r++)
-                    pass[r] = (unsigned char)fn(rin + r * 5, out + r * 5);
-            else if (m == 4)
-                for (size_t r = 0; r < nr; r++)
-                    pass[r] = (unsigned char)poly_eval_jacobian(s, rin + r * 5, out + r * 5,
-                                                                jac + r * 25);
-            else if (m == 5)
-                poly_eval_jacobian_batch(s, nr, rin, jac);
-            else if (m == 8)
-                poly_eval_batch(s0, nr, rin, out, pass);
-            else
-                (m == 6 ? fn_batch : fn_batch_native)(nr, rin, out, pass);
-            t[run] = now() - t0;
-            checksum += out[nr / 2 * 5] + jac[nr / 2 * 25];
-        }
-        qsort(t, (size_t)runs, sizeof t[0], cmp);
-        double ns = t[runs / 2] / (double)nr * 1e9;
-        if (m == 2)
-            batch_ns = ns;
-        printf("bench poly_eval_%s_ns_per_ray %.2f ns\n", names[m], ns);
-        printf("bench poly_eval_%s_mrays_per_s %.2f Mrays/s\n", names[m], 1e3 / ns);
-        if (batchlike)
-            printf("bench poly_eval_%s_best_ns_per_ray %.2f ns\n", names[m],
-                   t[0] / (double)nr * 1e9);
+enum {
+    M_TRACE, M_TRACE_PASSING, M_BATCH, M_BATCH_PASSING, M_BATCH_NOFRAME, M_SCALAR, M_NAIVE,
+    M_JAC, M_JAC_BATCH, M_EMIT, M_EMIT_NATIVE, M_EMIT_BATCH, M_EMIT_BATCH_NATIVE, M_COUNT
+};
+static const char *const names[M_COUNT] = {
+    "trace",    "trace_passing",  "batch",     "batch_passing",    "batch_noframe",
+    "scalar",   "naive",          "jacobian",  "jacobian_batch",   "emitted_c",
+    "emitted_c_native", "emitted_c_batch", "emitted_c_batch_native"};
+
+typedef struct {
+    const lens_t *lens;
+    const poly_system *s, *s0;
+    const flat *F;
+    emitted_fn fn[2];
+    emitted_batch_fn fnb[2];
+    double *out, *jac;
+    unsigned char *pass;
+} bench_ctx;
+
+/* One round of method m on n rays; returns its CPU time. */
+static double run(const bench_ctx *c, int m, size_t n, const double *in)
+{
+    lens_err err;
+    double t0 = now();
+    switch (m) {
+    case M_TRACE:
+    case M_TRACE_PASSING:
+        trace_batch(c->lens, TRACE_TO_OUTER, n, in, c->out, NULL, 1, &err);
+        break;
+    case M_BATCH:
+    case M_BATCH_PASSING:
+        poly_eval_batch(c->s, n, in, c->out, c->pass);
+        break;
+    case M_BATCH_NOFRAME:
+        poly_eval_batch(c->s0, n, in, c->out, c->pass);
+        break;
+    case M_SCALAR:
+        for (size_t r = 0; r < n; r++)
+            c->pass[r] = (unsigned char)poly_eval(c->s, in + r * 5, c->out + r * 5);
+        break;
+    case M_NAIVE:
+        naive(c->F, n, in, c->out);
+        break;
+    case M_JAC:
+        for (size_t r = 0; r < n; r++)
+            poly_eval_jacobian(c->s, in + r * 5, c->out + r * 5, c->jac + r * 25);
+        break;
+    case M_JAC_BATCH:
+        poly_eval_jacobian_batch(c->s, n, in, c->jac);
+        break;
+    case M_EMIT:
+    case M_EMIT_NATIVE:
+        for (size_t r = 0; r < n; r++)
+            c->pass[r] = (unsigned char)c->fn[m == M_EMIT_NATIVE](in + r * 5, c->out + r * 5);
+        break;
+    default:
+        c->fnb[m == M_EMIT_BATCH_NATIVE](n, in, c->out, c->pass);
     }
-    free(jac);
-    if (handle)
-        dlclose(handle);
-    if (handle_native)
-        dlclose(handle_native);
+    return now() - t0;
+}
+
+/* Realistic rays (see the top): n rays into in, the lens's pass flags into passed. */
+static int make_rays(const lens_t *lens, size_t n, double *in)
+{
+    sampling_options so = sampling_defaults();
+    so.strategy = SAMPLING_REAR;
+    so.sensor_w = isfinite(lens->sensor_w) ? lens->sensor_w : 23.6;
+    so.sensor_h = isfinite(lens->sensor_h) ? lens->sensor_h : 15.7;
+    so.lambda_min = 0.4;
+    so.lambda_max = 0.7;
+    so.seed = 1;
+    lens_err err;
+    ray_generator *g = ray_generator_new(lens, &so, &err);
+    if (!g || ray_generator_fill(g, 0, n, in, &err) != 0) {
+        fprintf(stderr, "bench_poly: %s\n", err.msg);
+        return -1;
+    }
+    ray_generator_free(g);
+    return 0;
+}
+
+static poly_system *fixture_default_layout(int frame)
+{
+    poly_system *s = fixture_system(40, 11, 1, 2016);
+    if (s && frame &&
+        (poly_set_frame(s, POLY_FRAME_MERIDIONAL) != 0 || poly_set_output_plain(s, 2, 1) != 0 ||
+         poly_set_output_plain(s, 3, 1) != 0 ||
+         poly_set_transform(s, 4, POLY_XFORM_INVERSE_SQUARE) != 0)) {
+        poly_free(s);
+        return NULL;
+    }
+    if (s && frame)
+        poly_set_scaling(s, 4, 4.25, 2.0); /* 1/lambda^2 over 0.40..0.70 um */
+    return s;
+}
+
+static poly_system *read_system(const char *path)
+{
+    lens_err err;
+    poly_system *s = NULL;
+    if (poly_read(path, &s, &err) != 0) {
+        fprintf(stderr, "bench_poly: %s\n", err.msg);
+        return NULL;
+    }
+    for (int i = 0; i < 5; i++)
+        if (poly_ninputs(s) != 5 || poly_input_index(s, fixture_inputs[i]) != i ||
+            poly_noutputs(s) != 5 || poly_nparts(s) != 1) {
+            fprintf(stderr, "bench_poly: %s: needs inputs x y u v lambda, 5 outputs, 1 part\n",
+                    path);
+            poly_free(s);
+            return NULL;
+        }
+    return s;
+}
+
+int main(int argc, char **argv)
+{
+    size_t n = argc > 1 ? strtoul(argv[1], NULL, 10) : 200000;
+    if (n < 1000)
+        n = 200000;
+    poly_system *s = argc > 2 ? read_system(argv[2]) : fixture_default_layout(1);
+    poly_system *s0 = argc > 3 ? read_system(argv[3]) : argc > 2 ? NULL : fixture_default_layout(0);
+    lens_t lens;
+    lens_err err;
+    lens_init(&lens);
+    if (!s || lens_load("lenses/fisheye-ii.lens", NULL, &lens, &err) != 0) {
+        fprintf(stderr, "bench_poly: %s\n", s ? err.msg : "no system");
+        return 1;
+    }
+    double *in = malloc(n * 5 * sizeof(double)), *pin = malloc(n * 5 * sizeof(double));
+    bench_ctx c = {.lens = &lens, .s = s, .s0 = s0};
+    c.out = malloc(n * 5 * sizeof(double));
+    c.jac = malloc(n * 25 * sizeof(double));
+    c.pass = malloc(n);
+    if (!in || !pin || !c.out || !c.jac || !c.pass || make_rays(&lens, n, in) != 0)
+        return 1;
+    /* who passes: the tracer's flags (out_eta > 0) and the system's */
+    trace_batch(&lens, TRACE_TO_OUTER, n, in, c.out, NULL, 1, &err);
+    size_t npass_exact = 0, npass_poly = 0;
+    for (size_t r = 0; r < n; r++)
+        if (c.out[5 * r + 4] > 0)
+            memcpy(pin + 5 * npass_exact++, in + 5 * r, 5 * sizeof(double));
+    poly_eval_batch(s, n, in, c.out, c.pass);
+    for (size_t r = 0; r < n; r++)
+        npass_poly += c.pass[r];
+
+    flat F;
+    flatten(s, &F);
+    c.F = &F;
+    char dir[] = "/tmp/bench_poly_XXXXXX";
+    void *handle[2] = {NULL, NULL};
+    if (mkdtemp(dir)) {
+        c.fn[0] = load_emitted(s, dir, "O2", "-O2", &handle[0], &c.fnb[0]);
+        c.fn[1] = load_emitted(s, dir, "native", "-O3 -march=native", &handle[1], &c.fnb[1]);
+    }
+    /* the slow methods see a tenth of the rays: the rounds stay short alike */
+    double t[M_COUNT][ROUNDS];
+    size_t nm[M_COUNT];
+    for (int m = 0; m < M_COUNT; m++)
+        nm[m] = m == M_TRACE_PASSING || m == M_BATCH_PASSING ? npass_exact
+                : m == M_SCALAR || m == M_NAIVE || m == M_JAC || m == M_EMIT || m == M_EMIT_NATIVE
+                    ? n / 10
+                    : n;
+    int have[M_COUNT];
+    for (int m = 0; m < M_COUNT; m++)
+        have[m] = !(m == M_BATCH_NOFRAME && !s0) && !((m == M_EMIT || m == M_EMIT_BATCH) && !c.fn[0]) &&
+                  !((m == M_EMIT_NATIVE || m == M_EMIT_BATCH_NATIVE) && !c.fn[1]) && nm[m] > 0;
+    for (int round = 0; round < ROUNDS; round++)
+        for (int m = 0; m < M_COUNT; m++)
+            if (have[m])
+                t[m][round] = run(&c, m, nm[m], m == M_TRACE_PASSING || m == M_BATCH_PASSING ? pin : in);
+    double best[M_COUNT] = {0};
+    for (int m = 0; m < M_COUNT; m++) {
+        if (!have[m]) {
+            fprintf(stderr, "bench_poly: %s not measured (no system or no C compiler)\n", names[m]);
+            continue;
+        }
+        qsort(t[m], ROUNDS, sizeof t[m][0], cmp);
+        best[m] = t[m][0] / (double)nm[m] * 1e9;
+        double med = t[m][ROUNDS / 2] / (double)nm[m] * 1e9;
+        printf("bench poly_%s_ns_per_ray %.2f ns\n", names[m], best[m]);
+        printf("bench poly_%s_median_ns_per_ray %.2f ns\n", names[m], med);
+        printf("bench poly_%s_spread %.0f %%\n", names[m], 100 * (med / best[m] - 1));
+    }
+    printf("bench poly_rays %zu rays\n", n);
+    printf("bench poly_exact_pass_fraction %.3f fraction\n", (double)npass_exact / n);
+    printf("bench poly_system_pass_fraction %.3f fraction\n", (double)npass_poly / n);
+    if (npass_exact) {
+        /* both over the rays the lens passes: a system that lets blocked rays through
+         * (system_pass_fraction above exact_pass_fraction) must not look cheaper for it */
+        double te = best[M_TRACE] * n / npass_exact, tp = best[M_BATCH] * n / npass_exact;
+        printf("bench poly_trace_ns_per_passing_ray %.2f ns\n", te);
+        printf("bench poly_batch_ns_per_passing_ray %.2f ns\n", tp);
+        printf("bench ratio_trace_over_batch_per_passing_ray %.2f x\n", te / tp);
+    }
+    /* how many times the second's time the first's is (> 1: the second is faster) */
+    const int pairs[][2] = {{M_TRACE_PASSING, M_BATCH_PASSING}, {M_SCALAR, M_BATCH},
+                            {M_JAC_BATCH, M_BATCH},             {M_JAC, M_JAC_BATCH},
+                            {M_NAIVE, M_BATCH},                 {M_BATCH, M_BATCH_NOFRAME},
+                            {M_EMIT, M_SCALAR},                 {M_EMIT_NATIVE, M_SCALAR},
+                            {M_EMIT_BATCH, M_BATCH},            {M_EMIT_BATCH_NATIVE, M_BATCH}};
+    for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++) {
+        int a = pairs[k][0], b = pairs[k][1];
+        if (have[a] && have[b])
+            printf("bench ratio_%s_over_%s %.2f x\n", names[a], names[b], best[a] / best[b]);
+    }
+    printf("bench poly_monomials %d count\n", poly_nmonomials(s, 0));
+    for (int k = 0; k < 2; k++)
+        if (handle[k])
+            dlclose(handle[k]);
     char cmd[400];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0)
         fprintf(stderr, "bench_poly: could not remove %s\n", dir);
-
-    /* the exact tracer on the same machine, in the same run */
-    lens_t lens;
-    size_t nt = n / 20 < 20000 ? n / 20 : 20000;
-    double *tin = malloc(nt * 5 * sizeof(double)), *tout = malloc(nt * 5 * sizeof(double));
-    size_t got = tracer_rays(&lens, tin, nt);
-    if (got > 0) {
-        double t[5];
-        lens_err err;
-        for (int run = 0; run < 5; run++) {
-            double t0 = now();
-            trace_batch(&lens, TRACE_TO_OUTER, got, tin, tout, NULL, 1, &err);
-            t[run] = now() - t0;
-        }
-        qsort(t, 5, sizeof t[0], cmp);
-        double ns = t[2] / (double)got * 1e9;
-        printf("bench trace_fisheye_ii_ns_per_ray %.2f ns\n", ns);
-        printf("bench poly_batch_speedup_over_trace %.1f x\n", ns / batch_ns);
-        lens_free(&lens);
-    } else {
-        fprintf(stderr, "bench_poly: lenses/fisheye-ii.lens not usable: tracer not measured\n");
-    }
-    free(tin);
-    free(tout);
-    printf("bench poly_eval_monomials %d count\n", poly_nmonomials(s, 0));
-    fprintf(stderr, "checksum %g\n", checksum);
+    lens_free(&lens);
     free(in);
-    free(out);
-    free(pass);
+    free(pin);
+    free(c.out);
+    free(c.jac);
+    free(c.pass);
     free(F.exps);
     free(F.coef);
     poly_free(s);

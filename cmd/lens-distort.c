@@ -55,7 +55,12 @@ int main(int argc, char **argv)
         diag_print(prog, &err);
         return 1;
     }
-    distort_report_print(stdout, &rq, &rep);
+    imaging_setup setup;
+    imaging_cli_setup(&o.im, &models, rq.lambda, rep.sensor_shift, &setup);
+    table_out t;
+    output_cli_begin(&o.out, &t, stdout, 6);
+    distort_report_print(&t, &rq, &rep);
+    imaging_setup_print(&t, &setup, &models);
     int rc = 0;
     if (map_path) {
         outfile *of = outfile_open(map_path, &err);
@@ -69,18 +74,41 @@ int main(int argc, char **argv)
     if (png && rc == 0) {
         double factor = isfinite(o.exaggerate) ? o.exaggerate : distort_auto_factor(&rep);
         const char *base = imaging_cli_basename(&o.im);
-        char title[300];
-        snprintf(title, sizeof title, "%s  distortion grid map (%s ideal, %.4g um)",
-                 models.lens.name[0] ? models.lens.name : base, proj_name(rep.mapping), rq.lambda);
+        char title[600];
+        snprintf(title, sizeof title, "%s  distortion grid map (%s ideal, %.4g um)  %s",
+                 models.lens.name[0] ? models.lens.name : base, proj_name(rep.mapping), rq.lambda,
+                 setup.text);
         if (distort_write_png(png, title, rq.nmodels, rq.model_names, (const double *const *)rep.pts,
                               rep.grid, rep.grid, rep.sensor_w / 2, rep.sensor_h / 2, factor, &err) != 0) {
             diag_print(prog, &err);
             rc = 1;
-        } else {
+        } else if (!t.json) {
             printf("# grid map %s: %dx%d points over %gx%g mm, displacement exaggerated x%g\n", png,
                    rep.grid, rep.grid, rep.sensor_w, rep.sensor_h, factor);
+        } else {
+            table_out_keys(&t, "grid_map", NULL);
+            table_out_str(&t, "file");
+            table_out_str(&t, png);
+            table_out_row_end(&t);
+            table_out_str(&t, "points_per_side");
+            table_out_int(&t, rep.grid);
+            table_out_row_end(&t);
+            table_out_str(&t, "exaggeration");
+            table_out_num(&t, factor, 0);
+            table_out_row_end(&t);
         }
     }
+    /* a field a model cannot image: the table is whole (nan rows), the status says so */
+    report_warning w[2 * IMAGING_MAX_FIELDS];
+    const char *wp[2 * IMAGING_MAX_FIELDS];
+    int nw = distort_report_warnings(&rq, &rep, w, 2 * IMAGING_MAX_FIELDS);
+    for (int k = 0; k < nw; k++) {
+        fprintf(stderr, "%s: warning: %s\n", prog, w[k]);
+        wp[k] = w[k];
+    }
+    table_out_end(&t, wp, nw);
+    if (rc == 0 && rep.not_imaged)
+        rc = 2;
     distort_report_free(&rep);
     imaging_models_free(&models);
     return rc;

@@ -29,6 +29,10 @@ int main(int argc, char **argv)
                *out_path = o.output, *name = o.name;
     int emit = o.emit_c;
     eval_run_options opt = o.run;
+    opt.json = o.out.json, opt.precision = (int)o.out.precision;
+    if (opt.json && !opt.report)
+        diag_die(prog, "--json: only the report (--report) is written as JSON; predictions are "
+                       "a sample file");
     if (strcmp(sys_path, "-") == 0 && strcmp(in_path, "-") == 0 && !emit)
         diag_die(prog, "the system and the rays cannot both come from stdin");
 

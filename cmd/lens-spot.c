@@ -44,14 +44,17 @@ int main(int argc, char **argv)
         diag_print(prog, &err);
         return 1;
     }
-    spot_report_print(stdout, &rq, &rep);
-    if (rep.sensor_shift != 0)
-        printf("# sensor plane moved %.9g mm along the axis (--focus %s)\n", rep.sensor_shift, focus_s);
+    imaging_setup setup;
+    imaging_cli_setup(&o.im, &models, lambda[rq.primary], rep.sensor_shift, &setup);
+    table_out t;
+    output_cli_begin(&o.out, &t, stdout, 6);
+    spot_report_print(&t, &rq, &rep, focus_s);
+    imaging_setup_print(&t, &setup, &models);
 
-    char title[256];
+    char title[512];
     const char *base = imaging_cli_basename(&o.im);
     snprintf(title, sizeof title, "%s  spot diagram  %s", models.lens.name[0] ? models.lens.name : base,
-             isfinite(dist) ? "object at finite distance" : "object at infinity");
+             setup.text);
     spot_figure fig = {.nmodels = rq.nmodels, .nfields = nf, .nl = nl, .model_names = rq.model_names,
                        .spots = rep.spots, .title = title, .finite = isfinite(dist)};
     int rc = 0;
@@ -65,12 +68,34 @@ int main(int argc, char **argv)
         if (spot_write_exr(&fig, exr, &um_px, &panel, &err) != 0) {
             diag_print(prog, &err);
             rc = 1;
-        } else {
+        } else if (!t.json) {
             printf("# exr %s: %d x %d pixel panels (a column per field, a row per model), "
                    "%.6g um per pixel, centred on each field's centroid\n",
                    exr, panel, panel, um_px);
+        } else {
+            table_out_keys(&t, "exr", NULL);
+            table_out_str(&t, "file");
+            table_out_str(&t, exr);
+            table_out_row_end(&t);
+            table_out_str(&t, "panel_px");
+            table_out_int(&t, panel);
+            table_out_row_end(&t);
+            table_out_str(&t, "um_per_px");
+            table_out_num(&t, um_px, 0);
+            table_out_row_end(&t);
         }
     }
+    /* a field a model cannot image: the table is whole (nan rows), the status says so */
+    report_warning w[2 * IMAGING_MAX_FIELDS];
+    const char *wp[2 * IMAGING_MAX_FIELDS];
+    int nw = spot_report_warnings(&rq, &rep, w, 2 * IMAGING_MAX_FIELDS);
+    for (int k = 0; k < nw; k++) {
+        fprintf(stderr, "%s: warning: %s\n", prog, w[k]);
+        wp[k] = w[k];
+    }
+    table_out_end(&t, wp, nw);
+    if (rc == 0 && rep.not_imaged)
+        rc = 2;
     spot_report_free(&rep);
     imaging_models_free(&models);
     return rc;

@@ -1,320 +1,25 @@
 /* lens-trace: generates sample rays and traces them through a lens, or traces the rays
- * given on stdin; writes a sample file (lens-samples(5)). */
+ * given on stdin; writes a sample file (lens-samples(5)). The work is trace_run
+ * (src/app/trace_run.c). */
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
-#include "sparselens/trace_cli.h"
 #include "sparselens/outfile.h"
-#include "sparselens/samples.h"
-#include "sparselens/sampling.h"
-#include "sparselens/trace.h"
-#include "sparselens/trace_clip.h"
-#include "sparselens/trace_stop.h"
+#include "sparselens/trace_run.h"
 
-static const char *prog = "lens-trace";
+static const char *const prog = "lens-trace";
 
-static const char *const base_columns[] = {"x", "y", "u", "v", "lambda",
-                                           "out_x", "out_y", "out_u", "out_v", "out_eta",
-                                           "ap_x", "ap_y"};
-enum { NCOLS = 10, NCOLS_STOP = 12 };
-/* Rays of the pilot trace that picks the clip surfaces, and its seed: fixed, so that a
- * training and a test set traced with different --seed get the same columns. */
-enum { PILOT_RAYS = 65536, PILOT_SEED = 20161 };
-#define CLIP_MIN_SHARE 0.005
-
-typedef struct {
-    const char *lens_path, *out_path;
-    long count;
-    unsigned long seed;
-    sampling_strategy strategy;
-    double lambda_min, lambda_max, sensor_w, sensor_h;
-    trace_target target;
-    int all, threads, from_stdin, stop_columns, clip_columns, quiet;
-    const char *clip_list;
-    int nclip, *clip;        /* clip surfaces, 0-based (besides the stop) */
-    double *clip_share;      /* pilot: blocked share per surface, or NULL */
-    char **names;            /* column names */
-} trace_args;
-
-static int ncols(const trace_args *a)
+static void on_bad_row(void *ctx, const lens_err *err)
 {
-    return (a->stop_columns ? NCOLS_STOP : NCOLS) + 2 * a->nclip;
+    (void)ctx;
+    diag_print(prog, err);
 }
 
-static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
+static void progress(void *ctx, long written, long total, long traced)
 {
-    fprintf(f, "# lens-trace %s: lens %s, frame %s", a->lens_path, lens->name[0] ? lens->name : "-",
-            a->target == TRACE_TO_STOP ? "stop" : "outer");
-    if (!a->from_stdin)
-        fprintf(f, ", sampling %s, seed %lu, lambda %g:%g um, sensor %gx%g mm",
-                sampling_strategy_name(a->strategy), a->seed, a->lambda_min, a->lambda_max,
-                a->sensor_w, a->sensor_h);
-    fputc('\n', f);
-    if (a->clip_share) {
-        fprintf(f, "# clip surfaces (>= %g%% of %d pilot rays blocked there):", 100 * CLIP_MIN_SHARE,
-                PILOT_RAYS);
-        for (int k = 0; k < a->nclip; k++)
-            fprintf(f, " %d (%.3g%%)", a->clip[k] + 1, 100 * a->clip_share[a->clip[k]]);
-        fprintf(f, "; stop %d (%.3g%%)\n", lens->stop + 1, 100 * a->clip_share[lens->stop]);
-    }
-}
-
-static void sampling_setup(const trace_args *a, sampling_options *so)
-{
-    *so = sampling_defaults();
-    so->strategy = a->strategy;
-    so->sensor_w = a->sensor_w;
-    so->sensor_h = a->sensor_h;
-    so->lambda_min = a->lambda_min;
-    so->lambda_max = a->lambda_max;
-    so->seed = a->seed;
-    so->threads = a->threads;
-}
-
-/* The clip surfaces: those given, or those a pilot trace finds blocking rays. */
-static int choose_clip(const lens_t *lens, trace_args *a, lens_err *err)
-{
-    a->clip = malloc(lens->nsurf * sizeof *a->clip);
-    if (!a->clip) {
-        lens_errf(err, NULL, 0, "out of memory");
-        return -1;
-    }
-    if (a->clip_list) {
-        const char *p = a->clip_list;
-        while (*p) {
-            char *end;
-            long s = strtol(p, &end, 10);
-            if (end == p || (*end && *end != ',') || s < 1 || (size_t)s > lens->nsurf) {
-                lens_errf(err, NULL, 0, "--clip-surfaces: expected surface numbers 1..%zu "
-                          "separated by commas, not '%s'", lens->nsurf, a->clip_list);
-                return -1;
-            }
-            int dup = (int)s - 1 == lens->stop; /* the stop has ap_x ap_y already */
-            for (int k = 0; k < a->nclip; k++)
-                dup |= a->clip[k] == (int)s - 1;
-            if (!dup)
-                a->clip[a->nclip++] = (int)s - 1;
-            p = *end ? end + 1 : end;
-        }
-        return 0;
-    }
-    if (isnan(a->sensor_w)) {
-        lens_errf(err, a->lens_path, 0, "--clip-columns: no sensor size for the pilot trace; "
-                  "give --sensor WxH or --clip-surfaces");
-        return -1;
-    }
-    sampling_options so;
-    sampling_setup(a, &so);
-    so.seed = PILOT_SEED;
-    a->clip_share = malloc(lens->nsurf * sizeof *a->clip_share);
-    if (!a->clip_share) {
-        lens_errf(err, NULL, 0, "out of memory");
-        return -1;
-    }
-    int k = trace_clip_pilot(lens, &so, PILOT_RAYS, CLIP_MIN_SHARE, a->target == TRACE_TO_OUTER,
-                             a->clip_share, a->clip, err);
-    if (k < 0)
-        return -1;
-    a->nclip = k;
-    return 0;
-}
-
-static int make_names(trace_args *a, lens_err *err)
-{
-    int nc = ncols(a), nb = a->stop_columns ? NCOLS_STOP : NCOLS;
-    a->names = calloc((size_t)nc, sizeof *a->names);
-    if (!a->names)
-        goto oom;
-    for (int k = 0; k < nb; k++)
-        a->names[k] = (char *)base_columns[k];
-    for (int k = 0; k < 2 * a->nclip; k++) {
-        a->names[nb + k] = malloc(32);
-        if (!a->names[nb + k])
-            goto oom;
-        snprintf(a->names[nb + k], 32, "s%d_%c", a->clip[k / 2] + 1, k % 2 ? 'y' : 'x');
-    }
-    return 0;
-oom:
-    lens_errf(err, NULL, 0, "out of memory");
-    return -1;
-}
-
-static void free_names(trace_args *a)
-{
-    if (a->names) {
-        int nb = a->stop_columns ? NCOLS_STOP : NCOLS;
-        for (int k = 0; k < 2 * a->nclip; k++)
-            free(a->names[nb + k]);
-    }
-    free(a->names);
-    free(a->clip);
-    free(a->clip_share);
-}
-
-static void progress(long done, long total, long generated)
-{
-    fprintf(stderr, "\r%s: %ld / %ld rays written (%ld traced)", prog, done, total, generated);
-}
-
-/* Generation: rays are made in index order, so the first N passing rays of a seed are
- * the same whatever the chunk size or thread count. */
-static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *err)
-{
-    sampling_options so;
-    sampling_setup(a, &so);
-    ray_generator *g = ray_generator_new(lens, &so, err);
-    if (!g)
-        return -1;
-    const size_t chunk = 1 << 16;
-    double *in = malloc(chunk * 5 * sizeof *in), *out = malloc(chunk * 5 * sizeof *out);
-    double *ap = a->stop_columns ? malloc(chunk * 2 * sizeof *ap) : NULL;
-    double *hits = a->nclip ? malloc(chunk * 2 * (size_t)a->nclip * sizeof *hits) : NULL;
-    double *row = malloc((size_t)ncols(a) * sizeof *row);
-    if (!in || !out || (a->stop_columns && !ap) || (a->nclip && !hits) || !row) {
-        lens_errf(err, NULL, 0, "out of memory");
-        free(in);
-        free(out);
-        free(ap);
-        free(hits);
-        free(row);
-        ray_generator_free(g);
-        return -1;
-    }
-    samples_write_header(f, (const char *const *)a->names, ncols(a));
-    int show = !a->quiet && cli_progress_wanted() && a->count > 200000;
-    long written = 0;
-    size_t next = 0;
-    /* A lens that passes almost nothing would loop for ever: give up after 1000 rays
-     * per wanted ray, which no usable sampling comes near. */
-    size_t give_up = (size_t)a->count * 1000 + chunk;
-    int rc = 0;
-    while (written < a->count) {
-        if (next >= give_up) {
-            lens_errf(err, a->lens_path, 0, "only %ld of %zu traced rays pass the lens; "
-                      "check the sensor size and the lens", written, next);
-            rc = -1;
-            break;
-        }
-        size_t n = chunk;
-        if (a->all && (size_t)(a->count - written) < n)
-            n = (size_t)(a->count - written);
-        if (ray_generator_fill(g, next, n, in, err) != 0 ||
-            trace_batch(lens, a->target, n, in, out, NULL, a->threads, err) != 0 ||
-            (ap && trace_stop_batch(lens, n, in, ap, a->threads, err) != 0)) {
-            rc = -1;
-            break;
-        }
-        for (int k = 0; k < a->nclip && rc == 0; k++)
-            if (trace_surface_batch(lens, a->clip[k], n, in, hits + 2 * chunk * (size_t)k,
-                                    a->threads, err) != 0)
-                rc = -1;
-        if (rc)
-            break;
-        next += n;
-        for (size_t i = 0; i < n && written < a->count; i++) {
-            if (!a->all && !(out[5 * i + 4] > 0))
-                continue;
-            memcpy(row, in + 5 * i, 5 * sizeof *row);
-            memcpy(row + 5, out + 5 * i, 5 * sizeof *row);
-            if (ap)
-                memcpy(row + NCOLS, ap + 2 * i, 2 * sizeof *row);
-            for (int k = 0, nb = ap ? NCOLS_STOP : NCOLS; k < a->nclip; k++)
-                memcpy(row + nb + 2 * k, hits + 2 * chunk * (size_t)k + 2 * i, 2 * sizeof *row);
-            samples_write_row(f, row, ncols(a));
-            written++;
-        }
-        if (show)
-            progress(written, a->count, (long)next);
-    }
-    if (show)
-        fputc('\n', stderr);
-    free(in);
-    free(out);
-    free(ap);
-    free(hits);
-    free(row);
-    ray_generator_free(g);
-    return rc;
-}
-
-/* Filter: one output row per input row; a bad row becomes a row of nan, is reported
- * with its line, and makes the exit status non-zero at the end. Input columns that the
- * trace does not write (an id, say) follow the traced ones, as they were. */
-static int filter(const lens_t *lens, const trace_args *a, FILE *f, int *bad_rows, lens_err *err)
-{
-    samples_reader *r = samples_open("-", err);
-    if (!r)
-        return -1;
-    static const char *const want[] = {"x", "y", "u", "v", "lambda"};
-    int map[5];
-    if (samples_map(r, want, 5, map, err) != 0) {
-        samples_close(r);
-        return -1;
-    }
-    samples_passthrough(r, (const char *const *)a->names, ncols(a));
-    samples_write_filter_header(f, (const char *const *)a->names, ncols(a), r);
-    int nc = samples_ncols(r);
-    double *vals = malloc((size_t)nc * sizeof *vals);
-    double *n = malloc(lens->nsurf * sizeof *n);
-    double *row = malloc((size_t)ncols(a) * sizeof *row);
-    double cached_lambda = NAN;
-    int cached_ok = 0;
-    lens_err cached_err = {{0}};
-    int st;
-    int failed = 0;
-    while (vals && n && row && (st = samples_next(r, vals, err)) != 0) {
-        if (st == SAMPLES_FAIL) {
-            failed = 1; /* the rest of the stream is lost: an error, not an end */
-            break;
-        }
-        for (int k = 0; k < ncols(a); k++)
-            row[k] = NAN;
-        if (st < 0) {
-            diag_print(prog, err);
-            ++*bad_rows;
-            samples_write_filter_row(f, row, ncols(a), r);
-            continue;
-        }
-        for (int k = 0; k < 5; k++)
-            row[k] = vals[map[k]];
-        int finite = 1;
-        for (int k = 0; k < 5; k++)
-            finite &= isfinite(row[k]) != 0;
-        if (!finite) {
-            fprintf(stderr, "%s: %s:%ld: x, y, u, v and lambda must be finite numbers\n", prog,
-                    samples_path(r), samples_line(r));
-            ++*bad_rows;
-        } else {
-            if (row[4] != cached_lambda) {
-                cached_lambda = row[4];
-                cached_ok = lens_indices(lens, row[4], n, &cached_err) == 0;
-            }
-            if (!cached_ok) {
-                fprintf(stderr, "%s: %s:%ld: %s\n", prog, samples_path(r), samples_line(r),
-                        cached_err.msg);
-                ++*bad_rows;
-            } else {
-                trace_result res = trace_sample(lens, n, a->target, row, row + 5);
-                row[9] = res.status == TRACE_PASSED ? res.transmittance : 0.0;
-                if (a->stop_columns)
-                    trace_stop_hit(lens, n, row, row + NCOLS);
-                for (int k = 0, nb = a->stop_columns ? NCOLS_STOP : NCOLS; k < a->nclip; k++)
-                    trace_surface_hit(lens, a->clip[k], n, row, row + nb + 2 * k);
-            }
-        }
-        samples_write_filter_row(f, row, ncols(a), r);
-    }
-    int rc = (vals && n && row && !failed) ? 0 : -1;
-    if (rc && !failed)
-        lens_errf(err, NULL, 0, "out of memory");
-    free(vals);
-    free(n);
-    free(row);
-    samples_close(r);
-    return rc;
+    *(int *)ctx = 1;
+    fprintf(stderr, "\r%s: %ld / %ld rays written (%ld traced)", prog, written, total, traced);
 }
 
 int main(int argc, char **argv)
@@ -323,64 +28,48 @@ int main(int argc, char **argv)
     trace_cli_default(&o);
     const char *operand[2];
     int nop = opt_parse(&trace_command, argc, argv, &o, operand, 2);
-    trace_args a = {.out_path = o.out_path, .count = o.count, .seed = o.seed,
-                    .strategy = o.strategy, .lambda_min = o.lambda[0], .lambda_max = o.lambda[1],
-                    .sensor_w = o.sensor.w, .sensor_h = o.sensor.h, .target = o.target,
-                    .all = o.all, .threads = o.threads, .quiet = o.quiet,
-                    .stop_columns = o.stop_columns || o.clip_columns || o.clip_list,
-                    .clip_columns = o.clip_columns || o.clip_list, .clip_list = o.clip_list};
     for (int k = 0; k < nop; k++) {
         if (strcmp(operand[k], "-") == 0)
-            a.from_stdin = 1;
-        else if (a.lens_path)
-            diag_die(prog, "one lens at a time ('%s' and '%s')", a.lens_path, operand[k]);
+            o.from_stdin = 1;
+        else if (o.lens_path)
+            diag_die(prog, "one lens at a time ('%s' and '%s')", o.lens_path, operand[k]);
         else
-            a.lens_path = operand[k];
+            o.lens_path = operand[k];
     }
-    if (!a.lens_path)
+    if (!o.lens_path)
         diag_die(prog, "no lens given (see --help)");
     lens_t lens;
-    cli_load_lens(prog, a.lens_path, lens_cli_options_get(&o.lens), &lens);
+    cli_load_lens(prog, o.lens_path, lens_cli_options_get(&o.lens), &lens);
     lens_cli_options_free(&o.lens);
-    if (isnan(a.sensor_w)) {
-        a.sensor_w = lens.sensor_w;
-        a.sensor_h = lens.sensor_h;
-    }
-    if (!a.from_stdin && isnan(a.sensor_w))
-        diag_die(prog, "%s: no sensor size in the lens header; give --sensor WxH", a.lens_path);
-
     lens_err err;
-    if ((a.clip_columns && choose_clip(&lens, &a, &err) != 0) || make_names(&a, &err) != 0) {
+    if (!isnan(o.fnumber) && lens_set_fnumber(&lens, o.fnumber, &err) != 0) {
         diag_print(prog, &err);
-        free_names(&a);
         lens_free(&lens);
         return 1;
     }
-    outfile *of = outfile_open(a.out_path, &err);
-    if (!of) {
-        diag_print(prog, &err);
-        free_names(&a);
-        lens_free(&lens);
-        return 1;
-    }
-    FILE *f = outfile_stream(of);
-    write_preamble(f, &lens, &a);
-    int bad_rows = 0;
-    int rc = a.from_stdin ? filter(&lens, &a, f, &bad_rows, &err) : generate(&lens, &a, f, &err);
-    if (rc != 0) {
+
+    int shown = 0;
+    trace_run_hooks hooks = {on_bad_row, NULL, &shown};
+    if (!o.quiet && cli_progress_wanted() && o.count > 200000)
+        hooks.progress = progress;
+    samples_reader *in = NULL;
+    outfile *of = NULL;
+    long bad_rows = 0;
+    int rc = (o.from_stdin && !(in = samples_open("-", &err))) ||
+             !(of = outfile_open(o.out_path, &err)) ||
+             trace_run(&o, &lens, in, outfile_stream(of), &hooks, &bad_rows, &err) != 0;
+    if (shown)
+        fputc('\n', stderr);
+    if (rc && of)
         outfile_abort(of);
+    else if (!rc && outfile_commit(of, &err) != 0)
+        rc = 1;
+    if (rc)
         diag_print(prog, &err);
-        free_names(&a);
-        lens_free(&lens);
-        return 1;
-    }
-    if (outfile_commit(of, &err) != 0) {
-        diag_print(prog, &err);
-        rc = -1;
-    }
     if (bad_rows)
-        fprintf(stderr, "%s: %d bad input rows (written as nan)\n", prog, bad_rows);
-    free_names(&a);
+        fprintf(stderr, "%s: %ld bad input rows (written as nan)\n", prog, bad_rows);
+    if (in)
+        samples_close(in);
     lens_free(&lens);
-    return rc != 0 || bad_rows ? 1 : 0;
+    return rc || bad_rows ? 1 : 0;
 }

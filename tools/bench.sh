@@ -2,19 +2,47 @@
 # make bench: runs every benchmark program (build/bench/bench_*) and the command-level
 # benchmarks, prints their "bench NAME VALUE UNIT" lines, adds ratios against the
 # baselines measured in the same run, and writes reports/bench.md with the machine and
-# the commit. Each program reports medians of several runs itself.
+# the commit. Each program reports its own best / median figures; notes written by
+# hand below the marker line of reports/bench.md survive a new run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BIN=${BIN:-bin}
 BUILD=${BUILD:-build}
 out=$(mktemp)
 load_start=$(cut -d' ' -f1-3 /proc/loadavg)
-trap 'rm -f "$out"' EXIT
+
+work=$(mktemp -d)
+trap 'rm -f "$out"; rm -rf "$work"' EXIT
+# The default fit of fisheye-ii (README: lens-fit --terms 40 --degree 11, the meridional
+# frame except out_u, out_v, and 1/lambda^2), and the same without frame or transform:
+# bench_poly measures these, not a stand-in.
+"$BIN"/lens-trace lenses/fisheye-ii.lens -n 4000 --seed 1 -o "$work/train.txt"
+"$BIN"/lens-fit -q --terms 40 --degree 11 -o "$work/fisheye-ii.poly" "$work/train.txt"
+"$BIN"/lens-fit -q --terms 40 --degree 11 --frame none --lambda-transform identity \
+  -o "$work/fisheye-ii-noframe.poly" "$work/train.txt"
 
 for b in "$BUILD"/bench/bench_*; do
   [ -x "$b" ] || continue
   echo "# $(basename "$b")" >&2
-  { "$b" || echo "bench $(basename "$b")_failed 1 flag"; } | { grep "^bench " || true; } | tee -a "$out"
+  args=()
+  [ "$(basename "$b")" = bench_poly ] && args=(200000 "$work/fisheye-ii.poly" "$work/fisheye-ii-noframe.poly")
+  { "$b" "${args[@]}" || echo "bench $(basename "$b")_failed 1 flag"; } | { grep "^bench " || true; } | tee -a "$out"
+done
+
+# lens-spot and lens-distort through the fitted system (Newton on its Jacobian from
+# each object-space ray back to the sensor) beside the same command on the lens: CPU
+# time (user + system) of the whole command, best of 3 rounds that alternate the two.
+cputime() { /usr/bin/time -f '%U %S' -o "$work/t" "$@" > /dev/null 2>&1 || return 1; awk '{ print $1 + $2 }' "$work/t"; }
+for cmd in lens-spot lens-distort; do
+  best_l=inf best_p=inf
+  for _ in 1 2 3; do
+    tl=$(cputime "$BIN/$cmd" lenses/fisheye-ii.lens) || tl=inf
+    tp=$(cputime "$BIN/$cmd" "$work/fisheye-ii.poly" --lens lenses/fisheye-ii.lens) || tp=inf
+    best_l=$(awk -v a="$best_l" -v b="$tl" 'BEGIN { print (b + 0 < a + 0 || a == "inf") ? b : a }')
+    best_p=$(awk -v a="$best_p" -v b="$tp" 'BEGIN { print (b + 0 < a + 0 || a == "inf") ? b : a }')
+  done
+  name=${cmd#lens-}
+  printf 'bench %s_fisheye-ii_lens_cpu_s %s s\nbench %s_fisheye-ii_poly_cpu_s %s s\n' "$name" "$best_l" "$name" "$best_p" | tee -a "$out"
 done
 
 val() { awk -v k="$1" '$1 == "bench" && $2 == k { print $3; exit }' "$out"; }
@@ -23,18 +51,19 @@ ratio() { # NAME NUMERATOR DENOMINATOR: how many times DENOMINATOR's time NUMERA
   [ -n "$a" ] && [ -n "$b" ] || return 0
   awk -v n="$1" -v a="$a" -v b="$b" 'BEGIN { printf "bench %s %.2f x\n", n, a / b }' | tee -a "$out"
 }
-# Speed-ups: baseline time / candidate time (> 1 means faster than the baseline).
-ratio ratio_exact_over_poly_batch_fisheye-ii trace_fisheye_ii_ns_per_ray poly_eval_batch_ns_per_ray
-ratio ratio_naive_over_batch poly_eval_naive_ns_per_ray poly_eval_batch_ns_per_ray
-ratio ratio_scalar_over_batch poly_eval_scalar_ns_per_ray poly_eval_batch_ns_per_ray
-ratio ratio_exact_over_poly_batch trace_fisheye-ii_1thread_ns_per_ray poly_eval_batch_ns_per_ray
+# Speed-ups: baseline time / candidate time (> 1 means faster than the baseline);
+# bench_poly prints its own (ratio_*), all between best rounds of one interleaved run.
 ratio ratio_trace_1thread_over_all trace_fisheye-ii_1thread_ns_per_ray trace_fisheye-ii_allthreads_ns_per_ray
 ratio ratio_render_exact_over_poly_dgauss render_map_exact_dgauss_ns_per_ray render_map_poly_dgauss_ns_per_ray
-
+ratio ratio_spot_poly_over_lens spot_fisheye-ii_poly_cpu_s spot_fisheye-ii_lens_cpu_s
+ratio ratio_distort_poly_over_lens distort_fisheye-ii_poly_cpu_s distort_fisheye-ii_lens_cpu_s
+# Notes written by hand below the marker line of the old report are kept.
+marker='<!-- notes: kept by tools/bench.sh -->'
+notes=$(awk -v m="$marker" 'f { print } $0 == m { f = 1 }' reports/bench.md 2>/dev/null || true)
 {
   echo "# Benchmarks"
   echo
-  echo "Produced by \`make bench\` (tools/bench.sh) on $(date -u +%Y-%m-%d)."
+  echo "Produced by \`make bench\` (tools/bench.sh) on $(date -u +'%Y-%m-%d %H:%M UTC')."
   echo
   echo "- machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores, $(awk '/MemTotal/ { printf "%.0f GiB", $2 / 1048576 }' /proc/meminfo)"
   echo "- commit: $(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet 2>/dev/null || echo ' (with local changes)')"
@@ -42,11 +71,17 @@ ratio ratio_render_exact_over_poly_dgauss render_map_exact_dgauss_ns_per_ray ren
   echo "- load average (1, 5, 15 min) at the start: $load_start; at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo "  (on 2 cores a load above 1 means another job shared the machine: times grow, ratios less so)"
   echo
-  echo "Every figure is the median of several runs inside one program; ratios divide two"
-  echo "figures of this same run (a ratio above 1 means the second is faster)."
+  echo "bench_poly times its methods in interleaved rounds and gives each one's best round,"
+  echo "median and spread (median / best - 1); the other programs give medians of several"
+  echo "runs. Ratios divide two figures of this same run: ratio_A_over_B is A's time over B's"
+  echo "(above 1: B is faster)."
   echo
   echo '```'
   cat "$out"
   echo '```'
-} > reports/bench.md
+  echo
+  echo "$marker"
+  [ -n "$notes" ] && echo "$notes"
+} > reports/bench.md.tmp
+mv reports/bench.md.tmp reports/bench.md
 echo "wrote reports/bench.md" >&2

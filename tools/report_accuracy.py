@@ -27,10 +27,11 @@ def load(cache):
             rows = list(csv.DictReader(f, delimiter="\t"))
         for r in rows:
             for k in ("test_pos_rms_mm", "test_dir_rms_arcmin", "train_pos_rms_mm",
-                      "eval_ns_per_ray", "exact_ns_per_ray", "fit_s"):
+                      "eval_ns_per_ray", "exact_ns_per_ray", "eval_spread_pct",
+                      "exact_spread_pct", "fit_s"):
                 try:
                     r[k] = float(r[k])
-                except ValueError:
+                except (KeyError, TypeError, ValueError):
                     r[k] = math.nan
             r["source"] = os.path.join(os.path.basename(cache), lens, "sweep.tsv")
         if rows:
@@ -87,6 +88,9 @@ plot '{dat}' using 1:2 with points pt 7 ps 0.8 lc rgb '#808080' title 'fitted sy
 
 
 def terms_story(rows):
+    """(terms a, terms b, error gain, time cost, noise): noise is the larger of the two
+    systems' round spreads (median over best), the size a time difference must exceed
+    before it says anything."""
     t = sorted((r for r in rows if r["kind"] == "terms"), key=lambda r: int(r["terms"]))
     lines = []
     for a, b in zip(t, t[1:]):
@@ -94,8 +98,19 @@ def terms_story(rows):
             continue
         gain = 1 - b["test_pos_rms_mm"] / a["test_pos_rms_mm"]
         cost = b["eval_ns_per_ray"] / a["eval_ns_per_ray"] - 1
-        lines.append((a["terms"], b["terms"], gain, cost))
+        noise = max(a["eval_spread_pct"], b["eval_spread_pct"]) / 100
+        lines.append((a["terms"], b["terms"], gain, cost, noise))
     return lines
+
+
+def spread_note(rows):
+    """What the rounds' spread was, for the reader to judge small time differences."""
+    sp = sorted(r["eval_spread_pct"] for r in rows if math.isfinite(r["eval_spread_pct"]))
+    ex = rows[0]["exact_spread_pct"]
+    if not sp:
+        return "Round spread not recorded (a sweep from before interleaved timing)."
+    return (f"Round spread (median over best round): {sp[0]:.0f}–{sp[-1]:.0f} % for the systems, "
+            f"{ex:.0f} % for the exact tracer.")
 
 
 def main():
@@ -108,16 +123,19 @@ def main():
           "(5–80), maximum degrees (3–13), training sample counts (1000–30000), single and",
           "partitioned systems, with and without λ. Errors are held-out: measured by",
           "`lens-eval --report` on rays traced with another seed (position RMS on the outer",
-          "pupil in mm; direction RMS in arcminutes). Times are medians of five batch",
-          "evaluations on one thread (`build/bench/bench_system`); the exact tracer is timed",
-          "on the same rays, by the same program, in the same run. Every row names its",
-          "system file and the command that made it in `reports/cache/<lens>/sweep.tsv`.",
+          "pupil in mm; direction RMS in arcminutes). Times are batch evaluations on one",
+          "thread (`build/bench/bench_system`, CPU time): 15 rounds, each timing the exact",
+          "tracer and then every system of the lens once on the same rays, so a slow phase",
+          "of a shared machine slows them all alike; each figure is its best round, and the",
+          "spread of the rounds is given per lens. A time difference smaller than that spread",
+          "is noise, and is reported as such. Every row names its system file and the",
+          "command that made it in `reports/cache/<lens>/sweep.tsv`.",
           ""]
     for lens, rows in sweeps.items():
         front = pareto(rows)
         exact = rows[0]["exact_ns_per_ray"]
         md += [f"## {lens}", "", f"Exact tracer: {exact:.0f} ns per ray (one thread). "
-               f"Source: `{rows[0]['source']}`.", ""]
+               f"{spread_note(rows)} Source: `{rows[0]['source']}`.", ""]
         pic = plot(lens, rows, front, picdir)
         if pic:
             md += [f"![{lens} Pareto front](accuracy/{pic})", ""]
@@ -140,9 +158,13 @@ def main():
         story = terms_story(rows)
         if story:
             md += ["", "What the extra terms buy (degree ≤ 11 unless stated, same samples):", ""]
-            for a, b, gain, cost in story:
-                md.append(f"- {a} → {b} terms: error {-gain * 100:+.0f}%, time {cost * 100:+.0f}%")
-            stop = next((f"{a} → {b}" for a, b, gain, cost in story if gain < 0.25), None)
+            for a, b, gain, cost, noise in story:
+                if abs(cost) <= noise:
+                    t = f"time {cost * 100:+.0f}%, within the rounds' spread (±{noise * 100:.0f}%): no measurable change"
+                else:
+                    t = f"time {cost * 100:+.0f}%"
+                md.append(f"- {a} → {b} terms: error {-gain * 100:+.0f}%, {t}")
+            stop = next((f"{a} → {b}" for a, b, gain, cost, noise in story if gain < 0.25), None)
             if stop:
                 md.append(f"- It stops paying at {stop} terms: less than a quarter off the error for the extra time.")
         md.append("")

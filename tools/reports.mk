@@ -27,6 +27,6 @@ $(OUT)/accuracy-vs-time.md: $(SWEEPS) tools/report_accuracy.py
 	@python3 tools/report_accuracy.py $(CACHE) $@ $(OUT)/accuracy
 	@echo "reports: wrote $@" >&2
 
-$(OUT)/%.md: $(CACHE)/%/sweep.tsv tools/report_lens.sh $(BIN)/lens-spot $(BIN)/lens-distort
+$(OUT)/%.md: $(CACHE)/%/sweep.tsv tools/report_lens.sh tools/report_layout.sh $(BIN)/lens-spot $(BIN)/lens-distort $(BIN)/lens-layout
 	@tools/report_lens.sh lenses/$*.lens $(CACHE)/$* $(OUT)
 	@echo "reports: wrote $@" >&2

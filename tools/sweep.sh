@@ -4,7 +4,9 @@
 # Writes OUTDIR/sweep.tsv, one row per fitted system, with the held-out error on the
 # outer pupil (position RMS in mm, direction RMS in arcminutes), the training error,
 # the evaluation time per ray (batch, one thread), the fit time, and the exact
-# tracer's time per ray on the same rays in the same run. Every row names its .poly,
+# tracer's time per ray on the same rays in the same run: the best of interleaved
+# rounds, with the spread of the rounds (median / best - 1, in %; see
+# bench/bench_system.c). Every row names its .poly,
 # its report files and the command that made it, so each figure can be traced back.
 set -euo pipefail
 lens=$1 out=$2 mode=${3:-full}
@@ -24,7 +26,6 @@ d=0.5875618
 subset() { # N FILE -> first N rows with the header
   awk -v n="$1" '/^#/ { print; next } k < n { print; k++ }' "$2"
 }
-exact_ns=$("$BUILD"/bench/bench_system --samples "$out/test.txt" --lens "$lens" | awk '{ print $3 }')
 
 # sweep points: kind terms degree samples parts lambda
 points() {
@@ -43,13 +44,15 @@ points() {
 }
 
 row() { # error report -> pos_rms_mm dir_rms_arcmin
-  awk '$1 == "out_x" && $NF == "mm" && !x { x = $3 } $1 == "out_y" && $NF == "mm" && !y { y = $3 }
-       $1 == "out_u" && $NF == "arcmin" && !u { u = $3 } $1 == "out_v" && $NF == "arcmin" && !v { v = $3 }
+  awk '$1 == "out_x_mm" && !x { x = $3 } $1 == "out_y_mm" && !y { y = $3 }
+       $1 == "out_u_arcmin" && !u { u = $3 } $1 == "out_v_arcmin" && !v { v = $3 }
        /^$/ { exit } END { printf "%.6g %.6g\n", sqrt(x * x + y * y), sqrt(u * u + v * v) }' "$1"
 }
 
+# Fits and error reports first; the times afterwards, all systems of the lens in one run
+# of bench_system (interleaved rounds with the exact tracer: see its header).
+printf '' > "$out/times.args"
 {
-  printf 'lens\tkind\tterms\tdegree\tsamples\tparts\tlambda\ttest_pos_rms_mm\ttest_dir_rms_arcmin\ttrain_pos_rms_mm\teval_ns_per_ray\texact_ns_per_ray\tfit_s\tsystem\tcommand\n'
   points | while read -r kind t g n p l; do
     id="$kind-t$t-d$g-n$n-p$p-l$l"
     poly="$out/points/$id.poly"
@@ -69,10 +72,23 @@ row() { # error report -> pos_rms_mm dir_rms_arcmin
     rm -f "$out/points/$id.train"
     read -r tpos tdir < <(row "$out/points/$id.test.report")
     read -r rpos _ < <(row "$out/points/$id.train.report")
-    ens=$("$BUILD"/bench/bench_system --samples "$test" --poly "$poly" | awk '{ print $3 }')
-    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$kind" "$t" "$g" "$n" "$p" "$l" \
-      "$tpos" "$tdir" "$rpos" "$ens" "$exact_ns" "${fit_s:-nan}" "points/$id.poly" "$cmd"
+    printf -- '--samples %s --poly %s\n' "$test" "$poly" >> "$out/times.args"
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$kind" "$t" "$g" "$n" "$p" "$l" \
+      "$tpos" "$tdir" "$rpos" "${fit_s:-nan}" "points/$id.poly" "$cmd"
   done
+} > "$out/rows.tmp"
+# shellcheck disable=SC2046
+"$BUILD"/bench/bench_system --samples "$out/test.txt" --lens "$lens" $(cat "$out/times.args") > "$out/times.txt"
+{
+  printf 'lens\tkind\tterms\tdegree\tsamples\tparts\tlambda\ttest_pos_rms_mm\ttest_dir_rms_arcmin\ttrain_pos_rms_mm\teval_ns_per_ray\texact_ns_per_ray\teval_spread_pct\texact_spread_pct\tfit_s\tsystem\tcommand\n'
+  awk -F'\t' -v OFS='\t' -v dir="$out/" '
+    FNR == NR && $0 ~ /^exact / { split($0, e, " "); exact = e[2]; espread = e[4]; next }
+    FNR == NR && $0 ~ /^system / { split($0, q, " "); p = q[2]; sub("^" dir, "", p); best[p] = q[3]; spread[p] = q[5]; next }
+    FNR == NR { next }
+    { b = ($12 in best) ? best[$12] : "nan"; sp = ($12 in spread) ? spread[$12] : "nan"
+      print $1, $2, $3, $4, $5, $6, $7, $8, $9, $10, b, exact, sp, espread, $11, $12, $13 }' \
+    "$out/times.txt" "$out/rows.tmp"
 } > "$out/sweep.tsv.tmp"
+rm -f "$out/rows.tmp" "$out/times.args"
 mv "$out/sweep.tsv.tmp" "$out/sweep.tsv"
 echo "sweep: $name: $(($(wc -l < "$out/sweep.tsv") - 1)) points in $out/sweep.tsv" >&2

@@ -21,8 +21,4 @@ void diag_print(const char *prog, const lens_err *err);
 void diag_die(const char *prog, const char *fmt, ...)
     __attribute__((format(printf, 2, 3), noreturn));
 
-/* Strict number parsing: the whole token must be a finite number. 0 on success. */
-int parse_double(const char *s, double *out);
-int parse_long(const char *s, long *out);
-
 #endif

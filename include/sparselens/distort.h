@@ -17,6 +17,9 @@ typedef struct {
     double dist_pct;   /* 100 (h_real - h_ideal) / h_ideal; 0 on the axis */
     double rel_illum;  /* relative illumination, 1 on the axis */
     double map_pct[PROJ_COUNT]; /* distortion against each ideal projection (infinity) */
+    /* No chief ray reaches the sensor (a field past what the model can image): the
+     * figures are nan and why says what failed; empty for a field imaged. */
+    char why[sizeof(lens_err)];
 } distort_row;
 
 /* First-order scale of the ideal image: the paraxial focal length (object at infinity)
@@ -29,7 +32,9 @@ int distort_scale(const imaging *im, double lambda, double *scale, lens_err *err
  * entrance pupil, weighted by transmittance; for a finite object by solid angle and
  * Lambert's cosine) over the image area it lands on per unit of object (solid angle or
  * area, from the derivative of the chief-ray height), divided by the same on axis. The
- * cos^4 fall-off and vignetting both come out of the trace. */
+ * cos^4 fall-off and vignetting both come out of the trace. A field whose chief ray
+ * reaches no point of the sensor gets a row of nan with `why` set; the others are
+ * computed (0 is returned all the same). */
 int distort_curve(const imaging *im, double lambda, const double *field, int nf, int ris,
                   distort_row *rows, lens_err *err);
 

@@ -4,6 +4,7 @@
 #include "sparselens/cli.h"
 #include "sparselens/imaging_cli.h"
 #include "sparselens/options.h"
+#include "sparselens/output_cli.h"
 
 typedef struct {
     imaging_cli im;         /* the flags lens-distort shares with lens-spot */
@@ -13,6 +14,7 @@ typedef struct {
     double exaggerate;      /* NAN: automatic */
     const char *map, *png;
     cli_size opencv;        /* pixels; 0: no OpenCV fits */
+    output_cli out;         /* --json, --precision */
 } distort_cli;
 
 extern const opt_command distort_command;

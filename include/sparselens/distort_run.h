@@ -5,6 +5,7 @@
 
 #include "sparselens/distort.h"
 #include "sparselens/spot_run.h"
+#include "sparselens/table_out.h"
 
 typedef struct {
     imaging im[2];              /* the lens, and optionally a system beside it */
@@ -24,6 +25,7 @@ typedef struct {
 typedef struct {
     int nmodels, nfields, finite;
     distort_row *rows;          /* m * nfields + f */
+    int not_imaged;             /* rows of fields a model cannot image (their why is set) */
     double scale;               /* focal length, or magnification (finite object) */
     double sensor_shift;
     proj_kind best[2];
@@ -39,8 +41,12 @@ typedef struct {
 
 int distort_run(const distort_request *rq, distort_report *rep, lens_err *err);
 void distort_report_free(distort_report *rep);
-/* The table, then comment lines: focal length, best mappings, OpenCV fits. */
-void distort_report_print(FILE *f, const distort_request *rq, const distort_report *rep);
+/* "MODEL: why; its row is nan" for each field not imaged (at most max) into w[]. */
+int distort_report_warnings(const distort_request *rq, const distort_report *rep,
+                            report_warning *w, int max);
+/* The table "distortion", then (text) comment lines, or (JSON) tables "ideal",
+ * "best_mapping" and "opencv": focal length, best mappings, OpenCV fits. */
+void distort_report_print(table_out *t, const distort_request *rq, const distort_report *rep);
 /* The grid displacement field as text. */
 void distort_report_write_map(FILE *f, const char *input, const distort_request *rq,
                               const distort_report *rep);

@@ -3,6 +3,7 @@
 /* lens-eval's options: its option table (options.h) and the struct it fills. */
 #include "sparselens/eval_run.h"
 #include "sparselens/options.h"
+#include "sparselens/output_cli.h"
 
 typedef struct {
     const char *system;   /* SYSTEM.poly */
@@ -11,6 +12,7 @@ typedef struct {
     int emit_c;           /* write the system as C instead of reading rays */
     const char *name;     /* the C function's name */
     eval_run_options run;
+    output_cli out;       /* --json, --precision (of the report) */
 } eval_cli;
 
 extern const opt_command eval_command;

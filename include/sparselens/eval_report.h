@@ -13,6 +13,7 @@
 #include <stdio.h>
 
 #include "sparselens/poly.h"
+#include "sparselens/table_out.h"
 
 typedef enum {
     EVAL_DIR_UNIT,  /* (u, v) are components of a unit vector (outer-pupil frame) */
@@ -34,6 +35,11 @@ eval_report *eval_report_new(const poly_system *sys, const eval_report_options *
  * reference ref[noutputs] with the lens's. */
 int eval_report_add(eval_report *r, const double *in, const double *pred, int sys_pass,
                     const double *ref, int lens_pass);
+/* The report as tables (table_out.h; man lens-eval, THE REPORT): "error" (a row per
+ * output and unit, keyed out_x_mm, out_u, out_u_arcmin, ...), "error_by_radius",
+ * "part_jumps" (systems with parts), "passage" (key-value) and "passage_by_ring". */
+int eval_report_print(table_out *t, const eval_report *r);
+/* The same as text to f, 6 digits. */
 int eval_report_write(FILE *f, const eval_report *r);
 void eval_report_free(eval_report *r);
 

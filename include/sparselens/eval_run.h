@@ -14,6 +14,8 @@ typedef struct {
     int raw;    /* predictions: the polynomial values also for rays the system blocks
                    (otherwise those rows get nan, and out_eta 0) */
     eval_report_options ropt;
+    int json;       /* the report as JSON (table_out.h) */
+    int precision;  /* the report's digits; 0: 6 */
     /* Called for each malformed row (FILE:LINE in err); its output row is nan. */
     void (*on_bad_row)(void *ctx, const lens_err *err);
     void *ctx;

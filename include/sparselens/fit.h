@@ -30,11 +30,30 @@ typedef struct {
                               the automatic ones (nan: automatic); for two fits sharing
                               one system */
     int force_parts;    /* > 0: exactly this many radial parts, no tolerance search */
+    double passage_tolerance; /* hits that only decide passage (fit_is_passage_output)
+                           without a tolerance of their own in output_tolerance: stop at
+                           this fraction of the pass circle's radius (default 1e-3;
+                           0: the tolerance of the others) */
 } fit_options;
 
 void fit_options_default(fit_options *opt);
 
-/* Fits every output on the rows whose outputs are all finite (rays that pass).
+/* 1 for the outputs that only decide passage: hits on the stop (ap_x, ap_y) and on a
+ * surface N (sN_x, sN_y), lens-trace's passage columns. fit_system fits them on every
+ * row where they are finite, blocked rays included (the hits are taken with every rim
+ * extended, so a fit sees both sides of each rim), with a single part and their own
+ * tolerance; their pass circles hold the hits of the passing rows. */
+int fit_is_passage_output(const char *name);
+
+/* Whether a system with these outputs, fitted to samples whose writer described their
+ * passage columns by `note` (the "# passage:" line lens-trace writes; NULL if none),
+ * of which `unfitted` passage columns were left out of the outputs, with `blocked`
+ * blocked rows, models passage in full: NULL if so, else the reason, in buf. */
+const char *fit_passage_gap(const char *note, int nout, const char *const *outputs,
+                            int unfitted, size_t blocked, char *buf, size_t len);
+
+/* Fits every output on the rows whose outputs are all finite (rays that pass); the
+ * passage outputs above on the rows where they are finite.
  * in: count x ninputs, out: count x noutputs (row-major). Returns NULL with err set on
  * degenerate input (too few usable rows, a constant input column, non-finite inputs). */
 poly_system *fit_system(const char *lens_name, int ninputs, const char *const *inputs,

@@ -28,6 +28,8 @@ void img_rect(img_canvas *c, double x0, double y0, double x1, double y1, const d
  * thousands of them; alpha shows where they pile up). */
 void img_dot(img_canvas *c, double x, double y, double radius, const double rgb[3],
              double alpha);
+/* A filled polygon of n points (2 doubles each), blended with opacity alpha. */
+void img_polygon(img_canvas *c, const double *xy, int n, const double rgb[3], double alpha);
 /* Text with its baseline's left end at (x, y); height is the cap height in pixels. */
 void img_text(img_canvas *c, double x, double y, const char *text, double height,
               const double rgb[3]);

@@ -11,6 +11,7 @@
 #include "sparselens/lens_cli_options.h"
 #include "sparselens/options.h"
 #include "sparselens/spot_run.h"
+#include "sparselens/table_out.h"
 
 typedef struct {
     const char *input;          /* LENS or SYSTEM.poly */
@@ -19,6 +20,7 @@ typedef struct {
     const char *focus;          /* as given ("file" by default) */
     const char *compare, *lens, *png;
     double object_distance;     /* mm; INFINITY when not given */
+    double fnumber;             /* --fnumber: stop the lens down to it; NAN: as it is */
     focus_mode focus_mode;
     double lambda[IMAGING_MAX_WAVELENGTHS];
     int nl;
@@ -39,6 +41,22 @@ void imaging_cli_finish(const char *prog, imaging_cli *a, const char *const *ope
  * lens-loading options, which are not needed after. */
 int imaging_cli_load(const char *prog, imaging_cli *a, imaging_models *models, imaging im[2],
                      const char *names[2]);
+
+/* What a picture title and a result must say for its numbers to be read right: the
+ * f-number (paraxial, of the lens as stopped by --fnumber), the object, and where the
+ * sensor is (the file's plane and the object distance it is focused on, or the paraxial
+ * or best focus and how far it moved). */
+typedef struct {
+    double fnumber;
+    double file_focus_distance; /* mm in front of the first surface the file's sensor is
+                                   focused on; INFINITY */
+    char text[256];             /* "f/1.75, object at infinity, sensor as in the file
+                                   (focused at 77.2 mm)" */
+} imaging_setup;
+void imaging_cli_setup(const imaging_cli *a, const imaging_models *m, double lambda,
+                       double sensor_shift, imaging_setup *s);
+/* The setup as a key table "setup" (JSON), or as one comment line (text). */
+void imaging_setup_print(table_out *t, const imaging_setup *s, const imaging_models *m);
 
 /* The input's file name without its directories, for picture titles. */
 const char *imaging_cli_basename(const imaging_cli *a);

@@ -4,6 +4,7 @@
 #include "sparselens/cli.h"
 #include "sparselens/lens_cli_options.h"
 #include "sparselens/options.h"
+#include "sparselens/output_cli.h"
 
 typedef struct {
     const char *lens_path;
@@ -11,6 +12,7 @@ typedef struct {
     cli_size sensor;      /* mm; NAN: the lens header's */
     int as_lens;          /* print the lens in the project's format instead of keys */
     double focus;         /* refocus on an object this far (mm, or INFINITY); NAN: no */
+    output_cli out;       /* --json, --precision */
     lens_cli_options lens;
 } info_cli;
 

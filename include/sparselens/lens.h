@@ -98,4 +98,8 @@ int lens_surface_is_aspheric(const lens_surface *s);
 /* Scales the stop's semi-diameter so that the paraxial f-number becomes fnumber. */
 int lens_set_fnumber(lens_t *lens, double fnumber, lens_err *err);
 
+/* Refractive index after each surface (n[i], i < nsurf) at lambda; object space is air.
+ * 0 on success, -1 (err set) for a wavelength outside some glass's range. */
+int lens_indices(const lens_t *lens, double lambda_um, double *n, lens_err *err);
+
 #endif

@@ -5,17 +5,11 @@
  * object-space ray means inverting that map: Newton's method on poly_eval_jacobian
  * for the sensor ray whose outer-pupil image is the given one. */
 #include "sparselens/diag.h"
-#include "sparselens/lens.h"
 #include "sparselens/poly.h"
-#include "sparselens/trace.h"
 
 /* Checks that sys has inputs x y u v lambda and outputs out_x out_y out_u out_v (any
  * order, by name); -1 with err set otherwise. */
 int poly_solve_check(const poly_system *sys, lens_err *err);
-
-/* Outer-pupil coordinates (trace.h) of an object-space ray travelling into the lens:
- * its hit on the front surface and the reversed direction there. -1 if it misses. */
-int outer_of_object_ray(const lens_t *lens, const lens_ray *r, double outer[4]);
 
 /* Solves for sensor[4] = (x, y, u, v) with sys(sensor, lambda) = outer. guess (may be
  * NULL: the axis) seeds Newton. Returns 0 when the residual falls below 1e-9 (1 + |outer x, y|)

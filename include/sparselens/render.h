@@ -63,6 +63,10 @@ void render_sampler_rear(render_sampler *s, const render_camera *cam);
  * over [lambda_min, lambda_max], for sensor radii up to rmax. */
 int render_sampler_lens(render_sampler *s, const lens_t *lens, double lambda_min,
                         double lambda_max, double rmax, int threads, lens_err *err);
+/* The line pupil of the stop alone: directions that pass the rear element and the stop
+ * (the lens without the clipping of the front group: vignetting off). */
+int render_sampler_stop(render_sampler *s, const lens_t *lens, double lambda_min,
+                        double lambda_max, double rmax, lens_err *err);
 /* The same for a lens known only as a map (analytic lenses): probes cam->map at lambda,
  * at nbins + 1 sensor radii over [0, rmax]. */
 int render_sampler_pupil(render_sampler *s, const render_camera *cam, double lambda,

@@ -25,7 +25,7 @@ typedef struct {
     /* why: the measured quantities behind the "auto" choices */
     double vignetting_loss;   /* share of stop-passing rays clipped elsewhere at the field edge */
     double eta_variation;     /* relative change of the mean transmittance centre -> edge */
-    double noise;             /* relative noise of an 8x8-pixel mean at the scene's spp */
+    double lateral_colour_px; /* chief-ray shift between the band ends at the edge, pixels */
     double eta_centre;        /* mean transmittance on the axis: used when transmittance is off */
 } render_effects;
 
@@ -44,7 +44,8 @@ void render_effects_key(const lens_t *lens, const render_effects *e, char key[17
 
 /* The system for lens and e: read from cache_dir/<key>.poly, else fitted (and written
  * there; a cache that cannot be written only costs a refit). log gets what happened and
- * the fit and evaluation times against the full system (every effect on, whole sensor). */
+ * what each effect costs per ray in the system's batch evaluation (no other system is
+ * fitted to compare with). */
 poly_system *render_effects_system(const lens_t *lens, const render_effects *e,
                                    const char *cache_dir, int threads, FILE *log,
                                    lens_err *err);
@@ -54,12 +55,12 @@ poly_system *render_effects_system(const lens_t *lens, const render_effects *e,
 poly_system *render_fit(const lens_t *lens, const render_effects *e, int threads,
                         double *seconds, lens_err *err);
 
-/* The line pupil (render_sampler_lens) for lens over sensor radii [0, rmax] at the
+/* The line pupil (render_sampler_lens, or with stop_only render_sampler_stop) for lens over sensor radii [0, rmax] at the
  * wavelengths [lambda_min, lambda_max]: read from cache_dir/<key>.pupil, keyed by the lens
  * as written and those three numbers, else built and written there. */
 int render_effects_sampler(const lens_t *lens, double lambda_min, double lambda_max,
-                           double rmax, const char *cache_dir, int threads, FILE *log,
-                           render_sampler *smp, lens_err *err);
+                           double rmax, int stop_only, const char *cache_dir, int threads,
+                           FILE *log, render_sampler *smp, lens_err *err);
 
 /* $XDG_CACHE_HOME/sparselens, or $HOME/.cache/sparselens; "" when neither is set. */
 void render_default_cache_dir(char *buf, size_t len);

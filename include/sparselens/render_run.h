@@ -23,6 +23,7 @@ typedef struct {
     const char *noise_against; /* a render of the same scene with another seed: the noise
                                 * figure (render_noise) printed to log, or NULL */
     unsigned long seed;     /* 0: the scene's */
+    const char *emit_camera; /* write the camera module (camera.h) here instead of rendering */
     FILE *log;              /* decisions and figures (stderr in lens-render); may be NULL */
     void (*progress)(void *ctx, double done);
     void *progress_ctx;

@@ -14,6 +14,9 @@ typedef struct samples_reader samples_reader;
  * unreadable file, empty file, no "# columns:" line before the first data row). */
 samples_reader *samples_open(const char *path, lens_err *err);
 int samples_ncols(const samples_reader *r);
+/* The value of a "# key: value" comment before the header ("# lens: NAME",
+ * "# lens-path: PATH" from lens-trace), blanks trimmed; NULL when there is none. */
+const char *samples_meta(const samples_reader *r, const char *key);
 const char *samples_colname(const samples_reader *r, int i);
 int samples_find(const samples_reader *r, const char *name); /* column index or -1 */
 /* Fills map[i] with the column of names[i]; -1 with err set naming the first missing one. */

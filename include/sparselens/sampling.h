@@ -6,7 +6,11 @@
  *  - rear:  towards a uniform point of the rear element's clear disc (the disc of its
  *           semi-diameter in its vertex plane): the usual way, kept as the baseline;
  *  - pupil: from the pupil sampler (pupil_sampler.h), which knows which directions
- *           pass from each sensor radius.
+ *           pass from each sensor radius;
+ *  - full:  uniform in (u, v) over a disc in the rear vertex plane that holds every
+ *           direction that can pass (full_disc_radius): the whole ray space a system
+ *           serves, for finding what limits the beam and for measuring passage as a
+ *           share of the light (uniform in u, v: each ray weighs cos^4 theta T).
  * Ray i is made from the random stream (seed, i) alone (rng.h), so any range of rays
  * can be generated on its own, by any number of threads, with the same result. */
 #include <stddef.h>
@@ -16,7 +20,7 @@
 #include "sparselens/lens.h"
 #include "sparselens/pupil_sampler.h"
 
-typedef enum { SAMPLING_PUPIL = 0, SAMPLING_REAR } sampling_strategy;
+typedef enum { SAMPLING_PUPIL = 0, SAMPLING_REAR, SAMPLING_FULL } sampling_strategy;
 
 typedef struct {
     sampling_strategy strategy;
@@ -29,7 +33,7 @@ typedef struct {
 
 sampling_options sampling_defaults(void); /* pupil, lens sensor, 0.4..0.7 um, seed 1 */
 
-/* "pupil" / "rear" <-> strategy; parse returns -1 for an unknown name. */
+/* "pupil" / "rear" / "full" <-> strategy; parse returns -1 for an unknown name. */
 int sampling_strategy_parse(const char *name, sampling_strategy *s);
 const char *sampling_strategy_name(sampling_strategy s);
 
@@ -37,6 +41,13 @@ const char *sampling_strategy_name(sampling_strategy s);
 void rear_sample(const lens_t *lens, double x, double y, const double rnd[2], double *u,
                  double *v, double *pdf);
 double rear_pdf(const lens_t *lens, double x, double y, double u, double v);
+
+/* The full strategy: the radius of the disc in the rear vertex plane that every passing
+ * ray from a sensor point within sensor_radius of the axis crosses, and a uniform draw
+ * of (u, v) through it (pdf per du dv). */
+double full_disc_radius(const lens_t *lens, double sensor_radius);
+void full_sample(const lens_t *lens, double disc, double x, double y, const double rnd[2],
+                 double *u, double *v, double *pdf);
 
 typedef struct ray_generator ray_generator;
 

@@ -47,7 +47,9 @@ typedef struct {
     scene_mode mode;
     long spp;
     unsigned long seed;
-    effect_setting transmittance, vignetting;
+    effect_setting transmittance, vignetting, dispersion;
+    int filter_tent;       /* 0: box (the pixel); 1: tent of filter_radius pixels */
+    double filter_radius;
     size_t nobj;
     scene_object *obj;
 } scene_t;

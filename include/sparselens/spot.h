@@ -31,14 +31,18 @@ typedef struct {
                              widest angle of a passing ray about the chief ray */
     double *ray;          /* passed rays, 4 doubles each (x y u v), `passed` of them */
     double *eta;          /* their transmittances */
+    int not_imaged;       /* no chief ray reaches the sensor: every figure is nan */
 } spot;
 
-/* Traces one spot: the chief ray, then the pupil pattern. -1 with err set when the
- * chief ray fails (a field past what the lens can image). sp is owned by the caller
- * and released with spot_free. */
+/* Traces one spot: the chief ray, then the pupil pattern. Returns 0; 1 with err set
+ * when the chief ray fails (a field past what the lens or system can image: sp is then
+ * a spot with not_imaged set, no rays and nan figures); -1 with err set on other
+ * errors. sp is owned by the caller and released with spot_free. */
 int spot_trace(const imaging *im, double field, double lambda, pupil_pattern pat, size_t rays,
                unsigned long long seed, spot *sp, lens_err *err);
 void spot_free(spot *sp);
+/* Frees the rays and marks the spot as not imaged: every figure nan (field, lambda kept). */
+void spot_mark_not_imaged(spot *sp);
 
 /* Recomputes the statistics from the stored rays (after spot_shift). */
 void spot_stats(spot *sp);

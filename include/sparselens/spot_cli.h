@@ -3,6 +3,7 @@
 /* lens-spot's options: its option table (options.h) and the struct it fills. */
 #include "sparselens/imaging_cli.h"
 #include "sparselens/options.h"
+#include "sparselens/output_cli.h"
 #include "sparselens/spot.h"
 
 typedef struct {
@@ -11,6 +12,7 @@ typedef struct {
     long rays;
     unsigned long long seed;
     const char *png, *exr;
+    output_cli out;          /* --json, --precision */
 } spot_cli;
 
 extern const opt_command spot_command;

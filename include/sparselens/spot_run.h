@@ -4,6 +4,7 @@
 #include <stdio.h>
 
 #include "sparselens/spot.h"
+#include "sparselens/table_out.h"
 
 typedef enum { FOCUS_FILE, FOCUS_PARAXIAL, FOCUS_BEST } focus_mode;
 
@@ -35,6 +36,11 @@ typedef struct {
     spot *spots;   /* (m * nfields + f) * nl + l */
     spot *pooled;  /* m * nfields + f: all wavelengths of a field */
     double sensor_shift; /* mm along +z from the file's sensor plane */
+    /* Fields a model cannot image (no chief ray reaches the sensor, e.g. 98 degrees
+     * through a fisheye's system): their rows are nan; why[m * nfields + f] says why,
+     * empty for the fields imaged. */
+    int not_imaged;
+    lens_err *why;
 } spot_report;
 
 int spot_run(const spot_request *rq, spot_report *rep, lens_err *err);
@@ -42,8 +48,14 @@ int spot_run(const spot_request *rq, spot_report *rep, lens_err *err);
  * the lens) is prefixed with its name ("poly: ..."); the lens's own (m 0) is left as is. */
 void run_error_model(lens_err *err, int m, const char *name);
 void spot_report_free(spot_report *rep);
-/* Header line, then a row per model, field and wavelength, and a row "all" per field
- * (the pooled wavelengths) when there are several. */
-void spot_report_print(FILE *f, const spot_request *rq, const spot_report *rep);
+/* "MODEL: why; its rows are nan" for each field not imaged, at most max of them, into
+ * w[]; returns how many. */
+typedef char report_warning[640];
+int spot_report_warnings(const spot_request *rq, const spot_report *rep, report_warning *w, int max);
+/* The table "spots" (text: header line, then a row per model, field and wavelength, and a
+ * row "all" per field, the pooled wavelengths, when there are several), and how the
+ * sensor plane was placed (text: a comment when it moved; JSON: "sensor"). */
+void spot_report_print(table_out *t, const spot_request *rq, const spot_report *rep,
+                       const char *focus_name);
 
 #endif

@@ -17,8 +17,10 @@ typedef struct {
     cli_size sensor;          /* mm; NAN: the lens header's */
     trace_target target;
     int all, threads, quiet;
-    int stop_columns, clip_columns;
+    int passing_only;         /* --passing-only (--all is the default) */
+    int stop_columns, clip_columns, no_passage_columns;
     const char *clip_list;    /* --clip-surfaces, or NULL */
+    double fnumber;           /* --fnumber: stop the lens down to it; NAN: as it is */
     lens_cli_options lens;
 } trace_cli;
 

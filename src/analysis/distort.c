@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sparselens/aim.h"
 #include "sparselens/paraxial.h"
 
 int distort_scale(const imaging *im, double lambda, double *scale, lens_err *err)
@@ -200,8 +201,15 @@ int distort_curve(const imaging *im, double lambda, const double *field, int nf,
             lens_errf(err, NULL, 0, "field %g mm: object heights must not be negative", f);
             goto out;
         }
-        if (imaging_chief(im, n, lambda, f, s, err) != 0)
-            goto out;
+        if (imaging_chief(im, n, lambda, f, s, err) != 0) {
+            /* the other fields still have their rows: this one is nan, and says why */
+            snprintf(r->why, sizeof r->why, "%s", err->msg);
+            r->h_real = r->x_real = r->dist_pct = r->rel_illum = NAN;
+            r->h_ideal = finite ? scale * f : proj_radius(PROJ_RECTILINEAR, scale, f * M_PI / 180);
+            for (int k = 0; k < PROJ_COUNT; k++)
+                r->map_pct[k] = NAN;
+            continue;
+        }
         r->h_real = s[1], r->x_real = s[0];
         double theta = f * M_PI / 180;
         r->h_ideal = finite ? scale * f : proj_radius(PROJ_RECTILINEAR, scale, theta);
@@ -230,7 +238,7 @@ proj_kind distort_best_mapping(const distort_row *rows, int nf, double *rms_pct)
         double s = 0;
         int m = 0;
         for (int i = 0; i < nf; i++)
-            if (rows[i].field != 0) {
+            if (rows[i].field != 0 && !rows[i].why[0]) {
                 s += rows[i].map_pct[k] * rows[i].map_pct[k];
                 m++;
             }

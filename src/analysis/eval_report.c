@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "analysis/eval_passage.h"
+
 #define ARCMIN_PER_RAD (180.0 * 60.0 / 3.14159265358979323846)
 
 typedef struct {
@@ -28,6 +30,7 @@ struct eval_report {
     int *below, *above; /* the parts on either side of boundary b */
     double *jump;  /* nbound x noutputs: the largest |difference| seen at the boundary */
     double *rbound;
+    eval_passage passage;
 };
 
 
@@ -63,6 +66,7 @@ eval_report *eval_report_new(const poly_system *s, const eval_report_options *op
     if (!r)
         return NULL;
     r->sys = s;
+    eval_passage_init(&r->passage, s);
     if (opt)
         r->opt = *opt;
     else
@@ -132,6 +136,7 @@ void eval_report_free(eval_report *r)
 {
     if (!r)
         return;
+    eval_passage_free(&r->passage);
     free(r->rows);
     free(r->err);
     free(r->radius);
@@ -179,6 +184,8 @@ int eval_report_add(eval_report *r, const double *in, const double *pred, int sy
                     const double *ref, int lens_pass)
 {
     r->total++;
+    if (eval_passage_add(&r->passage, in, pred, sys_pass, ref, lens_pass) != 0)
+        return -1;
     if (sys_pass && !lens_pass) {
         r->false_pass++;
         return 0;
@@ -295,64 +302,121 @@ static stats row_stats(const eval_report *r, int k, int bin, double lo, double h
     return st;
 }
 
-static void put_stats(FILE *f, const stats *st)
+static void put_stats(table_out *t, const stats *st)
 {
-    fprintf(f, " %zu %.6g %.6g %.6g %.6g", st->n, st->rms, st->mean, st->p99, st->max);
+    table_out_int(t, (long long)st->n);
+    double v[] = {st->rms, st->mean, st->p99, st->max};
+    for (int k = 0; k < 4; k++)
+        table_out_num(t, v[k], 0);
 }
 
-int eval_report_write(FILE *f, const eval_report *r)
+/* A row's unique key: the output's name and its unit ("out_x_mm", "out_u_arcmin"; a
+ * dimensionless error, unit 1, keeps the bare name: "out_u", "out_eta"). */
+static void put_key(table_out *t, const char *output, const char *unit)
+{
+    char key[300];
+    if (strcmp(unit, "1") == 0)
+        snprintf(key, sizeof key, "%s", output);
+    else
+        snprintf(key, sizeof key, "%s_%s", output, unit);
+    table_out_str(t, key);
+}
+
+static void write_radius_bins(table_out *t, const eval_report *r, double *buf)
+{
+    double rmax = r->opt.rmax;
+    if (!(rmax > 0)) {
+        rmax = 0;
+        for (size_t i = 0; i < r->n; i++)
+            if (r->radius[i] > rmax)
+                rmax = r->radius[i];
+    }
+    static const char *const cols[] = {"key", "rmin_mm", "rmax_mm", "rays", "rms", "mean",
+                                       "p99", "max", "unit"};
+    table_out_table(t, "error_by_radius",
+                    "error by sensor radius sqrt(x^2 + y^2) in mm, bins [rmin, rmax)", cols, 9);
+    for (int k = 0; k < r->nrows; k++)
+        for (int b = 0; b < r->opt.nbins; b++) {
+            double lo = rmax * b / r->opt.nbins, hi = rmax * (b + 1) / r->opt.nbins;
+            stats st = row_stats(r, k, 1, lo, hi, b == r->opt.nbins - 1, buf);
+            put_key(t, poly_output_name(r->sys, r->rows[k].output), r->rows[k].unit);
+            table_out_num(t, lo, 0);
+            table_out_num(t, hi, 0);
+            put_stats(t, &st);
+            table_out_str(t, r->rows[k].unit);
+            table_out_row_end(t);
+        }
+}
+
+static void write_part_jumps(table_out *t, const eval_report *r)
+{
+    int nout = poly_noutputs(r->sys);
+    static const char *const cols[] = {"key", "radius_mm", "jump", "unit"};
+    table_out_table(t, "part_jumps",
+                    "part boundaries: the largest jump between the neighbouring parts' values,\n"
+                    "over the passing rays moved radially onto the boundary", cols, 4);
+    for (int o = 0; o < nout; o++) {
+        char c = last_letter(poly_output_name(r->sys, o));
+        const char *unit = c == 'x' || c == 'y' ? "mm" : "1";
+        for (int b = 0; b < r->nbound; b++) {
+            put_key(t, poly_output_name(r->sys, o), unit);
+            table_out_num(t, r->rbound[b], 0);
+            table_out_num(t, r->jump[(size_t)b * (size_t)nout + (size_t)o], 0);
+            table_out_str(t, unit);
+            table_out_row_end(t);
+        }
+    }
+}
+
+static void count(table_out *t, const char *key, size_t n)
+{
+    table_out_str(t, key);
+    table_out_int(t, (long long)n);
+    table_out_row_end(t);
+}
+
+int eval_report_print(table_out *t, const eval_report *r)
 {
     double *buf = malloc((r->n ? r->n : 1) * sizeof(double));
     if (!buf)
         return -1;
-    fputs("# columns: output rays rms mean p99 max unit\n", f);
+    static const char *const cols[] = {"key", "rays", "rms", "mean", "p99", "max", "unit"};
+    table_out_table(t, "error", NULL, cols, 7);
     for (int k = 0; k < r->nrows; k++) {
         stats st = row_stats(r, k, 0, 0, 0, 0, buf);
-        fputs(poly_output_name(r->sys, r->rows[k].output), f);
-        put_stats(f, &st);
-        fprintf(f, " %s\n", r->rows[k].unit);
+        put_key(t, poly_output_name(r->sys, r->rows[k].output), r->rows[k].unit);
+        put_stats(t, &st);
+        table_out_str(t, r->rows[k].unit);
+        table_out_row_end(t);
     }
-    int have_radius = poly_input_index(r->sys, "x") >= 0 && poly_input_index(r->sys, "y") >= 0;
-    fputs("\n# error by sensor radius sqrt(x^2 + y^2) in mm, bins [rmin, rmax)\n", f);
-    if (!have_radius) {
-        fputs("# (the system has no inputs x and y: no radius bins)\n", f);
-    } else {
-        double rmax = r->opt.rmax;
-        if (!(rmax > 0)) {
-            rmax = 0;
-            for (size_t i = 0; i < r->n; i++)
-                if (r->radius[i] > rmax)
-                    rmax = r->radius[i];
-        }
-        fputs("# columns: output rmin rmax rays rms mean p99 max unit\n", f);
-        for (int k = 0; k < r->nrows; k++)
-            for (int b = 0; b < r->opt.nbins; b++) {
-                double lo = rmax * b / r->opt.nbins, hi = rmax * (b + 1) / r->opt.nbins;
-                stats st = row_stats(r, k, 1, lo, hi, b == r->opt.nbins - 1, buf);
-                fprintf(f, "%s %.6g %.6g", poly_output_name(r->sys, r->rows[k].output), lo, hi);
-                put_stats(f, &st);
-                fprintf(f, " %s\n", r->rows[k].unit);
-            }
+    if (poly_input_index(r->sys, "x") >= 0 && poly_input_index(r->sys, "y") >= 0)
+        write_radius_bins(t, r, buf);
+    else if (!t->json)
+        fputs("\n# error by sensor radius: the system has no inputs x and y: no radius bins\n",
+              t->f);
+    if (r->nbound > 0)
+        write_part_jumps(t, r);
+    table_out_keys(t, "passage",
+                   "passage: false_pass = the system lets through what the lens blocks,\n"
+                   "false_block = the reverse; light_* the same as shares of the light the lens\n"
+                   "passes (see man lens-eval)");
+    count(t, "rays", r->total);
+    count(t, "both_pass", r->both);
+    if (eval_passage_measured(&r->passage)) {
+        count(t, "false_pass", r->false_pass);
+        count(t, "false_block", r->false_block);
+        count(t, "both_block", r->neither);
     }
-    if (r->nbound > 0) {
-        int nout = poly_noutputs(r->sys);
-        fputs("\n# part boundaries: the largest jump between the neighbouring parts' values,\n"
-              "# over the passing rays moved radially onto the boundary\n"
-              "# columns: output radius jump unit\n",
-              f);
-        for (int o = 0; o < nout; o++) {
-            char c = last_letter(poly_output_name(r->sys, o));
-            for (int b = 0; b < r->nbound; b++)
-                fprintf(f, "%s %.6g %.6g %s\n", poly_output_name(r->sys, o), r->rbound[b],
-                        r->jump[(size_t)b * (size_t)nout + (size_t)o],
-                        c == 'x' || c == 'y' ? "mm" : "1");
-        }
-    }
-    fputs("\n# passage: false_pass = the system lets through what the lens blocks,\n"
-          "# false_block = the reverse\n# columns: key value\n",
-          f);
-    fprintf(f, "rays %zu\nboth_pass %zu\nfalse_pass %zu\nfalse_block %zu\nboth_block %zu\n",
-            r->total, r->both, r->false_pass, r->false_block, r->neither);
+    eval_passage_write(t, &r->passage);
     free(buf);
-    return ferror(f) ? -1 : 0;
+    return ferror(t->f) ? -1 : 0;
+}
+
+int eval_report_write(FILE *f, const eval_report *r)
+{
+    table_out t;
+    table_out_begin(&t, f, 0, 0, 6);
+    int rc = eval_report_print(&t, r);
+    table_out_end(&t, NULL, 0);
+    return rc;
 }

@@ -3,6 +3,7 @@
 
 #include <math.h>
 
+#include "sparselens/aim.h"
 #include "sparselens/trace.h"
 
 int lens_chief_angle(const lens_t *lens, const double *n, double r, double *angle_deg)

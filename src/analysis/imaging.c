@@ -5,8 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sparselens/aim.h"
 #include "sparselens/paraxial.h"
 #include "sparselens/poly_solve.h"
+#include "sparselens/numparse.h"
 
 /* Fraunhofer line wavelengths, um (Schott's table of the lines used in glass data). */
 static const struct {
@@ -253,13 +255,12 @@ int imaging_models_load(const char *path, const char *compare, const char *lens_
         }
         if (load_system(path, &m->sys, err) != 0)
             return -1;
-        const char *lp = lens_path ? lens_path : poly_lens_path(m->sys);
-        if (!lp || !*lp) {
-            lens_errf(err, path, 0, "the system records no lens file; give it with --lens");
+        char found[4096];
+        if (!lens_path && poly_find_lens_file(m->sys, path, found, sizeof found, err) != 0) {
             imaging_models_free(m);
             return -1;
         }
-        if (lens_load(lp, lopt, &m->lens, err) != 0) {
+        if (lens_load(lens_path ? lens_path : found, lopt, &m->lens, err) != 0) {
             imaging_models_free(m);
             return -1;
         }

@@ -88,6 +88,17 @@ static double angle_between_tangents(const double *a, const double *b)
     return atan2(sqrt(cx * cx + cy * cy + cz * cz), da[0] * db[0] + da[1] * db[1] + da[2] * db[2]);
 }
 
+void spot_mark_not_imaged(spot *sp)
+{
+    spot_free(sp);
+    sp->rays = 0;
+    sp->not_imaged = 1;
+    for (int k = 0; k < 4; k++)
+        sp->chief[k] = NAN;
+    spot_stats(sp);
+    sp->vignetted = NAN;
+}
+
 void spot_stats(spot *sp)
 {
     size_t n = sp->passed;
@@ -171,8 +182,13 @@ int spot_trace(const imaging *im, double field, double lambda, pupil_pattern pat
     }
     if (imaging_indices(im, lambda, n, err) != 0)
         goto out;
-    if (imaging_chief(im, n, lambda, field, sp->chief, err) != 0)
-        goto out;
+    if (imaging_chief(im, n, lambda, field, sp->chief, err) != 0) {
+        free(n);
+        free(xy);
+        spot_free(sp);
+        spot_mark_not_imaged(sp);
+        return 1;
+    }
     size_t np = pupil_points(pat, rays, seed, xy, cap);
     double stop = lens->surf[lens->stop].semi_diameter;
     sp->rays = np;

@@ -6,30 +6,8 @@
 
 #include "sparselens/exr_io.h"
 #include "sparselens/image.h"
+#include "sparselens/plot.h"
 #include "sparselens/spot.h"
-
-/* A colour for a wavelength: hue from violet (0.40 um) to red (0.70 um), darkened so
- * it reads on white; outside the visible range grey. */
-static void lambda_rgb(double lambda, double rgb[3])
-{
-    if (!(lambda >= 0.38 && lambda <= 0.78)) {
-        rgb[0] = rgb[1] = rgb[2] = 0.35;
-        return;
-    }
-    double t = (0.70 - fmin(fmax(lambda, 0.40), 0.70)) / 0.30; /* 0 red .. 1 violet */
-    double h = t * 270.0 / 60.0, v = 0.78;
-    int i = (int)floor(h);
-    double f = h - i, q = v * (1 - f), p = v * f;
-    double c[6][3] = {{v, p, 0}, {q, v, 0}, {0, v, p}, {0, q, v}, {p, 0, v}, {v, 0, q}};
-    memcpy(rgb, c[i < 0 ? 0 : i > 5 ? 5 : i], sizeof c[0]);
-}
-
-/* A round length (1, 2 or 5 times a power of ten) near x. */
-static double nice(double x)
-{
-    double e = pow(10, floor(log10(x))), m = x / e;
-    return (m < 1.5 ? 1 : m < 3.5 ? 2 : m < 7.5 ? 5 : 10) * e;
-}
 
 typedef struct {
     double cx, cy; /* panel centre on the sensor, mm (the pooled centroid) */
@@ -85,13 +63,13 @@ int spot_write_png(const spot_figure *fig, const char *path, lens_err *err)
     for (int l = 0; l < fig->nl; l++) {
         double rgb[3];
         char s[32];
-        lambda_rgb(fig->spots[l].lambda, rgb);
+        plot_lambda_rgb(fig->spots[l].lambda, rgb);
         snprintf(s, sizeof s, "%.4g um", fig->spots[l].lambda);
         img_dot(c, lx + 5, 41, 4, rgb, 1);
         img_text(c, lx + 14, 46, s, 11, rgb);
         lx += 24 + img_text_width(s, 11);
     }
-    double bar = nice(half * 1000 * 0.8) / 1000; /* mm */
+    double bar = plot_nice(half * 1000 * 0.8) / 1000; /* mm */
     for (int m = 0; m < fig->nmodels; m++)
         for (int f = 0; f < fig->nfields; f++) {
             const spot *s = fig->spots + (size_t)(m * fig->nfields + f) * fig->nl;
@@ -110,7 +88,7 @@ int spot_write_png(const spot_figure *fig, const char *path, lens_err *err)
             double alpha = total > 3000 ? 0.5 : 0.85, dr = total > 3000 ? 1.2 : 1.8;
             for (int l = 0; l < fig->nl; l++) {
                 double rgb[3];
-                lambda_rgb(s[l].lambda, rgb);
+                plot_lambda_rgb(s[l].lambda, rgb);
                 /* sensor y up in the picture */
                 for (size_t i = 0; i < s[l].passed; i++)
                     img_dot(c, ox + (s[l].ray[4 * i] - p->cx) * px,

@@ -1,6 +1,7 @@
 #include "sparselens/cli.h"
 #include "sparselens/outfile.h"
 #include "sparselens/lens_cli_options.h"
+#include "sparselens/numparse.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -27,22 +27,32 @@ static const opt_spec distort_table[] = {
     {0, "wavelengths", "LIST", OPT_STRING, OPT_AT(distort_cli, im.wavelengths),
      .help = "um values or Fraunhofer names; the middle one is used", .def = "d"},
     {0, "illum-rays", "N", OPT_INT, OPT_AT(distort_cli, illum_rays), .lo = 0, .hi = 2000,
-     .help = "rays across a bundle for relative illumination; 0 skips it", .def = "32"},
+     .help = "rays across a bundle for relative illumination; 0 skips it", .def = "32",
+     .man =
+     "N x N rays per field; 0 also drops the column.\n"},
     {0, "grid", "N", OPT_INT, OPT_AT(distort_cli, grid), .lo = 2, .hi = 501,
      .help = "grid map points per side", .def = "17"},
     {0, "mapping", NULL, OPT_CHOICE, OPT_AT(distort_cli, mapping), .choices = mappings,
      .help = "the ideal projection of the grid map", .def = "the one the lens follows best"},
     {0, "sensor", "WxH", OPT_CALL, OPT_AT(distort_cli, sensor), .set = cli_set_size,
      .help = "sensor size in mm for the grid map",
-     .def = "the lens header's, else a square inscribed in the largest field"},
+     .def = "the lens header's, else a square inscribed in the largest field",
+     .man =
+     "Also for the OpenCV check.\n"},
     {0, "exaggerate", "K", OPT_POSITIVE, OPT_AT(distort_cli, exaggerate),
-     .help = "displacement factor in the picture", .def = "automatic"},
+     .help = "displacement factor in the picture", .def = "automatic",
+     .man =
+     "The automatic factor is the round one (at least 1) that draws the largest displacement\n"
+     "at about a tenth of the half width.\n"},
     {0, "map", "FILE", OPT_STRING, OPT_AT(distort_cli, map),
      .help = "write the grid displacement field as text ('-': standard output)"},
     {0, "png", "FILE", OPT_STRING, OPT_AT(distort_cli, png), .help = "the grid map picture"},
     {0, "opencv", "WxH", OPT_CALL, OPT_AT(distort_cli, opencv), .set = set_pixels,
      .help = "fit OpenCV's Brown-Conrady and fisheye models for a sensor of WxH pixels; "
-             "prints coefficients and residuals"},
+             "prints coefficients and residuals",
+     .man =
+     "Object at infinity only.\n"},
+    {.type = OPT_GROUP, OPT_AT(distort_cli, out), .group = output_cli_table},
     {.type = OPT_GROUP, OPT_AT(distort_cli, im), .group = imaging_cli_table},
     {0}};
 
@@ -62,4 +72,5 @@ void distort_cli_default(distort_cli *o)
     o->exaggerate = NAN;
     o->map = o->png = NULL;
     o->opencv = (cli_size){0, 0};
+    o->out = (output_cli){0, 0};
 }

@@ -53,6 +53,8 @@ int distort_run(const distort_request *rq, distort_report *rep, lens_err *err)
             run_error_model(err, m, rq->model_names[m]);
             goto fail;
         }
+    for (int i = 0; i < nm * nf; i++)
+        rep->not_imaged += rep->rows[i].why[0] != 0;
     rep->mapping = PROJ_RECTILINEAR;
     if (!rep->finite)
         for (int m = 0; m < nm; m++)
@@ -109,28 +111,70 @@ fail:
     return -1;
 }
 
-void distort_report_print(FILE *f, const distort_request *rq, const distort_report *rep)
+int distort_report_warnings(const distort_request *rq, const distort_report *rep,
+                            report_warning *w, int max)
 {
-    int nf = rep->nfields;
-    int ri = rq->illum_rays > 0; /* the column only when it was computed */
-    fprintf(f, "# columns: model %s h_real_mm h_ideal_mm distortion_pct%s",
-            rep->finite ? "field_mm" : "field_deg", ri ? " rel_illum" : "");
-    if (!rep->finite)
-        for (int k = 1; k < PROJ_COUNT; k++)
-            fprintf(f, " %s_pct", proj_name((proj_kind)k));
-    fprintf(f, "\n");
+    int n = 0;
+    for (int i = 0; i < rep->nmodels * rep->nfields; i++)
+        if (rep->rows[i].why[0] && n < max)
+            snprintf(w[n++], sizeof w[0], "%s: %s; its row is nan", rq->model_names[i / rep->nfields],
+                     rep->rows[i].why);
+    return n;
+}
+
+/* The OpenCV fits as a JSON table (text keeps its comment lines). */
+static void print_fits_json(table_out *t, const distort_request *rq, const distort_report *rep)
+{
+    static const char *const cols[] = {"model", "camera", "fx", "fy", "cx", "cy", "k1", "k2",
+                                       "k3", "k4", "p1", "p2", "rms_px", "max_px", "error"};
+    table_out_table(t, "opencv", NULL, cols, (int)(sizeof cols / sizeof cols[0]));
     for (int m = 0; m < rep->nmodels; m++)
-        for (int i = 0; i < nf; i++) {
-            const distort_row *r = rep->rows + m * nf + i;
-            fprintf(f, "%s %.10g %.9g %.9g %.6f", rq->model_names[m], r->field, r->h_real,
-                    r->h_ideal, r->dist_pct);
-            if (ri)
-                fprintf(f, " %.5f", r->rel_illum);
-            if (!rep->finite)
-                for (int k = 1; k < PROJ_COUNT; k++)
-                    fprintf(f, " %.6f", r->map_pct[k]);
-            fprintf(f, "\n");
+        for (int fe = 0; fe < 2; fe++) {
+            const cv_camera_fit *c = &rep->fit[m][fe];
+            int ok = rep->fit_ok[m][fe];
+            /* brown: k1 k2 p1 p2 k3; fisheye: k1 k2 k3 k4 */
+            double k[6] = {c->k[0], c->k[1], fe ? c->k[2] : c->k[4], fe ? c->k[3] : NAN,
+                           fe ? NAN : c->k[2], fe ? NAN : c->k[3]};
+            double v[] = {c->fx, c->fy, c->cx, c->cy, k[0], k[1], k[2], k[3], k[4], k[5], c->rms,
+                          c->max_err};
+            table_out_str(t, rq->model_names[m]);
+            table_out_str(t, fe ? "fisheye" : "brown");
+            /* the digits of the text's comment lines */
+            for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
+                table_out_fmt(t, ok ? v[i] : NAN, 0, i < 10 ? "%.8g" : "%.4g");
+            table_out_str(t, ok ? "" : rep->fit_msg[m][fe]);
+            table_out_row_end(t);
         }
+}
+
+static void print_comments_json(table_out *t, const distort_request *rq, const distort_report *rep)
+{
+    table_out_keys(t, "ideal", NULL);
+    table_out_str(t, rep->finite ? "magnification" : "focal_length_mm");
+    table_out_fmt(t, rep->scale, 0, "%.9g");
+    table_out_row_end(t);
+    table_out_str(t, "lambda_um");
+    table_out_num(t, rq->lambda, 0);
+    table_out_row_end(t);
+    table_out_str(t, "sensor_shift_mm");
+    table_out_num(t, rep->sensor_shift, 0);
+    table_out_row_end(t);
+    if (!rep->finite) {
+        static const char *const cols[] = {"model", "mapping", "rms_pct"};
+        table_out_table(t, "best_mapping", NULL, cols, 3);
+        for (int m = 0; m < rep->nmodels; m++) {
+            table_out_str(t, rq->model_names[m]);
+            table_out_str(t, proj_name(rep->best[m]));
+            table_out_fmt(t, rep->best_rms[m], 0, "%.4g");
+            table_out_row_end(t);
+        }
+    }
+    if (rq->cv_width > 0 && rep->grid > 0)
+        print_fits_json(t, rq, rep);
+}
+
+static void print_comments_text(FILE *f, const distort_request *rq, const distort_report *rep)
+{
     if (rep->sensor_shift != 0)
         fprintf(f, "# sensor plane moved %.9g mm along the axis (--focus %s)\n", rep->sensor_shift,
                 rq->focus == FOCUS_BEST ? "best" : "paraxial");
@@ -163,6 +207,52 @@ void distort_report_print(FILE *f, const distort_request *rq, const distort_repo
                         rq->model_names[m], c->fx, c->fy, c->cx, c->cy, c->k[0], c->k[1], c->k[2],
                         c->k[3], c->k[4], c->rms, c->max_err);
         }
+}
+
+void distort_report_print(table_out *t, const distort_request *rq, const distort_report *rep)
+{
+    int nf = rep->nfields;
+    int ri = rq->illum_rays > 0; /* the column only when it was computed */
+    const char *cols[4 + 2 + PROJ_COUNT];
+    int nc = 0;
+    cols[nc++] = "model";
+    cols[nc++] = rep->finite ? "field_mm" : "field_deg";
+    cols[nc++] = "h_real_mm";
+    cols[nc++] = "h_ideal_mm";
+    cols[nc++] = "distortion_pct";
+    if (ri)
+        cols[nc++] = "rel_illum";
+    char proj_cols[PROJ_COUNT][40];
+    if (!rep->finite)
+        for (int k = 1; k < PROJ_COUNT; k++) {
+            snprintf(proj_cols[k], sizeof proj_cols[k], "%s_pct", proj_name((proj_kind)k));
+            cols[nc++] = proj_cols[k];
+        }
+    table_out_table(t, "distortion", NULL, cols, nc);
+    /* heights that cancel to round-off are zero on the scale of the largest one */
+    double H = 1;
+    for (int i = 0; i < rep->nmodels * nf; i++)
+        if (isfinite(rep->rows[i].h_real))
+            H = fmax(H, fabs(rep->rows[i].h_real));
+    for (int m = 0; m < rep->nmodels; m++)
+        for (int i = 0; i < nf; i++) {
+            const distort_row *r = rep->rows + m * nf + i;
+            table_out_str(t, rq->model_names[m]);
+            table_out_fmt(t, r->field, 0, "%.10g");
+            table_out_fmt(t, r->h_real, H, "%.9g");
+            table_out_fmt(t, r->h_ideal, H, "%.9g");
+            table_out_fmt(t, r->dist_pct, 100, "%.6f");
+            if (ri)
+                table_out_fmt(t, r->rel_illum, 1, "%.5f");
+            if (!rep->finite)
+                for (int k = 1; k < PROJ_COUNT; k++)
+                    table_out_fmt(t, r->map_pct[k], 100, "%.6f");
+            table_out_row_end(t);
+        }
+    if (t->json)
+        print_comments_json(t, rq, rep);
+    else
+        print_comments_text(t->f, rq, rep);
 }
 
 void distort_report_write_map(FILE *f, const char *input, const distort_request *rq,

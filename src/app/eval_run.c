@@ -182,7 +182,10 @@ int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_r
         }
     }
     flush(&c, n, out, opt, rep);
-    if (rep && eval_report_write(out, rep) != 0) {
+    table_out t;
+    if (rep)
+        table_out_begin(&t, out, opt->json, opt->precision, 6);
+    if (rep && (eval_report_print(&t, rep) != 0 || (table_out_end(&t, NULL, 0), ferror(out)))) {
         lens_errf(err, NULL, 0, "out of memory writing the report");
         goto done;
     }

@@ -26,46 +26,82 @@ static const opt_spec fit_table[] = {
     {0, "terms", "N", OPT_INT, OPT_AT(fit_cli, fit.max_terms), .lo = 1, .hi = 10000,
      .help = "terms per output and part", .def = "40"},
     {0, "degree", "D", OPT_INT, OPT_AT(fit_cli, fit.max_degree), .lo = 0, .hi = POLY_MAX_DEGREE,
-     .help = "candidates: all monomials up to degree D", .def = "11"},
+     .help = "candidates: all monomials up to degree D", .def = "11",
+     .man =
+     "At most 24.\n"},
     {0, "tolerance", "T", OPT_STRING, OPT_AT(fit_cli, tolerance),
      .help = "stop an output when its held-out RMS error <= T (output units, mm for "
              "positions); or name=T,... per output",
-     .def = "0: off"},
+     .def = "0: off",
+     .man =
+     "With\n"
+     ".IB name = T , name = T\n"
+     "the outputs not named are not stopped by a tolerance.\n"},
     {0, "parts", "P", OPT_INT, OPT_AT(fit_cli, fit.max_parts), .lo = 1, .hi = 64,
      .help = "allow up to P radial parts where one polynomial misses T", .def = "1"},
     {0, "inputs", "LIST", OPT_STRING, OPT_AT(fit_cli, inputs),
      .help = "input columns; without lambda the samples must hold a single wavelength",
      .def = "x,y,u,v,lambda"},
     {0, "outputs", "LIST", OPT_STRING, OPT_AT(fit_cli, outputs),
-     .help = "output columns: each pair ap_x,ap_y and sN_x,sN_y (lens-trace --stop-columns, "
-             "--clip-columns), and out_x,out_y, gets a pass circle",
+     .help = "output columns: each pair ap_x,ap_y and sN_x,sN_y (the passage columns of "
+             "lens-trace), and out_x,out_y, gets a pass circle",
      .def = "out_x,out_y,out_u,out_v,out_eta and the pairs ap_x,ap_y and sN_x,sN_y the "
-            "samples have"},
+            "samples have",
+     .man =
+     "Leave out\n"
+     ".B out_eta\n"
+     "if transmittance is not needed; see PASSAGE for the pairs.\n"},
     {0, "frame", "F", OPT_CALL, OPT_AT(fit_cli, frame), .set = set_frame,
      .help = "meridional: fit in the frame of a rotationally symmetric lens (each ray turned "
              "about the axis so its sensor point lies on +x; one input fewer); none: as "
              "given; auto: meridional when the inputs hold x, y, u, v and the outputs come "
              "in pairs",
-     .def = "auto"},
+     .def = "auto",
+     .man =
+     ".B none\n"
+     "is the form of files before frames existed.\n"},
     {0, "frame-except", "LIST", OPT_STRING, OPT_AT(fit_cli, frame_except),
      .help = "outputs fitted outside the frame (the outer-pupil tangent frame does not turn "
              "with the ray; give '' for samples of lens-trace --to stop)",
-     .def = "out_u,out_v"},
+     .def = "out_u,out_v",
+     .man =
+     "Names not among the outputs are ignored.\n"},
     {0, "lambda-transform", "T", OPT_CALL, OPT_AT(fit_cli, lambda_transform),
      .set = set_lambda_transform,
      .help = "inverse-square: polynomials in 1/lambda^2 (dispersion is nearly linear in it); "
              "identity: in lambda; auto: inverse-square when lambda is an input",
      .def = "auto"},
     {0, "holdout", "F", OPT_DOUBLE, OPT_AT(fit_cli, fit.holdout), .lo = 0, .hi = 0.9,
-     .help = "fraction of samples held out for stopping", .def = "0.2"},
+     .help = "fraction of samples held out for stopping", .def = "0.2",
+     .man =
+     "0 uses the training error instead.\n"},
     {0, "seed", "S", OPT_INT, OPT_AT(fit_cli, fit.seed), .lo = 0, .hi = 4294967295.0,
      .help = "seed of the held-out split", .def = "1"},
     {0, "threads", "N", OPT_INT, OPT_AT(fit_cli, fit.threads), .lo = 1, .hi = 1024,
      .help = "threads; the result does not depend on it", .def = "all"},
-    {0, "lens", "NAME", OPT_STRING, OPT_AT(fit_cli, lens),
-     .help = "lens name recorded in the system", .def = "the sample file's base name"},
+    {0, "lens", "NAME|FILE", OPT_STRING, OPT_AT(fit_cli, lens),
+     .help = "the lens recorded in the system: a name, or a lens file (recorded as the "
+             "lens-path too, relative to the directory of -o FILE)",
+     .def = "the samples' '# lens:' and '# lens-path:' lines, which lens-trace writes; else "
+            "the sample file's base name",
+     .man = "Without a lens path (samples without\n"
+            ".BR \"# lens-path:\" )\n"
+            "a note on stderr says that lens-spot and lens-distort will need their\n"
+            ".BR \\-\\-lens .\n"
+            "A relative lens path is made relative to the directory of\n"
+            ".B \\-o\n"
+            ".IR FILE ,\n"
+            "so the system finds its lens from anywhere while the two stay where they are\n"
+            ".RB ( lens-poly (5)).\n"},
     {0, "emit", NULL, OPT_CHOICE, OPT_AT(fit_cli, emit_c), .choices = languages,
-     .help = "write C code (a function NAME(in, out)) instead of the system"},
+     .help = "write C code (a function NAME(in, out)) instead of the system",
+     .man =
+     "Also its many-ray variant\n"
+     ".IB NAME _batch\n"
+     "(see\n"
+     ".BR lens-eval (1)),\n"
+     "which runs blocks of 8 rays that compilers vectorise, the meridional frame and the\n"
+     "transforms (the defaults) included.\n"},
     {0, "name", "NAME", OPT_STRING, OPT_AT(fit_cli, name), .help = "function name for --emit c",
      .def = "lens_poly"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(fit_cli, out_path),

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "sparselens/cli.h"
+#include "sparselens/paraxial.h"
 
 const opt_spec imaging_cli_table[] = {
     {0, "object-distance", "MM", OPT_POSITIVE, OPT_AT(imaging_cli, object_distance),
@@ -13,11 +14,38 @@ const opt_spec imaging_cli_table[] = {
     {0, "focus", "file|paraxial|best", OPT_STRING, OPT_AT(imaging_cli, focus),
      .help = "the sensor plane: as in the lens file, the paraxial focus, or the plane of "
              "least RMS spot radius",
-     .def = "file"},
+     .def = "file",
+     .man =
+     "The paraxial focus is that of the primary wavelength for the object distance; the best\n"
+     "plane minimises the sum over fields and wavelengths of the squared RMS radius about the\n"
+     "centroid (closed form, since every ray moves linearly with the plane).\n"
+     "With\n"
+     ".BR \\-\\-compare ,\n"
+     "both models are shown on the lens's plane.\n"},
     {0, "compare", "SYSTEM.poly", OPT_STRING, OPT_AT(imaging_cli, compare),
-     .help = "also through a fitted system, shown beside the lens"},
+     .help = "also through a fitted system, shown beside the lens",
+     .man =
+     "Its inputs must be x y u v lambda and its outputs include out_x out_y out_u out_v.\n"},
     {0, "lens", "LENS", OPT_STRING, OPT_AT(imaging_cli, lens),
-     .help = "the lens of a SYSTEM.poly given as the first argument"},
+     .help = "the lens of a SYSTEM.poly given as the first argument",
+     .man =
+     "Use it when the path the system records is not right. Without it the system's\n"
+     ".B lens-path\n"
+     "is loaded (as written, else relative to the\n"
+     ".I .poly\n"
+     "file's directory,\n"
+     ".BR lens-poly (5));\n"
+     "when that file is not found the message names the lens and the path.\n"},
+    {0, "fnumber", "N", OPT_POSITIVE, OPT_AT(imaging_cli, fnumber),
+     .help = "stop the lens down to f-number N (efl over entrance pupil diameter, paraxial, "
+             "object at infinity) by scaling the aperture stop's semi-diameter",
+     .def = "the lens's own",
+     .man = "A lens opens no wider than its stop allows (an error). A fitted system keeps the\n"
+            "aperture it was fitted with: compare it with the lens at the\n"
+            ".B \\-\\-fnumber\n"
+            "its samples were traced at\n"
+            ".RB ( \"lens-trace \\-\\-fnumber\" ).\n"
+            "The titles of the pictures state the f-number and the focus.\n"},
     {.type = OPT_GROUP, OPT_AT(imaging_cli, lopt), .group = lens_cli_table},
     {0}};
 
@@ -27,6 +55,7 @@ void imaging_cli_default(imaging_cli *a, const char *wavelengths)
     a->wavelengths = wavelengths;
     a->focus = "file";
     a->object_distance = INFINITY;
+    a->fnumber = NAN;
     lens_cli_options_init(&a->lopt);
 }
 
@@ -50,8 +79,11 @@ int imaging_cli_load(const char *prog, imaging_cli *a, imaging_models *models, i
     int rc = imaging_models_load(a->input, a->compare, a->lens, lens_cli_options_get(&a->lopt),
                                  models, &err);
     lens_cli_options_free(&a->lopt);
+    if (rc == 0 && !isnan(a->fnumber))
+        rc = lens_set_fnumber(&models->lens, a->fnumber, &err);
     if (rc != 0) {
         diag_print(prog, &err);
+        imaging_models_free(models);
         exit(1);
     }
     return imaging_models_setup(models, a->object_distance, im, names);
@@ -61,4 +93,49 @@ const char *imaging_cli_basename(const imaging_cli *a)
 {
     const char *slash = strrchr(a->input, '/');
     return slash ? slash + 1 : a->input;
+}
+
+void imaging_cli_setup(const imaging_cli *a, const imaging_models *m, double lambda,
+                       double sensor_shift, imaging_setup *s)
+{
+    paraxial_data p;
+    lens_err err;
+    s->fnumber = s->file_focus_distance = NAN;
+    if (paraxial_compute(&m->lens, lambda, &p, &err) == 0)
+        s->fnumber = p.fnumber, s->file_focus_distance = p.focus_distance;
+    char object[64], sensor[128];
+    if (isfinite(a->object_distance))
+        snprintf(object, sizeof object, "object at %.4g mm", a->object_distance);
+    else
+        snprintf(object, sizeof object, "object at infinity");
+    if (a->focus_mode == FOCUS_FILE && isinf(s->file_focus_distance))
+        snprintf(sensor, sizeof sensor, "sensor as in the file (focused at infinity)");
+    else if (a->focus_mode == FOCUS_FILE)
+        snprintf(sensor, sizeof sensor, "sensor as in the file (focused at %.4g mm)",
+                 s->file_focus_distance);
+    else
+        snprintf(sensor, sizeof sensor, "sensor at the %s focus (moved %.3g mm)",
+                 a->focus_mode == FOCUS_BEST ? "best" : "paraxial", sensor_shift);
+    snprintf(s->text, sizeof s->text, "f/%.3g, %s, %s", s->fnumber, object, sensor);
+}
+
+void imaging_setup_print(table_out *t, const imaging_setup *s, const imaging_models *m)
+{
+    if (!t->json) {
+        fprintf(t->f, "# %s: %s\n", m->lens.name[0] ? m->lens.name : "lens", s->text);
+        return;
+    }
+    table_out_keys(t, "setup", NULL);
+    table_out_str(t, "lens");
+    table_out_str(t, m->lens.name);
+    table_out_row_end(t);
+    table_out_str(t, "fnumber");
+    table_out_num(t, s->fnumber, 0);
+    table_out_row_end(t);
+    table_out_str(t, "file_focus_distance_mm");
+    table_out_num(t, s->file_focus_distance, 0);
+    table_out_row_end(t);
+    table_out_str(t, "description");
+    table_out_str(t, s->text);
+    table_out_row_end(t);
 }

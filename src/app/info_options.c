@@ -33,6 +33,7 @@ static const opt_spec info_table[] = {
     {0, "focus", "MM", OPT_CALL, OPT_AT(info_cli, focus), .set = set_focus,
      .help = "print the lens refocused on an object MM in front of its first surface ('inf' for "
              "infinity): the last thickness changes"},
+    {.type = OPT_GROUP, OPT_AT(info_cli, out), .group = output_cli_table},
     {.type = OPT_GROUP, OPT_AT(info_cli, lens), .group = lens_cli_table},
     {0}};
 
@@ -48,5 +49,6 @@ void info_cli_default(info_cli *o)
     o->sensor = (cli_size){NAN, NAN};
     o->as_lens = 0;
     o->focus = NAN;
+    o->out = (output_cli){0, 0};
     lens_cli_options_init(&o->lens);
 }

@@ -42,7 +42,11 @@ static const opt_choice fallbacks[] = {{"ndvd", 1}, {"none", 0}, {NULL, 0}};
 const opt_spec lens_cli_table[] = {
     {0, "glass-catalog", "FILE", OPT_CALL, 0, sizeof(lens_cli_options), .set = set_catalog,
      .help = "an extra glass catalog (.agf or .catalog), searched before the shipped one; "
-             "repeatable"},
+             "repeatable",
+     .man =
+     "See\n"
+     ".BR lens-import (5)\n"
+     "for the catalog formats.\n"},
     {0, "glass-fallback", NULL, OPT_CHOICE, OPT_AT(lens_cli_options, opt.ndvd_fallback),
      .choices = fallbacks,
      .help = "ndvd: a glass missing from every catalog but given in the file with n_d and V_d "
@@ -50,7 +54,10 @@ const opt_spec lens_cli_table[] = {
      .def = "none"},
     {0, "lens-format", "FMT", OPT_CALL, OPT_AT(lens_cli_options, opt.format), .set = set_format,
      .help = "read the lens as FMT: lens, fx, pbrt, zmx or seq, whatever its name",
-     .def = "auto: by extension, else by content, as for standard input '-'"},
+     .def = "auto: by extension, else by content, as for standard input '-'",
+     .man =
+     "See\n"
+     ".BR lens-import (5).\n"},
     {0}};
 
 const lens_load_options *lens_cli_options_get(const lens_cli_options *o)

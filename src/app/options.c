@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "sparselens/diag.h"
+#include "sparselens/numparse.h"
 
 #ifndef SPARSELENS_VERSION
 #define SPARSELENS_VERSION "unknown"
@@ -335,17 +336,20 @@ void opt_print_help(FILE *f, const opt_command *cmd)
 
 /* ---- the man page's OPTIONS ---------------------------------------------------------- */
 
-/* Plain text as roff: backslashes escaped, a '-' that starts a word (an option name) as
- * \-, and a line that would start with '.' or '\'' protected. */
+/* Plain text as roff: backslashes escaped, every '-' of a word that starts with one (an
+ * option name, which must copy and paste as ASCII) as \-, and a line that would start
+ * with '.' or '\'' protected. */
 static void roff_text(FILE *f, const char *s)
 {
     if (*s == '.' || *s == '\'')
         fputs("\\&", f);
+    int option_word = 0;
     for (const char *p = s; *p; p++) {
+        if (p == s || strchr(" ('/", p[-1]))
+            option_word = *p == '-';
         if (*p == '\\')
             fputs("\\e", f);
-        else if (*p == '-' && (p == s || p[-1] == ' ' || p[-1] == '(' || p[-1] == '-' ||
-                               p[-1] == '\'' || p[-1] == '/'))
+        else if (*p == '-' && option_word)
             fputs("\\-", f);
         else
             fputc(*p, f);
@@ -358,9 +362,10 @@ static void man_entry(FILE *f, const opt_spec *s)
     if (s->short_name)
         fprintf(f, "\\fB\\-%c\\fR%s", s->short_name, s->long_name ? ", " : "");
     if (s->long_name) {
+        char name[64];
         fputs("\\fB", f);
-        roff_text(f, "--");
-        fprintf(f, "%s\\fR", s->long_name);
+        roff_text(f, opt_name(s, name));
+        fputs("\\fR", f);
     }
     if (s->arg) {
         fputs(" \\fI", f);

@@ -8,7 +8,9 @@ static const opt_choice estimators[] = {
 
 static const opt_spec render_table[] = {
     {'o', "output", "FILE", OPT_STRING, OPT_AT(render_cli, run.exr),
-     .help = "the OpenEXR image (required)"},
+     .help = "the OpenEXR image (required)",
+     .man =
+     "Written through a temporary file; no partial file is left on failure.\n"},
     {0, "png", "FILE", OPT_STRING, OPT_AT(render_cli, run.png),
      .help = "an 8-bit preview (exposed to the 99th percentile, sRGB)"},
     {0, "exact", NULL, OPT_FLAG, OPT_AT(render_cli, run.exact),
@@ -16,13 +18,22 @@ static const opt_spec render_table[] = {
     {0, "spp", "N", OPT_INT, OPT_AT(render_cli, run.spp), .lo = 1, .hi = 1073741824.0,
      .help = "samples per pixel", .def = "the scene's"},
     {0, "threads", "N", OPT_INT, OPT_AT(render_cli, run.threads), .lo = 1, .hi = 1024,
-     .help = "threads", .def = "all"},
+     .help = "threads", .def = "all",
+     .man =
+     "Pictures do not depend on the number of threads.\n"},
     {0, "cache", "DIR", OPT_STRING, OPT_AT(render_cli, run.cache_dir),
-     .help = "where fitted systems are kept", .def = "$XDG_CACHE_HOME/sparselens"},
+     .help = "where fitted systems and line pupils are kept",
+     .def = "$XDG_CACHE_HOME/sparselens, else ~/.cache/sparselens"},
     {0, "rear-sampling", NULL, OPT_FLAG, OPT_AT(render_cli, run.rear_sampling),
-     .help = "draw directions over the rear element instead of the line pupil"},
+     .help = "draw directions over the rear element instead of the line pupil",
+     .man =
+     "The naive sampler, for comparisons.\n"},
     {0, "reference", "FILE", OPT_STRING, OPT_AT(render_cli, run.reference),
-     .help = "print the RMS error against this image (same size)"},
+     .help = "print the RMS error against this image (same size)",
+     .man =
+     "Also its share of the reference's mean; e.g. against an\n"
+     ".B \\-\\-exact\n"
+     "render at many samples per pixel.\n"},
     {0, "seed", "N", OPT_INT, OPT_AT(render_cli, run.seed), .lo = 1, .hi = 4611686018427387904.0,
      .help = "random seed", .def = "the scene's"},
     {0, "noise-against", "FILE", OPT_STRING, OPT_AT(render_cli, run.noise_against),
@@ -32,7 +43,19 @@ static const opt_spec render_table[] = {
      .help = "eq13: the simplified weight of Eq. 13; full: Eq. 3 with G-bar (Eq. 12) and "
              "p_A(s1) (Eq. 8) evaluated, |A| from the system's Jacobian (the same image, "
              "slower: a check)",
-     .def = "eq13"},
+     .def = "eq13",
+     .man =
+     "See the estimator above.\n"},
+    {0, "emit-camera", "FILE", OPT_STRING, OPT_AT(render_cli, run.emit_camera),
+     .help = "write the scene's camera as one C file (system, line pupil, front element, "
+             "weight) instead of rendering",
+     .man =
+     "The module defines\n"
+     ".I double lens_camera_ray(sx, sy, lambda, r1, r2, org[3], dir[3]):\n"
+     "the weight of the camera ray from sensor point (sx, sy) (fractions of the sensor, the\n"
+     "top-left at 0, 0), with its origin and direction in the scene frame\n"
+     ".RB ( lens-scene (5)).\n"
+     "It compiles on its own as C99; -o is not needed.\n"},
     {'q', "quiet", NULL, OPT_FLAG, OPT_AT(render_cli, quiet),
      .help = "no decisions, progress or figures on stderr"},
     {.type = OPT_GROUP, OPT_AT(render_cli, lens), .group = lens_cli_table},

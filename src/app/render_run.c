@@ -5,7 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sparselens/camera.h"
 #include "sparselens/exr_io.h"
+#include "sparselens/outfile.h"
 #include "sparselens/glass.h"
 #include "sparselens/image.h"
 #include "sparselens/lens.h"
@@ -121,6 +123,25 @@ int render_compare(const char *ref, int w, int h, const float *rgb, double *rms,
     return 0;
 }
 
+/* --emit-camera: the scene's camera as one C file (camera.h), instead of the render. */
+static int emit_camera(const render_options *o, const lens_t *lens, const poly_system *sys,
+                       double sw, double sh, lens_err *err)
+{
+    if (!sys) {
+        lens_errf(err, o->scene, 0, "--emit-camera needs a polynomial system (not --exact)");
+        return -1;
+    }
+    outfile *of = outfile_open(o->emit_camera, err);
+    if (!of) return -1;
+    if (lens_camera_emit(outfile_stream(of), lens, sys, sw, sh, "lens_camera", err)) {
+        outfile_abort(of);
+        return -1;
+    }
+    if (outfile_commit(of, err)) return -1;
+    if (o->log) fprintf(o->log, "camera module: wrote %s (lens_camera_ray)\n", o->emit_camera);
+    return 0;
+}
+
 int render_run(const render_options *o, render_stats *st, lens_err *err)
 {
     scene_t sc;
@@ -140,20 +161,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
     char lens_buf[1024];
     if (sc.camera_is_poly) {
         if (poly_read(sc.camera, &sys, err)) goto done;
-        const char *lp = poly_lens_path(sys);
-        if (!lp || !*lp) {
-            lens_errf(err, sc.camera, 0, "the system does not record its lens file");
-            goto done;
-        }
-        /* a relative path is relative to the .poly file */
-        const char *slash = strrchr(sc.camera, '/');
-        if (lp[0] != '/' && slash)
-            snprintf(lens_buf, sizeof lens_buf, "%.*s/%s", (int)(slash - sc.camera), sc.camera, lp);
-        else
-            snprintf(lens_buf, sizeof lens_buf, "%s", lp);
-        FILE *probe = fopen(lens_buf, "r");
-        if (probe) fclose(probe);
-        else snprintf(lens_buf, sizeof lens_buf, "%s", lp); /* as recorded, from the cwd */
+        if (poly_find_lens_file(sys, sc.camera, lens_buf, sizeof lens_buf, err)) goto done;
         lens_path = lens_buf;
     }
     if (lens_load(lens_path, o->load, &lens, err)) goto done;
@@ -184,6 +192,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
 
     int use_eta = 1, achromatic = sc.mode == SCENE_GREY || !render_lens_disperses(&lens);
     double eta_const = 1;
+    int stop_only = 0; /* vignetting off: directions from the stop's line pupil */
     render_camera cam;
     if (o->exact) {
         lc = render_lens_exact(&lens, sw, sh, &cam, err);
@@ -203,6 +212,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
             use_eta = e.transmittance;
             eta_const = e.eta_centre;
             achromatic = !e.dispersion;
+            stop_only = !e.vignetting;
         } else {
             if (o->log) fprintf(o->log, "lens: polynomial system %s\n", sc.camera);
             if (poly_input_index(sys, "lambda") < 0) {
@@ -215,6 +225,10 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         lc = render_lens_poly(sys, &lens, sw, sh, &cam, err);
     }
     if (!lc) goto done;
+    if (o->emit_camera) {
+        rc = emit_camera(o, &lens, sys, sw, sh, err);
+        goto done;
+    }
 
     double rmax = 0.5 * hypot(sw, sh);
     if (o->rear_sampling) {
@@ -225,7 +239,8 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         char dir[1024];
         if (o->cache_dir) snprintf(dir, sizeof dir, "%s", o->cache_dir);
         else render_default_cache_dir(dir, sizeof dir);
-        if (render_effects_sampler(&lens, l0, l1, rmax, dir, o->threads, o->log, &smp, err))
+        if (render_effects_sampler(&lens, l0, l1, rmax, stop_only, dir, o->threads, o->log, &smp,
+                                   err))
             goto done;
     }
     img = malloc((size_t)sc.width * sc.height * 3 * sizeof *img);
@@ -240,6 +255,8 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
                                                       : "estimator of Eq. 13");
     render_job job = {.scene = &sc, .cam = &cam, .sampler = &smp, .estimator = o->estimator,
                       .use_eta = use_eta, .achromatic = achromatic,
+                      .filter = sc.filter_tent ? RENDER_FILTER_TENT : RENDER_FILTER_BOX,
+                      .filter_radius = sc.filter_radius,
                       .eta_const = eta_const, .spp = sc.spp, .threads = o->threads, .progress = o->progress,
                       .progress_ctx = o->progress_ctx};
     if (render_image(&job, img, NULL, st, err)) goto done;

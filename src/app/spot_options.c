@@ -8,17 +8,43 @@ static const opt_spec spot_table[] = {
     {0, "fields", "LIST", OPT_STRING, OPT_AT(spot_cli, im.fields),
      .help = "field angles in degrees (object at infinity) or object heights in mm "
              "(--object-distance)",
-     .def = "0, 0.7 and 1 times the largest"},
+     .def = "0, 0.7 and 1 times the largest",
+     .man =
+     "The largest field is the half field of view of the sensor diagonal named in the lens\n"
+     "header, or, without one, the largest field whose chief ray still reaches the sensor.\n"},
     {0, "wavelengths", "LIST", OPT_STRING, OPT_AT(spot_cli, im.wavelengths),
-     .help = "um values or Fraunhofer names; the middle one is the primary", .def = "F,d,C"},
+     .help = "um values or Fraunhofer names; the middle one is the primary", .def = "F,d,C",
+     .man =
+     "Wavelengths are 0.2 to 2.5 um; the line names are i h g F' F e d D C' C r A' s t\n"
+     "(F = 0.4861327, d = 0.5875618, C = 0.6562725).\n"},
     {0, "pupil", NULL, OPT_CHOICE, OPT_AT(spot_cli, pattern), .choices = patterns,
-     .help = "how rays sample the stop", .def = "hexapolar"},
+     .help = "how rays sample the stop", .def = "hexapolar",
+     .man =
+     "hexapolar: the centre and rings k = 1..R at radius k/R with 6k points each; grid: a\n"
+     "square grid clipped to the disc; random: uniform random points (seeded).\n"},
     {0, "rays", "N", OPT_INT, OPT_AT(spot_cli, rays), .lo = 1, .hi = 10000000,
-     .help = "rays per field and wavelength", .def = "400"},
+     .help = "rays per field and wavelength", .def = "400",
+     .man =
+     "Hexapolar rounds up to whole rings.\n"},
     {0, "seed", "N", OPT_INT, OPT_AT(spot_cli, seed), .lo = 0, .hi = 4503599627370496.0,
      .help = "seed for --pupil random", .def = "1"},
-    {0, "png", "FILE", OPT_STRING, OPT_AT(spot_cli, png), .help = "the spot diagram picture"},
-    {0, "exr", "FILE", OPT_STRING, OPT_AT(spot_cli, exr), .help = "spot density as float images"},
+    {0, "png", "FILE", OPT_STRING, OPT_AT(spot_cli, png), .help = "the spot diagram picture",
+     .man =
+     "One panel per field (one row per model), the landing points in a colour per\n"
+     "wavelength, the chief ray as a cross, the Airy disc of the first wavelength as a grey\n"
+     "circle, a scale bar in micrometres and the RMS radius under each panel.\n"
+     "All panels share one scale and are centred on their pooled centroid.\n"
+     "The file is written to a temporary name and renamed when complete.\n"},
+    {0, "exr", "FILE", OPT_STRING, OPT_AT(spot_cli, exr), .help = "spot density as float images",
+     .man =
+     "Panels of 256 x 256 pixels laid out like the PNG, one channel per wavelength named\n"
+     ".BI lambda_ NNN nm\n"
+     "and their mean\n"
+     ".BR density ,\n"
+     "in rays per square micrometre per launched ray, so that each panel integrates to the\n"
+     "fraction of rays that pass.\n"
+     "The pixel size is printed as a comment line.\n"},
+    {.type = OPT_GROUP, OPT_AT(spot_cli, out), .group = output_cli_table},
     {.type = OPT_GROUP, OPT_AT(spot_cli, im), .group = imaging_cli_table},
     {0}};
 
@@ -35,4 +61,5 @@ void spot_cli_default(spot_cli *o)
     o->rays = 400;
     o->seed = 1;
     o->png = o->exr = NULL;
+    o->out = (output_cli){0, 0};
 }

@@ -17,6 +17,7 @@ void spot_report_free(spot_report *rep)
             spot_free(&rep->pooled[i]);
     free(rep->spots);
     free(rep->pooled);
+    free(rep->why);
     memset(rep, 0, sizeof *rep);
 }
 
@@ -36,8 +37,9 @@ int spot_run(const spot_request *rq, spot_report *rep, lens_err *err)
     size_t n = (size_t)nm * (size_t)nf;
     rep->spots = calloc(n * (size_t)nl, sizeof *rep->spots);
     rep->pooled = calloc(n, sizeof *rep->pooled);
-    if (!rep->spots || !rep->pooled) {
-        free(rep->spots), free(rep->pooled);
+    rep->why = calloc(n, sizeof *rep->why);
+    if (!rep->spots || !rep->pooled || !rep->why) {
+        free(rep->spots), free(rep->pooled), free(rep->why);
         lens_errf(err, NULL, 0, "out of memory");
         return -1;
     }
@@ -54,10 +56,16 @@ int spot_run(const spot_request *rq, spot_report *rep, lens_err *err)
         for (int f = 0; f < nf; f++)
             for (int l = 0; l < nl; l++) {
                 spot *s = &rep->spots[((size_t)m * nf + f) * nl + l];
-                if (spot_trace(&im[m], rq->field[f], rq->lambda[l], rq->pattern, rq->rays, rq->seed, s,
-                               err) != 0) {
+                int st = spot_trace(&im[m], rq->field[f], rq->lambda[l], rq->pattern, rq->rays,
+                                    rq->seed, s, err);
+                if (st < 0) {
                     run_error_model(err, m, rq->model_names[m]);
                     goto fail;
+                }
+                lens_err *why = &rep->why[(size_t)m * nf + f];
+                if (st > 0 && !why->msg[0]) { /* the first wavelength that fails says why */
+                    *why = *err;
+                    rep->not_imaged++;
                 }
             }
     if (rq->focus == FOCUS_BEST) {
@@ -71,42 +79,96 @@ int spot_run(const spot_request *rq, spot_report *rep, lens_err *err)
         shift += dz;
     }
     rep->sensor_shift = shift;
-    for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < n; i++) {
         if (spot_pool(&rep->spots[i * (size_t)nl], (size_t)nl, (size_t)rq->primary, &rep->pooled[i]) != 0) {
             lens_errf(err, NULL, 0, "out of memory");
             goto fail;
         }
+        if (rep->why[i].msg[0]) /* a wavelength missing: no pooled spot either */
+            spot_mark_not_imaged(&rep->pooled[i]);
+    }
     return 0;
 fail:
     spot_report_free(rep);
     return -1;
 }
 
-static void row(FILE *f, const char *model, const spot *s, const char *lambda)
+int spot_report_warnings(const spot_request *rq, const spot_report *rep, report_warning *w, int max)
 {
-    fprintf(f, "%s %.10g %s %zu %zu %.6f %.9g %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.6g\n", model,
-            s->field, lambda, s->rays, s->passed, s->vignetted, s->chief[0], s->chief[1],
-            s->centroid[0], s->centroid[1], s->rms_chief * 1e3, s->max_chief * 1e3,
-            s->rms_centroid * 1e3, s->max_centroid * 1e3, s->airy * 1e3);
-}
-
-void spot_report_print(FILE *f, const spot_request *rq, const spot_report *rep)
-{
-    int finite = isfinite(rq->im[0].object_distance);
-    fprintf(f,
-            "# columns: model %s lambda_um rays passed vignetted chief_x_mm chief_y_mm centroid_x_mm "
-            "centroid_y_mm rms_chief_um max_chief_um rms_centroid_um max_centroid_um airy_um\n",
-            finite ? "field_mm" : "field_deg");
+    int n = 0;
     for (int m = 0; m < rep->nmodels; m++)
         for (int fi = 0; fi < rep->nfields; fi++) {
-            for (int l = 0; l < rep->nl; l++) {
-                char lam[32];
-                snprintf(lam, sizeof lam, "%.7g", rq->lambda[l]);
-                row(f, rq->model_names[m], &rep->spots[((size_t)m * rep->nfields + fi) * rep->nl + l], lam);
-            }
-            if (rep->nl > 1)
-                row(f, rq->model_names[m], &rep->pooled[(size_t)m * rep->nfields + fi], "all");
+            const lens_err *why = &rep->why[(size_t)m * rep->nfields + fi];
+            if (why->msg[0] && n < max)
+                snprintf(w[n++], sizeof w[0], "%s: %s; its rows are nan", rq->model_names[m], why->msg);
         }
+    return n;
+}
+
+/* Positions on the sensor that cancel to round-off (a centroid on the axis) are zero on
+ * the scale of the largest image height in the table. */
+static double position_scale(const spot_report *rep)
+{
+    double s = 1;
+    size_t n = (size_t)rep->nmodels * (size_t)rep->nfields * (size_t)rep->nl;
+    for (size_t i = 0; i < n; i++)
+        for (int k = 0; k < 2; k++)
+            if (isfinite(rep->spots[i].chief[k]))
+                s = fmax(s, fabs(rep->spots[i].chief[k]));
+    return s;
+}
+
+static void row(table_out *t, const char *model, const spot *s, double L)
+{
+    table_out_str(t, model);
+    table_out_fmt(t, s->field, 0, "%.10g");
+    if (isnan(s->lambda)) /* the pooled wavelengths */
+        table_out_str(t, "all");
+    else
+        table_out_fmt(t, s->lambda, 0, "%.7g");
+    table_out_int(t, (long long)s->rays);
+    table_out_int(t, (long long)s->passed);
+    table_out_fmt(t, s->vignetted, 0, "%.6f");
+    for (int k = 0; k < 2; k++)
+        table_out_fmt(t, s->chief[k], L, "%.9g");
+    for (int k = 0; k < 2; k++)
+        table_out_fmt(t, s->centroid[k], L, "%.9g");
+    double um[] = {s->rms_chief, s->max_chief, s->rms_centroid, s->max_centroid, s->airy};
+    for (int k = 0; k < 5; k++)
+        table_out_fmt(t, um[k] * 1e3, L * 1e3, "%.6g");
+    table_out_row_end(t);
+}
+
+void spot_report_print(table_out *t, const spot_request *rq, const spot_report *rep,
+                       const char *focus_name)
+{
+    int finite = isfinite(rq->im[0].object_distance);
+    const char *cols[] = {"model", finite ? "field_mm" : "field_deg", "lambda_um", "rays", "passed",
+                          "vignetted", "chief_x_mm", "chief_y_mm", "centroid_x_mm", "centroid_y_mm",
+                          "rms_chief_um", "max_chief_um", "rms_centroid_um", "max_centroid_um",
+                          "airy_um"};
+    double L = position_scale(rep);
+    table_out_table(t, "spots", NULL, cols, (int)(sizeof cols / sizeof cols[0]));
+    for (int m = 0; m < rep->nmodels; m++)
+        for (int fi = 0; fi < rep->nfields; fi++) {
+            for (int l = 0; l < rep->nl; l++)
+                row(t, rq->model_names[m], &rep->spots[((size_t)m * rep->nfields + fi) * rep->nl + l], L);
+            if (rep->nl > 1)
+                row(t, rq->model_names[m], &rep->pooled[(size_t)m * rep->nfields + fi], L);
+        }
+    if (!t->json) { /* as before: a comment under the table */
+        if (rep->sensor_shift != 0)
+            fprintf(t->f, "# sensor plane moved %.9g mm along the axis (--focus %s)\n",
+                    rep->sensor_shift, focus_name);
+        return;
+    }
+    table_out_keys(t, "sensor", NULL);
+    table_out_str(t, "focus");
+    table_out_str(t, focus_name);
+    table_out_row_end(t);
+    table_out_str(t, "shift_mm");
+    table_out_num(t, rep->sensor_shift, 0);
+    table_out_row_end(t);
 }
 
 int focus_mode_parse(const char *s, focus_mode *mode)

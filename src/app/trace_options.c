@@ -21,40 +21,64 @@ static void set_lambda(const char *prog, const opt_spec *spec, const char *value
         opt_die(prog, spec, "need 0 < A <= B (micrometres), got '%s'", value);
 }
 
-static const opt_choice strategies[] = {{"pupil", SAMPLING_PUPIL}, {"rear", SAMPLING_REAR}, {NULL, 0}};
+static const opt_choice strategies[] = {
+    {"pupil", SAMPLING_PUPIL}, {"rear", SAMPLING_REAR}, {"full", SAMPLING_FULL}, {NULL, 0}};
 static const opt_choice targets[] = {{"outer", TRACE_TO_OUTER}, {"stop", TRACE_TO_STOP}, {NULL, 0}};
 
 static const opt_spec trace_table[] = {
     {'n', NULL, "N", OPT_INT, OPT_AT(trace_cli, count), .lo = 1, .hi = 1e9,
-     .help = "rays to write: passing rays, or all rays with --all", .def = "10000"},
+     .help = "rays to write, as drawn: blocked ones too (out_eta 0, other outputs nan), so "
+             "that fits and tests see both sides of each rim",
+     .def = "10000"},
     {0, "seed", "S", OPT_INT, OPT_AT(trace_cli, seed), .lo = 0, .hi = 4e15,
      .help = "random seed; the same seed gives the same file", .def = "1"},
     {0, "sampling", NULL, OPT_CHOICE, OPT_AT(trace_cli, strategy), .choices = strategies,
      .help = "pupil: directions that pass from each sensor point; rear: aimed at the rear "
-             "element (the usual way, a baseline)",
+             "element (the usual way, a baseline); full: uniform over every direction that "
+             "can pass (test sets that measure passage as a share of the light)",
      .def = "pupil"},
     {0, "lambda", "A:B|L", OPT_CALL, OPT_AT(trace_cli, lambda), .set = set_lambda,
-     .help = "wavelengths uniform in A..B um, or one wavelength L", .def = "0.4:0.7"},
+     .help = "wavelengths uniform in A..B um, or one wavelength L", .def = "0.4:0.7",
+     .man =
+     "A wavelength outside a glass's range is an error, not an extrapolation.\n"},
     {0, "to", NULL, OPT_CHOICE, OPT_AT(trace_cli, target), .choices = targets,
-     .help = "the output frame: the outer pupil or the aperture stop", .def = "outer"},
+     .help = "the output frame: the outer pupil or the aperture stop", .def = "outer",
+     .man =
+     "See\n"
+     ".BR lens-samples (5).\n"},
+    {0, "passing-only", NULL, OPT_FLAG, OPT_AT(trace_cli, passing_only),
+     .help = "write N rays that pass, leaving the blocked ones out"},
     {0, "all", NULL, OPT_FLAG, OPT_AT(trace_cli, all),
-     .help = "also write rays that do not pass (out_eta 0, other outputs nan)"},
+     .help = "the default (N rays as drawn); kept for old scripts"},
     {0, "stop-columns", NULL, OPT_FLAG, OPT_AT(trace_cli, stop_columns),
-     .help = "add columns ap_x ap_y: the ray's hit on the aperture stop (nan when it does not "
-             "get through to the stop); lens-fit then fits a stop pass circle"},
+     .help = "of the passage columns only ap_x ap_y, the ray's hit on the aperture stop (no "
+             "pilot)"},
     {0, "clip-columns", NULL, OPT_FLAG, OPT_AT(trace_cli, clip_columns),
-     .help = "ap_x ap_y, plus sN_x sN_y for every other surface N (numbered as in lens-info) "
-             "that blocks >= 0.5% of a pilot trace of 65536 rays (same sampling, fixed seed): "
-             "the hit on surface N, nan when the ray does not get there within its "
-             "semi-diameter; lens-fit fits a pass circle for each"},
+     .help = "the default passage columns (see PASSAGE in lens-trace(1)); kept for old "
+             "scripts"},
     {0, "clip-surfaces", "LIST", OPT_STRING, OPT_AT(trace_cli, clip_list),
-     .help = "as --clip-columns, for the surfaces N,N,... given (no pilot)"},
+     .help = "ap_x ap_y and the surfaces N,N,... given (no pilot)",
+     .man =
+     "The stop's own number is ignored: it has\n"
+     ".IR \"ap_x ap_y\" .\n"},
+    {0, "no-passage-columns", NULL, OPT_FLAG, OPT_AT(trace_cli, no_passage_columns),
+     .help = "no passage columns: the ten default columns alone"},
     {0, "sensor", "WxH", OPT_CALL, OPT_AT(trace_cli, sensor), .set = cli_set_size,
      .help = "sensor size in mm", .def = "the lens header's"},
+    {0, "fnumber", "N", OPT_POSITIVE, OPT_AT(trace_cli, fnumber),
+     .help = "stop the lens down to f-number N (efl over entrance pupil diameter, paraxial, "
+             "object at infinity) by scaling the aperture stop's semi-diameter",
+     .def = "the lens's own",
+     .man = "A comment line of the samples records it\n"
+            ".RB ( \"# fnumber: N\" ).\n"
+            "A lens opens no wider than its stop allows (an error).\n"},
     {0, "threads", "T", OPT_INT, OPT_AT(trace_cli, threads), .lo = 1, .hi = 1024,
      .help = "threads", .def = "all"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(trace_cli, out_path),
-     .help = "write FILE (complete or not at all) instead of standard output"},
+     .help = "write FILE (complete or not at all) instead of standard output",
+     .man =
+     "The file is written through a temporary name and renamed when complete: an error or an\n"
+     "interrupt leaves no partial file.\n"},
     {'q', "quiet", NULL, OPT_FLAG, OPT_AT(trace_cli, quiet),
      .help = "no progress line on stderr (shown only on a terminal, for more than 200000 rays)"},
     {.type = OPT_GROUP, OPT_AT(trace_cli, lens), .group = lens_cli_table},
@@ -63,7 +87,8 @@ static const opt_spec trace_table[] = {
 const opt_command trace_command = {
     "lens-trace", "LENS [options] [-]",
     "Generates N rays from the sensor and traces them through LENS, writing a sample file "
-    "(man 5 lens-samples) with columns x y u v lambda out_x out_y out_u out_v out_eta. With "
+    "(man 5 lens-samples) with columns x y u v lambda out_x out_y out_u out_v out_eta and the "
+    "passage columns ap_x ap_y sN_x sN_y (the hits on the surfaces that limit the beam). With "
     "'-', traces the rays read from standard input (columns x y u v lambda, found by name) "
     "instead: one output row per input row, rays that do not pass with out_eta 0, bad rows "
     "as nan (exit status 1).",
@@ -78,6 +103,7 @@ void trace_cli_default(trace_cli *o)
     o->strategy = SAMPLING_PUPIL;
     o->lambda[0] = 0.4, o->lambda[1] = 0.7;
     o->sensor = (cli_size){NAN, NAN};
+    o->fnumber = NAN;
     o->target = TRACE_TO_OUTER;
     lens_cli_options_init(&o->lens);
 }

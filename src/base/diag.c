@@ -1,7 +1,5 @@
 #include "sparselens/diag.h"
 
-#include <errno.h>
-#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -37,27 +35,4 @@ void diag_die(const char *prog, const char *fmt, ...)
     va_end(ap);
     fputc('\n', stderr);
     exit(1);
-}
-
-int parse_double(const char *s, double *out)
-{
-    if (!s || !*s)
-        return -1;
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (*end != '\0' || errno == ERANGE || !isfinite(v))
-        return -1;
-    *out = v;
-    return 0;
-}
-
-int parse_long(const char *s, long *out)
-{
-    double v;
-    /* Accepts 1e6 as well as 1000000: counts are often written that way. */
-    if (parse_double(s, &v) != 0 || v != floor(v) || fabs(v) > 9e15)
-        return -1;
-    *out = (long)v;
-    return 0;
 }

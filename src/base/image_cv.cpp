@@ -140,6 +140,25 @@ void img_rect(img_canvas *c, double x0, double y0, double x1, double y1, const d
           });
 }
 
+void img_polygon(img_canvas *c, const double *xy, int n, const double rgb[3], double alpha)
+{
+    if (n < 3)
+        return;
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int i = 0; i < n; i++) {
+        if (!finite_all({xy[2 * i], xy[2 * i + 1]}))
+            return;
+        x0 = std::fmin(x0, xy[2 * i]), x1 = std::fmax(x1, xy[2 * i]);
+        y0 = std::fmin(y0, xy[2 * i + 1]), y1 = std::fmax(y1, xy[2 * i + 1]);
+    }
+    blend(c, bbox(x0, y0, x1, y1, 2), rgb, alpha, [&](cv::Mat &m, const cv::Point &o) {
+        std::vector<cv::Point> pts;
+        for (int i = 0; i < n; i++)
+            pts.push_back(fixpt(xy[2 * i], xy[2 * i + 1], o));
+        cv::fillPoly(m, std::vector<std::vector<cv::Point>>{pts}, cv::Scalar(255), cv::LINE_AA, kShift);
+    });
+}
+
 void img_dot(img_canvas *c, double x, double y, double radius, const double rgb[3], double alpha)
 {
     if (!finite_all({x, y, radius}) || radius <= 0)

@@ -21,6 +21,8 @@
 #define EXCHANGE_PASSES 2
 #define OVERLAP 0.05 /* of a part's rows, on each side */
 
+static int fit_is_clip_prefix(const char *name, size_t len);
+
 void fit_options_default(fit_options *opt)
 {
     opt->max_terms = 40;
@@ -38,6 +40,15 @@ void fit_options_default(fit_options *opt)
     opt->scaling = NULL;
     opt->force_parts = 0;
     opt->lambda_transform = POLY_XFORM_IDENTITY;
+    opt->passage_tolerance = 1e-3;
+}
+
+int fit_is_passage_output(const char *name)
+{
+    size_t len = strlen(name);
+    if (len < 3 || name[len - 2] != '_' || (name[len - 1] != 'x' && name[len - 1] != 'y'))
+        return 0;
+    return fit_is_clip_prefix(name, len - 2) && strncmp(name, "out_", 4) != 0;
 }
 
 typedef struct {

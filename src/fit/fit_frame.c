@@ -31,10 +31,38 @@ static int usable(const double *yo, int nout, int ieta)
     return ieta < 0 || yo[ieta] > 0;
 }
 
+/* The radius of the pass circle of output pair (a, b): the furthest hit of a passing row
+ * (0 if none passes). */
+static double pass_radius(const double *out, size_t count, int noutputs, int ieta, int a, int b)
+{
+    double rmax = 0;
+    for (size_t r = 0; r < count; r++) {
+        const double *yo = out + r * (size_t)noutputs;
+        if (usable(yo, noutputs, ieta))
+            rmax = fmax(rmax, hypot(yo[a], yo[b]));
+    }
+    return rmax;
+}
+
+/* The partner of a passage output (..._x <-> ..._y), -1 if absent. */
+static int partner(int noutputs, const char *const *outputs, const char *name)
+{
+    char buf[256];
+    size_t len = strlen(name);
+    if (len == 0 || len >= sizeof buf)
+        return -1;
+    memcpy(buf, name, len + 1);
+    buf[len - 1] = buf[len - 1] == 'x' ? 'y' : 'x';
+    return find_name(noutputs, outputs, buf);
+}
+
 /* One group of outputs fitted by the core: in the frame (frame = 1: inputs without y,
  * outputs rotated into the frame) or outside it (the inputs through the transforms).
- * Copies its parts, terms and pass circles into sys. */
-static int fit_group(poly_system *sys, int in_frame, const int *outs, int ng, int ninputs,
+ * Copies its parts, terms and pass circles into sys. A passage group (clip = 1) is
+ * fitted on every row where its outputs are finite, as one part copied into every part
+ * of sys (its rows are not the others', so neither would its cuts be), with the
+ * passage tolerance, and gets circles around the hits of the passing rows. */
+static int fit_group(poly_system *sys, int in_frame, int clip, const int *outs, int ng, int ninputs,
                      const char *const *inputs, const char *const *outputs, int noutputs,
                      size_t count, const double *in, const double *out, const fit_options *opt,
                      lens_err *err)
@@ -76,6 +104,8 @@ static int fit_group(poly_system *sys, int in_frame, const int *outs, int ng, in
             cin[r * (size_t)nc + k] = t[cmap[k]];
         memcpy(yo, out + r * (size_t)noutputs, (size_t)noutputs * sizeof *yo);
         int ok = usable(yo, noutputs, ieta);
+        for (int g = 0; clip && g < ng; g++)
+            ok = (g == 0 || ok) && isfinite(yo[outs[g]]);
         if (ok && frame)
             poly_frame_out_inverse(sys, cs, yo);
         /* a ray another output or out_eta blocks is left out here too */
@@ -85,14 +115,24 @@ static int fit_group(poly_system *sys, int in_frame, const int *outs, int ng, in
     fit_options co = *opt;
     co.frame = frame ? POLY_FRAME_MERIDIONAL : POLY_FRAME_NONE;
     double gtol[64]; /* per-output tolerances of this group's outputs */
-    if (opt->output_tolerance) {
+    if (opt->output_tolerance || clip) {
         if (ng > 64) {
             lens_errf(err, NULL, 0, "at most 64 outputs with per-output tolerances");
             goto out;
         }
-        for (int g = 0; g < ng; g++)
-            gtol[g] = opt->output_tolerance[outs[g]];
+        for (int g = 0; g < ng; g++) {
+            gtol[g] = opt->output_tolerance ? opt->output_tolerance[outs[g]] : opt->tolerance;
+            int q = partner(noutputs, outputs, outputs[outs[g]]);
+            if (clip && !(opt->output_tolerance && gtol[g] > 0) && opt->passage_tolerance > 0 &&
+                q >= 0)
+                gtol[g] = opt->passage_tolerance *
+                          pass_radius(out, count, noutputs, ieta, outs[g], q);
+        }
         co.output_tolerance = gtol;
+    }
+    if (clip) {
+        co.max_parts = 1;
+        co.force_parts = 1;
     }
     if (frame) {
         int kx = ix < iy ? ix : ix - 1;
@@ -116,7 +156,8 @@ static int fit_group(poly_system *sys, int in_frame, const int *outs, int ng, in
                 sc[2 * k] = sc[2 * k + 1] = NAN;
         }
         co.scaling = sc;
-        co.force_parts = poly_nparts(sys);
+        if (!clip)
+            co.force_parts = poly_nparts(sys);
     }
     core = fit_system_core(poly_lens_name(sys), nc, cnames, ng, gnames, count, cin, cout, &co, err);
     free(sc);
@@ -129,6 +170,38 @@ static int fit_group(poly_system *sys, int in_frame, const int *outs, int ng, in
         poly_set_scaling(sys, cmap[k], off, scale);
     }
     int first = poly_nparts(sys) == 0;
+    if (clip) { /* one part, the same polynomial in every part of sys */
+        if (first)
+            poly_add_part(sys, 0, INFINITY);
+        for (int p = 0; p < poly_nparts(sys); p++)
+            for (int g = 0; g < ng; g++)
+                for (int tt = 0; tt < poly_nterms(core, 0, g); tt++) {
+                    double coef;
+                    poly_get_term(core, 0, g, tt, ce, &coef);
+                    memset(e, 0, (size_t)ninputs * sizeof *e);
+                    for (int k = 0; k < nc; k++)
+                        e[cmap[k]] = ce[k];
+                    if (poly_add_term(sys, p, outs[g], e, coef) != 0) {
+                        lens_errf(err, NULL, 0, "out of memory");
+                        goto out;
+                    }
+                }
+        for (int g = 0; g < ng; g++) {
+            int q = partner(noutputs, outputs, outputs[outs[g]]);
+            double rad = q >= 0 ? pass_radius(out, count, noutputs, ieta, outs[g], q) : 0;
+            if (outputs[outs[g]][strlen(outputs[outs[g]]) - 1] == 'x' && rad > 0)
+                poly_add_pass_circle(sys, outs[g], q, rad * (1 + 1e-9));
+        }
+        for (int m = 0; m < poly_nmeta(core); m++) {
+            const char *key = poly_meta_key(core, m), *val = poly_get_meta(core, key);
+            if (!strcmp(key, "fit_samples"))
+                poly_set_meta(sys, "passage_samples", val);
+            else if (!poly_get_meta(sys, key) || !strcmp(key, "fit_flags"))
+                poly_set_meta(sys, key, val);
+        }
+        rc = 0;
+        goto out;
+    }
     if (!first && poly_nparts(sys) != poly_nparts(core)) {
         lens_errf(err, NULL, 0, "the outputs in and outside the frame chose different radial "
                                 "parts: fit them separately or use --frame none");
@@ -188,7 +261,10 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
 {
     int ilam = ninputs > 0 && inputs ? find_name(ninputs, inputs, "lambda") : -1;
     int xf = ilam >= 0 ? opt->lambda_transform : POLY_XFORM_IDENTITY;
-    if (opt->frame == POLY_FRAME_NONE && xf == POLY_XFORM_IDENTITY)
+    int npassage = 0;
+    for (int o = 0; o < noutputs && outputs; o++)
+        npassage += fit_is_passage_output(outputs[o]);
+    if (opt->frame == POLY_FRAME_NONE && xf == POLY_XFORM_IDENTITY && npassage == 0)
         return fit_system_core(lens_name, ninputs, inputs, noutputs, outputs, count, in, out,
                                opt, err);
     if (!poly_frame_name(opt->frame) || !poly_xform_name(opt->lambda_transform)) {
@@ -225,14 +301,16 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
                 lens_errf(err, NULL, 0, "sample %zu: input %s is not finite", r + 1, inputs[i]);
                 goto fail;
             }
-    /* in the frame first (it chooses the parts), then the outputs outside it */
-    for (int grp = 1; grp >= 0; grp--) {
-        int ng = 0;
+    /* in the frame first (it chooses the parts), then the outputs outside it; the
+     * passage outputs last (they take the others' scaling and parts) */
+    for (int grp = 0; grp < 4; grp++) {
+        int in_frame = grp % 2 == 0, clip = grp >= 2, ng = 0;
         for (int o = 0; o < noutputs; o++)
-            if ((poly_get_output_plain(sys, o) == 0) == grp)
+            if ((poly_get_output_plain(sys, o) == 0) == in_frame &&
+                fit_is_passage_output(outputs[o]) == clip)
                 outs[ng++] = o;
-        if (ng && fit_group(sys, grp, outs, ng, ninputs, inputs, outputs, noutputs, count, in,
-                            out, opt, err) != 0)
+        if (ng && fit_group(sys, in_frame, clip, outs, ng, ninputs, inputs, outputs, noutputs,
+                            count, in, out, opt, err) != 0)
             goto fail;
     }
     /* The domain: the raw inputs of the usable rows. */

@@ -11,6 +11,7 @@
 
 #include "sparselens/glass_formula.h"
 #include "lens/import_common.h"
+#include "sparselens/numparse.h"
 
 #define AGF_MAX_TOK 32
 

@@ -34,6 +34,7 @@
 
 #include "sparselens/agf.h"
 #include "sparselens/glass_formula.h"
+#include "sparselens/numparse.h"
 
 #define NDVD_LAMBDA_MIN 0.36
 #define NDVD_LAMBDA_MAX 1.0

@@ -2,8 +2,8 @@
 #include "base/line_reader.h"
 #include "lens/import_common.h"
 
-#include "sparselens/lens_import.h"
 #include "sparselens/paraxial.h"
+#include "sparselens/numparse.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -10,7 +10,7 @@
 #include "sparselens/diag.h"
 #include "sparselens/glass.h"
 #include "sparselens/lens.h"
-#include "sparselens/lens_import.h"
+#include "lens/lens_material.h"
 
 /* Decodes data into a fresh NUL-terminated 8-bit/UTF-8 buffer (caller frees).
  * UTF-16 LE/BE with BOM, or LE without BOM when it is plainly so, become UTF-8; a

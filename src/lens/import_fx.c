@@ -23,7 +23,9 @@
 #include <strings.h>
 
 #include "base/line_reader.h"
-#include "sparselens/lens_import.h"
+#include "sparselens/import_table.h"
+#include "lens/lens_material.h"
+#include "sparselens/numparse.h"
 
 #define FX_FLAT_RADIUS 10000.0
 #define FX_MAX_TOKENS 32

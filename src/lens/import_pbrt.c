@@ -17,8 +17,10 @@
 #include <string.h>
 
 #include "base/line_reader.h"
-#include "sparselens/lens_import.h"
+#include "sparselens/import_table.h"
+#include "lens/lens_material.h"
 #include "sparselens/paraxial.h"
+#include "sparselens/numparse.h"
 
 int lens_read_pbrt(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
                    lens_err *err)

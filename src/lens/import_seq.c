@@ -7,7 +7,7 @@
  * curvature towards the image, thickness to the next surface, glass after the surface.
  * Lengths are in the file's units (DIM M/C/I) and converted to mm here. */
 #include "base/line_reader.h"
-#include "sparselens/import.h"
+#include "sparselens/import_design.h"
 
 #include <ctype.h>
 #include <math.h>
@@ -15,7 +15,7 @@
 #include <string.h>
 
 #include "lens/import_common.h"
-#include "sparselens/lens_import.h"
+#include "sparselens/numparse.h"
 
 #define SEQ_MAX_TOK 24
 #define SEQ_INFINITE_OBJECT 1e9 /* CODE V writes 1e10 or more for an object at infinity */

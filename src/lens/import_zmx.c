@@ -7,7 +7,7 @@
  * GLAS is the medium after the surface; DIAM holds the semi-diameter despite its name.
  * Lengths are in the file's lens units (UNIT) and converted to mm here; an even-asphere
  * coefficient on r^(2i) has units length^(1-2i) and is scaled accordingly. */
-#include "sparselens/import.h"
+#include "sparselens/import_design.h"
 
 #include <ctype.h>
 #include <math.h>
@@ -15,7 +15,7 @@
 #include <string.h>
 
 #include "lens/import_common.h"
-#include "sparselens/lens_import.h"
+#include "sparselens/numparse.h"
 
 #define ZMX_MAX_TOK 24
 #define ZMX_NPARM 9 /* PARM 1..8 used by the even asphere (r^2 .. r^16) */

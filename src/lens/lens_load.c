@@ -6,10 +6,14 @@
 #include <string.h>
 #include <strings.h>
 
-#include "sparselens/import.h"
+#include "sparselens/import_design.h"
+#include "sparselens/import_table.h"
 #include "lens/import_common.h"
 #include "sparselens/lens.h"
-#include "sparselens/lens_import.h"
+
+/* Every reader: parse f (named path in messages) into a lens that lens_finish accepted. */
+typedef int (*lens_reader)(FILE *f, const char *path, const lens_load_options *opt,
+                           lens_t *lens, lens_err *err);
 
 static const struct {
     const char *name; /* for --lens-format and lens->format */

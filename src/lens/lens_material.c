@@ -6,7 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "sparselens/lens_import.h"
+#include "lens/lens_material.h"
 
 void material_ctx_init(material_ctx *m, const lens_load_options *opt, const char *lens_path)
 {

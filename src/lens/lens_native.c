@@ -13,7 +13,8 @@
 
 #include "base/line_reader.h"
 #include "sparselens/lens.h"
-#include "sparselens/lens_import.h"
+#include "lens/lens_material.h"
+#include "sparselens/numparse.h"
 
 #define MAX_TOKENS 16
 

@@ -12,7 +12,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "sparselens/trace.h"
+#include "sparselens/lens.h"
 
 typedef struct {
     double a, b, c, d;

@@ -122,9 +122,10 @@ int poly_eval_part_core(const poly_system *s, int part, const double *in, double
     return poly_passes(s, out);
 }
 
-/* What a batch run computes: the outputs with the passage test, or the derivatives
- * d out_o / d in_i of the derivative plan (chain rule applied). */
-enum { RUN_EVAL, RUN_JAC };
+/* What a batch run computes: the outputs with the frame, transforms and passage test;
+ * the derivatives d out_o / d in_i of the derivative plan (chain rule applied); or the
+ * outputs of the core alone (the inputs taken as in the frame, no pass flags). */
+enum { RUN_EVAL, RUN_JAC, RUN_CORE };
 
 /* The batch kernel once per instruction set, each with the vector width of its
  * registers and a block that keeps its partial sums in registers (AVX-512: 32 rays in
@@ -197,7 +198,7 @@ static int part_plans(const poly_system *s, int what, int p, const poly_plan **p
         pls[0] = &s->parts[p].dplan;
         return 1;
     }
-    if (!(s->frame && s->nplain)) {
+    if (what == RUN_CORE || !(s->frame && s->nplain)) {
         pls[0] = &s->parts[p].plan;
         return 1;
     }
@@ -209,7 +210,7 @@ static int part_plans(const poly_system *s, int what, int p, const poly_plan **p
 /* The batch driver of poly_eval_batch and poly_eval_jacobian_batch: rays in runs of one
  * part (each chunk counting-sorted by part when there are several, the part chosen from
  * the rays' own inputs as poly_eval does). RUN_EVAL applies the frame and transforms in
- * the kernel; RUN_JAC runs the core alone. */
+ * the kernel; RUN_JAC and RUN_CORE run the core alone. */
 static void batch(const poly_system *s, int what, size_t count, const double *in, double *out,
                   unsigned char *pass)
 {
@@ -294,6 +295,11 @@ void poly_eval_batch_core(const poly_system *s, size_t count, const double *in, 
     batch(s, RUN_EVAL, count, in, out, pass);
 }
 
+void poly_eval_core_batch(const poly_system *s, size_t count, const double *in, double *out)
+{
+    batch(s, RUN_CORE, count, in, out, NULL);
+}
+
 void poly_eval_jacobian_batch_core(const poly_system *s, size_t count, const double *in,
                               double *jac)
 {
@@ -310,6 +316,6 @@ int poly_eval_jacobian_core(const poly_system *s, const double *in, double *out,
         return 0;
     }
     for (int k = 0; k < nin * nout; k++)
-        jac[k] = poly_scale_chain(s, k % nin, in[k % nin], jac[k]);
+        jac[k] = poly_scale_chain(s, k % nin, jac[k]);
     return pass;
 }

@@ -3,7 +3,7 @@
  *   KERNEL_TARGET  its target attribute (empty for the baseline)
  *   VW             doubles per hardware vector of that set (8 AVX-512, 4 AVX2, 2 SSE)
  *   KERNEL_SQRT    the square root of a vector of VW doubles (that set's instruction)
- * and KBLK (rays per block, a multiple of VW) and RUN_EVAL / RUN_JAC defined.
+ * and KBLK (rays per block, a multiple of VW) and RUN_EVAL / RUN_JAC / RUN_CORE defined.
  *
  * Runs the plans pls[0 .. nview - 1] (one part's views, see batch()) on n rays: ray r is
  * row idx[r] of in (row first + r if idx is NULL) and goes to the same row of out (and
@@ -58,12 +58,10 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
     vn *d = v + (1 + nin) * NV;
     for (size_t b0 = 0; b0 < n; b0 += KBLK) {
         const int m = n - b0 < KBLK ? (int)(n - b0) : KBLK;
-        const double *src[KBLK];
         size_t row[KBLK];
         for (int r = 0; r < KBLK; r++) {
             size_t k = b0 + (size_t)(r < m ? r : 0);
             row[r] = idx ? idx[k] : first + k;
-            src[r] = in + row[r] * (size_t)nin;
         }
         for (int q = 0; q < NV; q++)
             for (int r = 0; r < VW; r++)
@@ -79,7 +77,7 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
 #else
         for (int i = 0; i < nin; i++)
             for (int r = 0; r < KBLK; r++)
-                raw[i * KBLK + r] = src[r][i];
+                raw[i * KBLK + r] = in[row[r] * (size_t)nin + i];
 #endif
         if (fr) {
             const double *X = raw + ix * KBLK, *Y = raw + iy * KBLK;
@@ -198,15 +196,12 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 }
             }
         }
-        const double *rs = (const double *)res; /* output k of lane r at rs[k * KBLK + r] */
-        if (what == RUN_JAC) {
-            for (int r = 0; r < m; r++) {
-                double *jr = out + row[r] * (size_t)nres;
-                for (int k = 0; k < nres; k++)
-                    jr[k] = poly_scale_chain(s, k % nin, src[r][k % nin], rs[k * KBLK + r]);
+        if (what == RUN_JAC) /* d / d s_i to d / d in_i (poly_scale_chain), on whole vectors */
+            for (int k = 0; k < nres; k++) {
+                const double inv = 1 / s->scale[k % nin];
+                for (int q = 0; q < NV; q++)
+                    res[k * NV + q] *= inv;
             }
-            continue;
-        }
 #ifdef KERNEL_SCATTER
         for (int q = 0; q < NV; q++) {
             vidx at;
@@ -216,13 +211,14 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 KERNEL_SCATTER(out + k, at, res[k * NV + q]);
         }
 #else
+        const double *rs = (const double *)res; /* output k of lane r at rs[k * KBLK + r] */
         for (int r = 0; r < m; r++) {
             double *o = out + row[r] * (size_t)nres;
             for (int k = 0; k < nres; k++)
                 o[k] = rs[k * KBLK + r];
         }
 #endif
-        if (!pass)
+        if (!pass || what != RUN_EVAL)
             continue;
         for (int q = 0; q < NV; q++) {
             /* the passage test of passes(), per lane (all bits set: passes) */

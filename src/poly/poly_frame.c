@@ -240,12 +240,12 @@ static void rotate_in(const poly_system *s, const double *in, double *t, double 
     }
 }
 
+static void transform_in(const poly_system *s, double *t);
+
 void poly_frame_in(const poly_system *s, const double *in, double *t, double *cs)
 {
     rotate_in(s, in, t, cs);
-    for (int i = 0; s->nxform && i < s->nin; i++)
-        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
-            t[i] = 1 / (t[i] * t[i]);
+    transform_in(s, t);
 }
 
 void poly_frame_out(const poly_system *s, const double *cs, double *out)
@@ -278,9 +278,7 @@ int poly_eval(const poly_system *s, const double *in, double *out)
 static void plain_in(const poly_system *s, const double *in, double *t)
 {
     memcpy(t, in, (size_t)s->nin * sizeof *t);
-    for (int i = 0; s->nxform && i < s->nin; i++)
-        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
-            t[i] = 1 / (t[i] * t[i]);
+    transform_in(s, t);
 }
 
 static void take_plain(const poly_system *s, const double *from, double *out)
@@ -324,92 +322,71 @@ void poly_eval_batch(const poly_system *s, size_t count, const double *in, doubl
     poly_eval_batch_core(s, count, in, out, pass);
 }
 
-/* With a frame, ray by ray through poly_eval_jacobian (the same values). */
-void poly_eval_jacobian_batch(const poly_system *s, size_t count, const double *in, double *jac)
+/* The transforms of the inputs, in place. */
+static void transform_in(const poly_system *s, double *t)
 {
-    if (!poly_frame_active(s)) {
-        poly_eval_jacobian_batch_core(s, count, in, jac);
-        return;
-    }
-    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout;
-    double buf[64];
-    double *o = nout <= 64 ? buf : malloc(nout * sizeof *o);
-    for (size_t r = 0; r < count; r++) {
-        if (o)
-            poly_eval_jacobian(s, in + r * nin, o, jac + r * nin * nout);
-        else
-            for (size_t k = 0; k < nin * nout; k++)
-                jac[r * nin * nout + k] = NAN;
-    }
-    if (o != buf)
-        free(o);
+    for (int i = 0; s->nxform && i < s->nin; i++)
+        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
+            t[i] = 1 / (t[i] * t[i]);
 }
 
-/* Chain rule: jac = d out / d in from the core's d out' / d t. With the frame, t
- * depends on in through the rotation (c and s vary with x and y) and on the
- * transforms; the outputs through the rotation back. On the axis (r = 0) the angle is
- * undefined: there the frame is held fixed (the derivative along +x). */
-int poly_eval_jacobian(const poly_system *s, const double *in, double *out, double *jac)
+/* The inputs of the cores for one ray: w rotated into the frame, t = w transformed (the
+ * frame view's, as poly_frame_in), p transformed only (the plain view's, when np). */
+static void jacobian_inputs(const poly_system *s, int np, const double *in, double *w, double *t,
+                            double *p, double *cs)
 {
-    if (!poly_frame_active(s))
-        return poly_eval_jacobian_core(s, in, out, jac);
-    const int nin = s->nin, nout = s->nout, np = s->frame && s->nplain;
-    const size_t nn = (size_t)nin, no = (size_t)nout;
-    /* t, w: inputs of the core and the rotated inputs; T[i * nin + j] = dt_i / din_j;
-     * J: the core's Jacobian; op, Jp: the outputs outside the frame and theirs */
-    double *buf = calloc(2 * nn + nn * nn + 2 * nn * no + no, sizeof *buf);
-    if (!buf) {
-        for (int k = 0; k < nin * nout; k++)
-            jac[k] = NAN;
-        for (int o = 0; o < nout; o++)
-            out[o] = NAN;
-        return 0;
-    }
-    double *t = buf, *w = t + nn, *T = w + nn, *J = T + nn * nn, *Jp = J + nn * no, *op = Jp + nn * no;
-    double cs[2];
     rotate_in(s, in, w, cs);
-    poly_frame_in(s, in, t, cs);
-    poly_eval_jacobian_core(s->vframe ? s->vframe : s, t, out, J);
+    memcpy(t, w, (size_t)s->nin * sizeof *t);
+    transform_in(s, t);
+    if (np)
+        plain_in(s, in, p);
+}
+
+/* Chain rule: jac = d out / d in from the cores' values and Jacobians: out and J of the
+ * frame view at t (out in the frame, replaced by the final outputs), op and Jp of the
+ * plain view (when np). With the frame, t depends on in through the rotation (c and s
+ * vary with x and y) and on the transforms; the outputs through the rotation back. On the
+ * axis (r = 0) the angle is undefined: there the frame is held fixed (the derivative
+ * along +x). The rotation's derivatives are written out rather than multiplied as a
+ * matrix: 11 of its 25 entries are not zero, and the product cost as much as the cores.
+ * g: scratch of 2 nin doubles. Returns the pass flag. */
+static int frame_chain(const poly_system *s, int np, const double *in, const double *w,
+                       const double *cs, double *out, const double *J, const double *op,
+                       const double *Jp, double *g, double *jac)
+{
+    const int nin = s->nin, nout = s->nout;
     const double c = cs[0], sn = cs[1];
-    /* derivatives of c and s with respect to x and y */
-    double dc[2] = {0, 0}, ds[2] = {0, 0};
-    for (int i = 0; i < nin; i++)
-        T[i * nin + i] = 1;
+    double *gp = g + nin; /* d(1/w^2)/dw at the frame's inputs w, and at in (plain view) */
+    for (int i = 0; i < nin; i++) {
+        const int inv = s->xform[i] == POLY_XFORM_INVERSE_SQUARE;
+        g[i] = inv ? -2 / (w[i] * w[i] * w[i]) : 1;
+        gp[i] = !inv ? 1 : w[i] == in[i] ? g[i] : -2 / (in[i] * in[i] * in[i]);
+    }
+    for (int o = 0; o < nout; o++) /* inputs the frame does not turn: the transforms alone */
+        for (int j = 0; j < nin; j++)
+            jac[o * nin + j] = J[o * nin + j] * g[j];
+    double dc[2] = {0, 0}, ds[2] = {0, 0}; /* of c and s with respect to x and y */
     if (s->frame == POLY_FRAME_MERIDIONAL) {
         const int ix = s->ix, iy = s->iy, iu = s->iu, iv = s->iv;
-        double x = in[ix], y = in[iy], u = in[iu], v = in[iv];
-        double r = sqrt(x * x + y * y);
-        double ir = r > 0 ? 1 / r : 0;
+        const double u = in[iu], v = in[iv], r = w[ix]; /* rotate_in's sqrt(x*x + y*y) */
+        const double ir = r > 0 ? 1 / r : 0;
         dc[0] = sn * sn * ir;
         dc[1] = -c * sn * ir;
         ds[0] = -c * sn * ir;
         ds[1] = c * c * ir;
-        T[ix * nin + ix] = c;
-        T[ix * nin + iy] = sn;
-        T[iy * nin + iy] = 0;
-        T[iu * nin + ix] = dc[0] * u + ds[0] * v;
-        T[iu * nin + iy] = dc[1] * u + ds[1] * v;
-        T[iu * nin + iu] = c;
-        T[iu * nin + iv] = sn;
-        T[iv * nin + ix] = dc[0] * v - ds[0] * u;
-        T[iv * nin + iy] = dc[1] * v - ds[1] * u;
-        T[iv * nin + iu] = -sn;
-        T[iv * nin + iv] = c;
+        /* d u' / d x, d u' / d y, d v' / d x, d v' / d y; d r / d (x, y) = (c, s) */
+        const double dux = dc[0] * u + ds[0] * v, duy = dc[1] * u + ds[1] * v;
+        const double dvx = dc[0] * v - ds[0] * u, dvy = dc[1] * v - ds[1] * u;
+        for (int o = 0; o < nout; o++) {
+            double *jo = jac + o * nin;
+            const double Jr = J[o * nin + ix] * g[ix], Ju = J[o * nin + iu] * g[iu];
+            const double Jv = J[o * nin + iv] * g[iv];
+            jo[ix] = Jr * c + Ju * dux + Jv * dvx;
+            jo[iy] = Jr * sn + Ju * duy + Jv * dvy;
+            jo[iu] = Ju * c - Jv * sn;
+            jo[iv] = Ju * sn + Jv * c;
+        }
     }
-    for (int i = 0; i < nin; i++)
-        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE) {
-            double g = -2 / (w[i] * w[i] * w[i]); /* d(1/w^2)/dw */
-            for (int j = 0; j < nin; j++)
-                T[i * nin + j] *= g;
-        }
-    /* jac = J T, then the rotation of the output pairs */
-    for (int o = 0; o < nout; o++)
-        for (int j = 0; j < nin; j++) {
-            double acc = 0;
-            for (int i = 0; i < nin; i++)
-                acc += J[o * nin + i] * T[i * nin + j];
-            jac[o * nin + j] = acc;
-        }
     for (int k = 0; k < s->npairs; k++) {
         int a = s->pair[2 * k], b = s->pair[2 * k + 1];
         double A = out[a], B = out[b];
@@ -421,21 +398,92 @@ int poly_eval_jacobian(const poly_system *s, const double *in, double *out, doub
             jac[b * nin + j] = sn * dA + c * dB + A * dsj + B * dcj;
         }
     }
-    if (np) {
-        /* outside the frame: the transforms alone, diagonal */
-        plain_in(s, in, t);
-        poly_eval_jacobian_core(s->vplain ? s->vplain : s, t, op, Jp);
+    if (np) /* outside the frame: the transforms alone, diagonal */
         for (int o = 0; o < nout; o++) {
             if (!s->plain[o])
                 continue;
             out[o] = op[o];
             for (int j = 0; j < nin; j++)
-                jac[o * nin + j] = Jp[o * nin + j] * (s->xform[j] == POLY_XFORM_INVERSE_SQUARE
-                                                          ? -2 / (in[j] * in[j] * in[j])
-                                                          : 1);
+                jac[o * nin + j] = Jp[o * nin + j] * gp[j];
         }
-    }
     poly_frame_out(s, cs, out);
-    free(buf);
     return poly_passes(s, out);
+}
+
+/* Rays of the framed batch Jacobian per round: its scratch (about 3 KiB a ray for 5
+ * inputs and outputs) stays in the L2 cache. */
+#define JAC_CHUNK 256
+
+/* With a frame: the inputs of a chunk of rays, the cores' values and Jacobians through
+ * the batch kernel (one pass per view), then the chain rule ray by ray, as
+ * poly_eval_jacobian does (the same bits). Ray by ray if the views are missing. */
+void poly_eval_jacobian_batch(const poly_system *s, size_t count, const double *in, double *jac)
+{
+    if (!poly_frame_active(s)) {
+        poly_eval_jacobian_batch_core(s, count, in, jac);
+        return;
+    }
+    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout, nj = nin * nout;
+    const int np = s->frame && s->nplain;
+    const size_t per = 3 * nin + 2 + 2 * (nout + nj); /* w, t, p, cs, out, J, op, Jp */
+    const int views = !np || (s->vframe && s->vplain);
+    double *buf = views ? malloc((JAC_CHUNK * per + 2 * nin) * sizeof *buf) : NULL;
+    if (!buf) { /* ray by ray */
+        double o[64];
+        for (size_t r = 0; r < count; r++) {
+            if (nout <= 64)
+                poly_eval_jacobian(s, in + r * nin, o, jac + r * nj);
+            else
+                for (size_t k = 0; k < nj; k++)
+                    jac[r * nj + k] = NAN;
+        }
+        return;
+    }
+    double *W = buf, *Tin = W + JAC_CHUNK * nin, *P = Tin + JAC_CHUNK * nin;
+    double *CS = P + JAC_CHUNK * nin;
+    double *O = CS + 2 * JAC_CHUNK, *J = O + JAC_CHUNK * nout, *OP = J + JAC_CHUNK * nj;
+    double *JP = OP + JAC_CHUNK * nout, *g = JP + JAC_CHUNK * nj;
+    const poly_system *vf = np ? s->vframe : s, *vp = s->vplain;
+    for (size_t c0 = 0; c0 < count; c0 += JAC_CHUNK) {
+        const size_t n = count - c0 < JAC_CHUNK ? count - c0 : JAC_CHUNK;
+        const double *cin = in + c0 * nin;
+        for (size_t r = 0; r < n; r++)
+            jacobian_inputs(s, np, cin + r * nin, W + r * nin, Tin + r * nin, P + r * nin,
+                            CS + 2 * r);
+        poly_eval_core_batch(vf, n, Tin, O);
+        poly_eval_jacobian_batch_core(vf, n, Tin, J);
+        if (np) {
+            poly_eval_core_batch(vp, n, P, OP);
+            poly_eval_jacobian_batch_core(vp, n, P, JP);
+        }
+        for (size_t r = 0; r < n; r++)
+            frame_chain(s, np, cin + r * nin, W + r * nin, CS + 2 * r, O + r * nout, J + r * nj,
+                        OP + r * nout, JP + r * nj, g, jac + (c0 + r) * nj);
+    }
+    free(buf);
+}
+
+int poly_eval_jacobian(const poly_system *s, const double *in, double *out, double *jac)
+{
+    if (!poly_frame_active(s))
+        return poly_eval_jacobian_core(s, in, out, jac);
+    const int nin = s->nin, nout = s->nout, np = s->frame && s->nplain;
+    const size_t nn = (size_t)nin, no = (size_t)nout;
+    double *buf = malloc((5 * nn + 2 * nn * no + no) * sizeof *buf);
+    if (!buf) {
+        for (int k = 0; k < nin * nout; k++)
+            jac[k] = NAN;
+        for (int o = 0; o < nout; o++)
+            out[o] = NAN;
+        return 0;
+    }
+    double *w = buf, *t = w + nn, *p = t + nn, *g = p + nn, *J = g + 2 * nn, *Jp = J + nn * no;
+    double *op = Jp + nn * no, cs[2];
+    jacobian_inputs(s, np, in, w, t, p, cs);
+    poly_eval_jacobian_core(s->vframe ? s->vframe : s, t, out, J);
+    if (np)
+        poly_eval_jacobian_core(s->vplain ? s->vplain : s, p, op, Jp);
+    int pass = frame_chain(s, np, in, w, cs, out, J, op, Jp, g, jac);
+    free(buf);
+    return pass;
 }

@@ -141,6 +141,8 @@ int poly_eval_part_core(const poly_system *sys, int part, const double *in, doub
 void poly_eval_batch_core(const poly_system *sys, size_t count, const double *in, double *out,
                           unsigned char *pass);
 int poly_eval_jacobian_core(const poly_system *sys, const double *in, double *out, double *jac);
+/* poly_eval_part_core on many rays (bit for bit), through the batch kernel. */
+void poly_eval_core_batch(const poly_system *sys, size_t count, const double *in, double *out);
 void poly_eval_jacobian_batch_core(const poly_system *sys, size_t count, const double *in,
                                    double *jac);
 
@@ -170,11 +172,12 @@ static inline void poly_scale_column(const poly_system *s, int i, double *x, int
         x[r] = (x[r] - off) * inv;
 }
 
-/* d out / d in_i from g = d out / d s_i (the chain rule through poly_scale_column). */
-static inline double poly_scale_chain(const poly_system *s, int i, double in_i, double g)
+/* d out / d in_i from g = d out / d s_i (the chain rule through poly_scale_column): a
+ * multiply by the same rounded 1 / scale_i, which the batch kernel applies to whole
+ * vectors (a divide per derivative had cost it as much as the sums). */
+static inline double poly_scale_chain(const poly_system *s, int i, double g)
 {
-    (void)in_i;
-    return g / s->scale[i];
+    return g * (1 / s->scale[i]);
 }
 
 #endif

@@ -5,6 +5,7 @@
 #include "poly/poly_impl.h"
 
 #include "base/line_reader.h"
+#include "sparselens/numparse.h"
 
 #include <ctype.h>
 #include <errno.h>

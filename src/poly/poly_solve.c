@@ -5,7 +5,6 @@
 #include <math.h>
 #include <string.h>
 
-#include "sparselens/intersect.h"
 
 static const char *const in_names[5] = {"x", "y", "u", "v", "lambda"};
 static const char *const out_names[4] = {"out_x", "out_y", "out_u", "out_v"};
@@ -31,17 +30,6 @@ int poly_solve_check(const poly_system *sys, lens_err *err)
             return -1;
         }
     return 0;
-}
-
-int outer_of_object_ray(const lens_t *lens, const lens_ray *r, double outer[4])
-{
-    double t, p[3], nrm[3];
-    if (intersect_surface(&lens->surf[0], lens->vertex_z[0], r->o, r->d, INFINITY, &t, p, nrm) !=
-        ISECT_HIT)
-        return -1;
-    lens_ray back = {{p[0], p[1], p[2]}, {-r->d[0], -r->d[1], -r->d[2]}};
-    ray_to_outer(lens, &back, outer);
-    return isfinite(outer[0] + outer[1] + outer[2] + outer[3]) ? 0 : -1;
 }
 
 /* Solves the 4x4 system a x = b by Gaussian elimination with partial pivoting. */
@@ -88,14 +76,17 @@ typedef struct {
     double buf_in[8], buf_out[16], jac[16 * 8];
 } solver;
 
-/* Residual F(s) = sys(s) - target, and its Jacobian d F / d (x, y, u, v). */
+/* Residual F(s) = sys(s) - target, and (unless j is NULL) its Jacobian
+ * d F / d (x, y, u, v). Without j only the values are evaluated: poly_eval gives the
+ * bits of poly_eval_jacobian's outputs at a quarter of its cost. */
 static double residual(solver *sv, const double s[4], double f[4], double j[4][4], int *pass)
 {
     int ni = poly_ninputs(sv->sys);
     for (int i = 0; i < 4; i++)
         sv->buf_in[sv->in[i]] = s[i];
     sv->buf_in[sv->in[4]] = sv->lambda;
-    int p = poly_eval_jacobian(sv->sys, sv->buf_in, sv->buf_out, sv->jac);
+    int p = j ? poly_eval_jacobian(sv->sys, sv->buf_in, sv->buf_out, sv->jac)
+              : poly_eval(sv->sys, sv->buf_in, sv->buf_out);
     if (pass)
         *pass = p;
     double nrm = 0;
@@ -132,17 +123,22 @@ int poly_solve_sensor(const poly_system *sys, double lambda, const double outer[
         double step[4], b[4] = {-f[0], -f[1], -f[2], -f[3]};
         if (solve4(j, b, step) != 0)
             return -1;
-        /* Backtracking keeps Newton from leaving the region where the fit is valid. */
+        /* Backtracking keeps Newton from leaving the region where the fit is valid. The
+         * full step, usually taken, is tried with its Jacobian; shorter ones with values
+         * only, and the Jacobian follows once one is taken. */
         double lam = 1, ns[4], nf[4], nj[4][4], nr = INFINITY;
-        for (int k = 0; k < 30; k++, lam *= 0.5) {
+        int k = 0;
+        for (; k < 30; k++, lam *= 0.5) {
             for (int i = 0; i < 4; i++)
                 ns[i] = s[i] + lam * step[i];
-            nr = residual(&sv, ns, nf, nj, NULL);
+            nr = residual(&sv, ns, nf, k == 0 ? nj : NULL, NULL);
             if (nr < r)
                 break;
         }
         if (!(nr < r))
             return -1;
+        if (k > 0)
+            residual(&sv, ns, nf, nj, NULL);
         memcpy(s, ns, sizeof s);
         memcpy(f, nf, sizeof f);
         memcpy(j, nj, sizeof j);

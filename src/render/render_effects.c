@@ -1,21 +1,30 @@
 /* "Simulate only the effects a scene calls for": the choices, the measurements behind
- * the automatic ones, and the cache of fitted systems (render_effects.h).
+ * the automatic ones, and the cache of fitted systems (render_effects.h). Every choice
+ * depends on the lens and the scene only, never on spp: a preview and the final render
+ * use the same system.
  *
- *  - dispersion: a grey scene renders one wavelength, so lambda is no input (a system
- *    of four inputs has far fewer candidate terms than one of five);
- *  - transmittance: on/off as the scene says; auto: on when the mean Fresnel
- *    transmittance changes from the centre to the edge of the sensor in use by more than
- *    the noise of the render (of an 8x8-pixel mean, 1/sqrt(64 spp)) and at least 1%; when off, the image is still weighted by the mean transmittance on the axis,
- *    so that its exposure matches the exact lens;
+ *  - dispersion: lambda is an input only when some glass of the lens disperses (its
+ *    index differs over the render's wavelengths) and the scene is not grey; off, every
+ *    wavelength of a camera sample shares one ray (render_image.c). Dropped error: the
+ *    lateral colour at the field edge, the shift between the chief rays of the band
+ *    ends, in pixels;
+ *  - transmittance: on when the mean Fresnel transmittance changes by more than 1% from
+ *    the centre to the edge of the sensor in use; off, the image is weighted by the mean
+ *    transmittance on the axis, so its exposure matches the exact lens. Dropped error:
+ *    that change, the brightness error at the edge;
  *  - vignetting: the pass circles of the front element and the other clipping rims
- *    beside the stop's; auto: on when the share of the rays through the stop at the
- *    edge of the sensor in use that the front group clips (the cat's eye) is above the
- *    same noise and at least 2%;
+ *    beside the stop's, and camera directions drawn from the line pupil of the whole
+ *    lens; on when the front group clips more than 2% of the light through the stop at
+ *    the edge (the cat's eye). Off, the system keeps the stop's and the rear's circles
+ *    and directions come from the line pupil of the stop alone (render_sampler_stop),
+ *    so the switch changes the picture. Dropped error: that share, the brightness
+ *    error at the edge;
  *  - domain: the sensor area rendered (half its diagonal), not the lens's whole field;
  *  - tolerance: a tenth of a pixel. Directions at the outer pupil carry the image
  *    position: an angle error da moves the picture by about efl * da on the sensor, so
  *    the direction tolerance is 0.1 * pitch / efl. Positions on the front element move
- *    the picture far less (by the magnification of the scene), and share it. */
+ *    the picture far less (by the magnification of the scene), and share it.
+ * A scene's "transmittance|vignetting|dispersion on|off" overrides the choice. */
 #include "sparselens/render_effects.h"
 
 #include <errno.h>
@@ -32,6 +41,43 @@
 #include "sparselens/trace.h"
 
 #define PROBE_N 24 /* directions per axis in the vignetting probe */
+#define VIGNETTING_BAR 0.02
+#define TRANSMITTANCE_BAR 0.01
+
+/* Lateral colour at sensor radius r, mm on the sensor: the chief ray from (r, 0) (aimed
+ * through the stop's centre at the d line) leaves the lens at the two band ends in
+ * directions da apart, and the pictures of a far object at the two wavelengths then lie
+ * about efl * da apart. */
+static double lateral_colour(const lens_t *lens, double r)
+{
+    double n0[lens->nsurf], n1[lens->nsurf], nd[lens->nsurf];
+    lens_err e2;
+    if (lens_indices(lens, RENDER_LAMBDA_MIN, n0, &e2) || lens_indices(lens, RENDER_LAMBDA_MAX, n1, &e2) ||
+        lens_indices(lens, GLASS_D_LINE, nd, &e2))
+        return 0;
+    /* the chief ray at the d line: the direction from (r, 0) whose stop hit is nearest
+     * the axis, by a short search over u */
+    const lens_surface *rear = &lens->surf[lens->nsurf - 1];
+    double best_u = -r / rear->thickness, best = INFINITY;
+    for (int it = 0; it < 3; it++) {
+        double span = (it == 0 ? 1.0 : it == 1 ? 0.05 : 0.0025), centre = best_u;
+        for (int k = -20; k <= 20; k++) {
+            double u = centre + span * k / 20, in[4] = {r, 0, u, 0}, out[4];
+            trace_result t = trace_sample(lens, nd, TRACE_TO_STOP, in, out);
+            if (t.status == TRACE_PASSED && fabs(out[0]) < best) best = fabs(out[0]), best_u = u;
+        }
+    }
+    double in[4] = {r, 0, best_u, 0}, a[4], b[4];
+    trace_result ta = trace_sample(lens, n0, TRACE_TO_OUTER, in, a);
+    trace_result tb = trace_sample(lens, n1, TRACE_TO_OUTER, in, b);
+    if (ta.status != TRACE_PASSED || tb.status != TRACE_PASSED) return 0;
+    lens_ray ra, rb;
+    if (ray_from_outer(lens, a, &ra) || ray_from_outer(lens, b, &rb)) return 0;
+    double dot = ra.d[0] * rb.d[0] + ra.d[1] * rb.d[1] + ra.d[2] * rb.d[2];
+    paraxial_data p;
+    if (paraxial_compute(lens, GLASS_D_LINE, &p, &e2)) return 0;
+    return acos(fmin(1, dot)) * fabs(p.efl);
+}
 
 /* Share of rays from sensor point (r, 0), aimed over the rear element, that pass the
  * stop and are then clipped in front of it; and the mean transmittance of the rays
@@ -82,7 +128,8 @@ int render_effects_decide(const scene_t *s, const lens_t *lens, double sw, doubl
     e->efl = fabs(p.efl);
     e->focus = isnan(s->focus) ? p.focus_distance : s->focus;
     e->disperses = render_lens_disperses(lens);
-    e->dispersion = s->mode != SCENE_GREY && e->disperses;
+    e->dispersion = s->dispersion == EFFECT_AUTO ? s->mode != SCENE_GREY && e->disperses
+                                                 : s->dispersion == EFFECT_ON;
     e->domain_radius = 0.5 * hypot(sw, sh);
     e->pixel_pitch = fmin(sw / s->width, sh / s->height);
     e->tolerance = 0.1 * e->pixel_pitch / e->efl;
@@ -100,15 +147,11 @@ int render_effects_decide(const scene_t *s, const lens_t *lens, double sw, doubl
     e->vignetting_loss = loss_edge;
     e->eta_centre = eta_centre;
     e->eta_variation = eta_centre > 0 ? fabs(eta_edge - eta_centre) / eta_centre : 0;
-    /* "more than the noise": a pixel's relative noise is about 1/sqrt(spp), and a smooth
-     * change is seen over a region, so the bar is the noise of an 8x8-pixel mean, and
-     * never below 2% (vignetting) and 1% (transmittance) */
-    e->noise = 1 / sqrt(64.0 * (s->spp > 0 ? s->spp : 1));
-    e->vignetting = s->vignetting == EFFECT_AUTO ? loss_edge > fmax(0.02, e->noise)
+    e->vignetting = s->vignetting == EFFECT_AUTO ? loss_edge > VIGNETTING_BAR
                                                  : s->vignetting == EFFECT_ON;
-    e->transmittance =
-        s->transmittance == EFFECT_AUTO ? e->eta_variation > fmax(0.01, e->noise)
-                                        : s->transmittance == EFFECT_ON;
+    e->transmittance = s->transmittance == EFFECT_AUTO ? e->eta_variation > TRANSMITTANCE_BAR
+                                                       : s->transmittance == EFFECT_ON;
+    e->lateral_colour_px = e->disperses ? lateral_colour(lens, r_edge) / e->pixel_pitch : 0;
     return 0;
 }
 
@@ -125,10 +168,16 @@ void render_effects_print(FILE *f, const render_effects *e)
     }
     fprintf(f, "effects on: %s\n", *on ? on : "(none)");
     fprintf(f, "effects off: %s\n", *off ? off : "(none)");
-    fprintf(f, "why: front-group clipping at the edge %.1f%% (vignetting when > %.1f%%), "
-               "transmittance centre to edge %.2f%% (when > %.1f%%)\n",
-            100 * e->vignetting_loss, 100 * fmax(0.02, e->noise), 100 * e->eta_variation,
-            100 * fmax(0.01, e->noise));
+    fprintf(f, "effect dispersion: %s; glasses %s; dropped, lateral colour at the edge "
+               "%.2f px\n", e->dispersion ? "on" : "off", e->disperses ? "disperse" : "do not disperse",
+            e->lateral_colour_px);
+    fprintf(f, "effect transmittance: %s (when > %.0f%%); dropped, the edge is %.2f%% off in "
+               "brightness\n", e->transmittance ? "on" : "off", 100 * TRANSMITTANCE_BAR,
+            100 * e->eta_variation);
+    fprintf(f, "effect vignetting: %s (when > %.0f%%); dropped, the edge is %.2f%% too bright "
+               "(front-group clipping %.1f%%)\n", e->vignetting ? "on" : "off", 100 * VIGNETTING_BAR,
+            e->vignetting_loss < 1 ? 100 * e->vignetting_loss / (1 - e->vignetting_loss) : INFINITY,
+            100 * e->vignetting_loss);
     fprintf(f, "fit domain: sensor radius %.3g mm; tolerance %.3g (a tenth of a %.3g mm pixel "
                "over efl %.4g mm)\n",
             e->domain_radius, e->tolerance, e->pixel_pitch, e->efl);
@@ -236,12 +285,13 @@ static poly_system *obtain(const lens_t *lens, const render_effects *e, const ch
 }
 
 int render_effects_sampler(const lens_t *lens, double lambda_min, double lambda_max,
-                           double rmax, const char *dir, int threads, FILE *log,
+                           double rmax, int stop_only, const char *dir, int threads, FILE *log,
                            render_sampler *smp, lens_err *err)
 {
     uint64_t h = lens_hash(lens);
     char tag[160], path[1200] = "";
-    int n = snprintf(tag, sizeof tag, "pupil v1 %.17g %.17g %.17g", lambda_min, lambda_max, rmax);
+    int n = snprintf(tag, sizeof tag, "%s v1 %.17g %.17g %.17g", stop_only ? "stop" : "pupil",
+                     lambda_min, lambda_max, rmax);
     h = fnv(h, tag, (size_t)n);
     memset(smp, 0, sizeof *smp);
     smp->kind = RENDER_SAMPLE_PUPIL;
@@ -260,8 +310,12 @@ int render_effects_sampler(const lens_t *lens, double lambda_min, double lambda_
         }
     }
     double t0 = omp_get_wtime();
-    if (render_sampler_lens(smp, lens, lambda_min, lambda_max, rmax, threads, err)) return -1;
-    if (log) fprintf(log, "line pupil: built in %.2f s\n", omp_get_wtime() - t0);
+    if (stop_only ? render_sampler_stop(smp, lens, lambda_min, lambda_max, rmax, err)
+                  : render_sampler_lens(smp, lens, lambda_min, lambda_max, rmax, threads, err))
+        return -1;
+    if (log)
+        fprintf(log, "line pupil%s: built in %.2f s\n", stop_only ? " of the stop" : "",
+                omp_get_wtime() - t0);
     if (*path && make_dirs(dir) == 0) {
         lens_err e2;
         outfile *of = outfile_open(path, &e2);
@@ -276,98 +330,130 @@ int render_effects_sampler(const lens_t *lens, double lambda_min, double lambda_
     return 0;
 }
 
-/* Seconds per poly_eval of sys and of full over the same sensor rays: the fastest of
- * several interleaved rounds, so that other load on the machine hits both alike. */
-#define TIMING_RAYS 4096
-static void fill_rays(const poly_system *sys, const render_effects *e, double *in)
+/* Nanoseconds per ray of sys's batch evaluation, and of the same system without the
+ * outputs in drop (the cost of an effect's outputs), timed interleaved, best of several
+ * rounds so that other load on the machine hits both alike. */
+#define TIMING_RAYS 2048
+static poly_system *without(const poly_system *s, const int *drop)
 {
-    int nin = poly_ninputs(sys);
-    int ix = poly_input_index(sys, "x"), iy = poly_input_index(sys, "y"),
-        iu = poly_input_index(sys, "u"), iv = poly_input_index(sys, "v"),
-        il = poly_input_index(sys, "lambda");
-    for (int k = 0; k < TIMING_RAYS; k++) {
-        double a = 2 * M_PI * k / TIMING_RAYS, *row = in + (size_t)k * nin;
-        for (int i = 0; i < nin; i++) row[i] = 0;
-        row[ix] = 0.5 * e->domain_radius * cos(a);
-        row[iy] = 0.5 * e->domain_radius * sin(a);
-        row[iu] = -0.01 * cos(a);
-        row[iv] = 0.01 * sin(3 * a);
-        if (il >= 0) row[il] = 0.45 + 0.2 * (k % 7) / 6.0;
+    int nin = poly_ninputs(s), nout = poly_noutputs(s);
+    const char *in[16], *out[32];
+    if (nin > 16 || nout > 32) return NULL;
+    for (int i = 0; i < nin; i++) in[i] = poly_input_name(s, i);
+    for (int o = 0; o < nout; o++) out[o] = poly_output_name(s, o);
+    poly_system *r = poly_new(poly_lens_name(s), nin, in, nout, out);
+    if (!r) return NULL;
+    poly_set_frame(r, poly_get_frame(s));
+    for (int i = 0; i < nin; i++) {
+        double a, b;
+        poly_get_scaling(s, i, &a, &b);
+        poly_set_scaling(r, i, a, b);
+        poly_set_transform(r, i, poly_get_transform(s, i));
     }
+    for (int o = 0; o < nout; o++) poly_set_output_plain(r, o, poly_get_output_plain(s, o));
+    for (int p = 0; p < poly_nparts(s); p++) {
+        double r0, r1;
+        poly_part_range(s, p, &r0, &r1);
+        int q = poly_add_part(r, r0, r1);
+        for (int o = 0; o < nout; o++)
+            for (int t = 0; !drop[o] && t < poly_nterms(s, p, o); t++) {
+                int ex[16];
+                double c;
+                poly_get_term(s, p, o, t, ex, &c);
+                poly_add_term(r, q, o, ex, c);
+            }
+    }
+    return r;
 }
 
-static double time_once(const poly_system *sys, const double *in, double *sink)
+static double time_batch(const poly_system *s, const double *in, double *out, unsigned char *pass)
 {
-    int nin = poly_ninputs(sys);
-    double out[32], t0 = omp_get_wtime();
-    for (int k = 0; k < TIMING_RAYS; k++) {
-        poly_eval(sys, in + (size_t)k * nin, out);
-        *sink += out[0];
-    }
-    return (omp_get_wtime() - t0) / TIMING_RAYS;
+    double t0 = omp_get_wtime();
+    poly_eval_batch(s, TIMING_RAYS, in, out, pass);
+    return (omp_get_wtime() - t0) / TIMING_RAYS * 1e9;
 }
 
-static void eval_times(const poly_system *sys, const poly_system *full, const render_effects *e,
-                       double *t, double *tf)
+static void output_cost(const poly_system *sys, const render_effects *e, const int *drop,
+                        double *t_all, double *t_without)
 {
-    double *a = malloc(TIMING_RAYS * 8 * sizeof *a), *b = malloc(TIMING_RAYS * 8 * sizeof *b);
-    double sink = 0;
-    *t = *tf = INFINITY;
-    if (a && b && poly_noutputs(sys) <= 32 && poly_noutputs(full) <= 32 &&
-        poly_ninputs(sys) <= 8 && poly_ninputs(full) <= 8) {
-        fill_rays(sys, e, a);
-        fill_rays(full, e, b);
-        for (int rep = 0; rep < 15; rep++) {
-            *t = fmin(*t, time_once(sys, a, &sink));
-            *tf = fmin(*tf, time_once(full, b, &sink));
+    int nin = poly_ninputs(sys), nout = poly_noutputs(sys);
+    *t_all = *t_without = NAN;
+    poly_system *w = without(sys, drop);
+    double *in = malloc((size_t)TIMING_RAYS * nin * sizeof *in),
+           *out = malloc((size_t)TIMING_RAYS * nout * sizeof *out);
+    unsigned char *pass = malloc(TIMING_RAYS);
+    if (w && in && out && pass) {
+        int ix = poly_input_index(sys, "x"), iy = poly_input_index(sys, "y"),
+            iu = poly_input_index(sys, "u"), iv = poly_input_index(sys, "v"),
+            il = poly_input_index(sys, "lambda");
+        for (int k = 0; k < TIMING_RAYS; k++) {
+            double a = 2 * M_PI * k / TIMING_RAYS, *row = in + (size_t)k * nin;
+            for (int i = 0; i < nin; i++) row[i] = 0;
+            row[ix] = 0.5 * e->domain_radius * cos(a);
+            row[iy] = 0.5 * e->domain_radius * sin(a);
+            row[iu] = -0.01 * cos(a);
+            row[iv] = 0.01 * sin(3 * a);
+            if (il >= 0) row[il] = 0.45 + 0.2 * (k % 7) / 6.0;
+        }
+        *t_all = *t_without = INFINITY;
+        for (int rep = 0; rep < 9; rep++) {
+            *t_all = fmin(*t_all, time_batch(sys, in, out, pass));
+            *t_without = fmin(*t_without, time_batch(w, in, out, pass));
         }
     }
-    free(a);
-    free(b);
-    if (sink == 12345.678) *t = 0; /* sink keeps the loops */
+    poly_free(w);
+    free(in);
+    free(out);
+    free(pass);
 }
 
-static int total_terms(const poly_system *s)
+/* The time each effect costs per camera ray, measured on the system itself: for an
+ * effect that is on, the evaluation time of its outputs (the system timed with and
+ * without them); for one that is off, nothing is fitted, and what it would cost is
+ * estimated from this system's mean time per output. */
+static void print_costs(FILE *log, const poly_system *sys, const render_effects *e)
 {
-    int n = 0;
-    for (int p = 0; p < poly_nparts(s); p++)
-        for (int o = 0; o < poly_noutputs(s); o++) n += poly_nterms(s, p, o);
-    return n;
+    int nout = poly_noutputs(sys), drop[32] = {0}, nclip = 0, eta = -1;
+    if (nout > 32) return;
+    for (int o = 0; o < nout; o++) {
+        const char *n = poly_output_name(sys, o);
+        if (n[0] == 's' && n[1] >= '0' && n[1] <= '9') nclip++, drop[o] = 1;
+        if (!strcmp(n, "out_eta")) eta = o;
+    }
+    double t_all, t_clip, t_eta = NAN, t_all2;
+    output_cost(sys, e, drop, &t_all, &t_clip);
+    memset(drop, 0, sizeof drop);
+    if (eta >= 0) {
+        drop[eta] = 1;
+        output_cost(sys, e, drop, &t_all2, &t_eta);
+    }
+    double per_output = t_all / nout;
+    fprintf(log, "system: %d outputs, %.1f ns per ray in batches\n", nout, t_all);
+    if (!nclip)
+        fprintf(log, "cost vignetting: %s, no rim outputs (a pass circle on out_x out_y: "
+                     "no measurable time)\n", e->vignetting ? "on" : "off");
+    else
+        fprintf(log, "cost vignetting: %s, %d rim outputs, %.1f ns per ray%s\n",
+                e->vignetting ? "on" : "off", nclip, t_all - t_clip,
+                e->vignetting ? "" : " (fitted all the same: render_fit.c)");
+    if (e->transmittance)
+        fprintf(log, "cost transmittance: %.1f ns per ray (out_eta)\n", t_all2 - t_eta);
+    else
+        fprintf(log, "cost transmittance: off, saves about %.1f ns per ray (one output, "
+                     "estimated from this system's mean)\n", per_output);
+    if (e->dispersion)
+        fprintf(log, "cost dispersion: lambda an input, and one camera ray per wavelength\n");
+    else
+        fprintf(log, "cost dispersion: off, one camera ray per sample for all wavelengths%s\n",
+                e->disperses ? "" : " (the lens does not disperse: no error)");
 }
 
 poly_system *render_effects_system(const lens_t *lens, const render_effects *e,
                                    const char *cache_dir, int threads, FILE *log,
                                    lens_err *err)
 {
-    double fit_s, full_fit_s;
+    double fit_s;
     poly_system *sys = obtain(lens, e, cache_dir, threads, log, &fit_s, err);
-    if (!sys) return NULL;
-    render_effects full = *e;
-    full.dispersion = full.transmittance = full.vignetting = 1;
-    if (full.dispersion == e->dispersion && full.transmittance == e->transmittance &&
-        full.vignetting == e->vignetting) {
-        if (log) fprintf(log, "saved: nothing (the scene calls for every effect)\n");
-        return sys;
-    }
-    /* the full system is fitted once for the comparison, and cached like any other */
-    lens_err e2;
-    poly_system *fs = obtain(lens, &full, cache_dir, threads, NULL, &full_fit_s, &e2);
-    if (!fs) {
-        if (log) fprintf(log, "saved: unknown (the full system failed to fit: %s)\n", e2.msg);
-        return sys;
-    }
-    double t, tf;
-    eval_times(sys, fs, e, &t, &tf);
-    if (log) {
-        fprintf(log, "system: %d terms, %d monomials per ray; the full system: %d terms, %d\n",
-                total_terms(sys), poly_nmonomials(sys, 0), total_terms(fs),
-                poly_nmonomials(fs, 0));
-        fprintf(log, "saved: %.0f ns of %.0f ns per camera ray (%.0f%%) against the full system",
-                1e9 * (tf - t), 1e9 * tf, tf > 0 ? 100 * (tf - t) / tf : 0);
-        if (fit_s > 0 && full_fit_s > 0)
-            fprintf(log, "; fit %.2f s instead of %.2f s", fit_s, full_fit_s);
-        fprintf(log, "\n");
-    }
-    poly_free(fs);
+    if (sys && log) print_costs(log, sys, e);
     return sys;
 }

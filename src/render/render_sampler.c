@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "sparselens/render.h"
+#include "sparselens/trace.h"
 
 void render_sampler_rear(render_sampler *s, const render_camera *cam)
 {
@@ -64,6 +65,45 @@ int render_sampler_pupil(render_sampler *s, const render_camera *cam, double lam
     s->kind = RENDER_SAMPLE_PUPIL;
     s->ps = pupil_sampler_build_probe(probe_map, &p, cam->rear_dist, 1.5 * cam->rear_radius, &po,
                                       err);
+    return s->ps ? 0 : -1;
+}
+
+typedef struct {
+    const lens_t *lens;
+    double *n; /* STOP_WAVES x nsurf indices */
+} stop_probe;
+
+#define STOP_WAVES 3
+static void probe_stop(void *ctx, double r, int m, const double *u, const double *v,
+                       unsigned char *pass)
+{
+    const stop_probe *p = ctx;
+    for (int k = 0; k < m; k++)
+        for (int w = 0; w < STOP_WAVES && !pass[k]; w++) {
+            double in[4] = {r, 0, u[k], v[k]}, out[4];
+            trace_result t = trace_sample(p->lens, p->n + (size_t)w * p->lens->nsurf, TRACE_TO_STOP,
+                                          in, out);
+            pass[k] = t.status == TRACE_PASSED;
+        }
+}
+
+int render_sampler_stop(render_sampler *s, const lens_t *lens, double lambda_min,
+                        double lambda_max, double rmax, lens_err *err)
+{
+    memset(s, 0, sizeof *s);
+    size_t ns = lens->nsurf;
+    double n[STOP_WAVES * ns];
+    for (int w = 0; w < STOP_WAVES; w++)
+        if (lens_indices(lens, lambda_min + (lambda_max - lambda_min) * w / (STOP_WAVES - 1),
+                         n + w * ns, err))
+            return -1;
+    stop_probe p = {lens, n};
+    const lens_surface *rear = &lens->surf[ns - 1];
+    pupil_sampler_options po = {.lambda_min = lambda_min, .lambda_max = lambda_max,
+                                .sensor_radius = rmax};
+    s->kind = RENDER_SAMPLE_PUPIL;
+    s->ps = pupil_sampler_build_probe(probe_stop, &p, rear->thickness, 1.5 * rear->semi_diameter,
+                                      &po, err);
     return s->ps ? 0 : -1;
 }
 

@@ -38,21 +38,54 @@ static double shift_of(uint64_t key)
     return (double)(key >> 11) * 0x1.0p-53;
 }
 
+/* The first two dimensions of the Sobol sequence, a (0, 2)-sequence in base 2: van der
+ * Corput (the index's bits reversed) and the Pascal-matrix dimension. */
+static uint32_t reverse32(uint32_t x)
+{
+    x = (x << 16) | (x >> 16);
+    x = ((x & 0x00ff00ffu) << 8) | ((x >> 8) & 0x00ff00ffu);
+    x = ((x & 0x0f0f0f0fu) << 4) | ((x >> 4) & 0x0f0f0f0fu);
+    x = ((x & 0x33333333u) << 2) | ((x >> 2) & 0x33333333u);
+    return ((x & 0x55555555u) << 1) | ((x >> 1) & 0x55555555u);
+}
+
+static uint32_t sobol_dim2(uint32_t j)
+{
+    uint32_t x = 0, v = 1u << 31;
+    for (; j; j >>= 1, v ^= v >> 1)
+        if (j & 1) x ^= v;
+    return x;
+}
+
+/* An Owen scramble of the binary fraction x (MSB = 1/2): each digit is flipped by a
+ * hash of the digits above it. With the bits reversed, "above" becomes "below", and
+ * adding a constant, multiplying by an odd number or xoring with x times an even number
+ * change a bit only as a function of the bits below it (Laine and Karras 2011). */
+static uint32_t owen(uint32_t x, uint64_t key)
+{
+    uint32_t r = reverse32(x);
+    uint32_t k1 = (uint32_t)key, k2 = (uint32_t)(key >> 32);
+    r += k1;
+    r ^= r * (k2 << 1);
+    r *= k1 | 1u;
+    r ^= r * ((k1 ^ k2) & ~1u);
+    r += k2;
+    return reverse32(r);
+}
+
 void ld_2d(uint64_t key, int dim, uint64_t n, uint64_t k, double out[2])
 {
-    /* R2: alpha = (1/g, 1/g^2), g the plastic number, the root of g^3 = g + 1 */
-    static const double a1 = 0.75487766624669276005, a2 = 0.56984029099805326591;
     uint64_t kd = mix64(key ^ (0xD1B54A32D192ED03ull * (uint64_t)(dim + 1)));
-    double j = (double)permute(k, n, kd);
-    double x = j * a1 + shift_of(mix64(kd + 1)), y = j * a2 + shift_of(mix64(kd + 2));
-    out[0] = x - floor(x);
-    out[1] = y - floor(y);
+    uint32_t j = (uint32_t)permute(k, n, kd);
+    uint32_t a = owen(reverse32(j), mix64(kd + 1)), b = owen(sobol_dim2(j), mix64(kd + 2));
+    /* 32 digits, and a random point within the last interval */
+    out[0] = (a + (double)(mix64(kd + 3 + j) >> 11) * 0x1.0p-53) * 0x1.0p-32;
+    out[1] = (b + (double)(mix64(kd + 4 + j) >> 11) * 0x1.0p-53) * 0x1.0p-32;
 }
 
 double ld_1d(uint64_t key, int dim, uint64_t n, uint64_t k)
 {
-    static const double phi = 0.61803398874989484820; /* golden ratio - 1 */
     uint64_t kd = mix64(key ^ (0xA24BAED4963EE407ull * (uint64_t)(dim + 1)));
-    double x = (double)permute(k, n, kd) * phi + shift_of(mix64(kd + 1));
-    return x - floor(x);
+    uint64_t j = permute(k, n, kd);
+    return ((double)j + shift_of(mix64(kd + 3 + j))) / (double)n;
 }

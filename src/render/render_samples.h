@@ -2,14 +2,16 @@
 #define RENDER_RENDER_SAMPLES_H
 /* Low-discrepancy sample points for one pixel's n camera samples (render_samples.c).
  *
- * Each dimension pair (or single dimension) of sample k is point perm_d(k) of a rank-1
- * lattice sequence, Cranley-Patterson rotated: the R2 sequence (Roberts 2018) in 2D,
- * the golden-ratio sequence in 1D. The first n points of either are stratified for any
- * n, so the pixel's n samples cover each 2D projection evenly. perm_d is a pseudo-random
+ * Each dimension pair of sample k is point perm_d(k) of the first two Sobol dimensions
+ * (a (0, 2)-sequence: for n a power of two, every elementary interval of area 1/n holds
+ * one point), Owen-scrambled: a random but stratification-keeping flip of each binary
+ * digit, keyed per pixel and dimension. A single dimension is jittered stratification:
+ * stratum perm_d(k) of n, a random point within it. perm_d is a pseudo-random
  * permutation of [0, n) and the rotation a pseudo-random shift, both keyed by (pixel
- * seed, dimension): they decorrelate the dimensions from each other (without them the
- * pupil point would be a fixed shift of the pixel point) and make every sample
- * uniformly distributed, so each pixel's estimate stays unbiased. */
+ * seed, dimension): the permutation decorrelates the dimension pairs from each other
+ * (without it the pupil point would be a function of the pixel point), and the
+ * scramble makes every sample uniformly distributed, so each pixel's estimate stays
+ * unbiased. */
 #include <stdint.h>
 
 /* A key per pixel from the scene's seed and the pixel index. */

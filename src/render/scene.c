@@ -1,6 +1,7 @@
 /* The plain-text scene format of man 5 lens-scene: one statement per line, '#' starts a
  * comment, words separated by blanks. Every error names FILE:LINE. */
 #include "sparselens/scene.h"
+#include "sparselens/numparse.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -24,6 +25,7 @@ void scene_init(scene_t *s)
     s->seed = 1;
     s->transmittance = EFFECT_AUTO;
     s->vignetting = EFFECT_AUTO;
+    s->dispersion = EFFECT_AUTO;
 }
 
 void scene_free(scene_t *s)
@@ -344,6 +346,18 @@ static int statement(scene_t *s, line_ctx *c, int *have_camera)
         return effect(c, &s->transmittance);
     } else if (!strcmp(k, "vignetting")) {
         return effect(c, &s->vignetting);
+    } else if (!strcmp(k, "dispersion")) {
+        return effect(c, &s->dispersion);
+    } else if (!strcmp(k, "filter")) {
+        double r = 1;
+        int tent = c->n >= 2 && !strcmp(c->tok[1], "tent");
+        if (!((c->n == 2 && (tent || !strcmp(c->tok[1], "box"))) ||
+              (c->n == 3 && tent && !num(c, 2, &r) && r >= 0.5 && r <= 4))) {
+            lens_errf(c->err, c->path, c->line, "filter takes box, or tent [RADIUS] (pixels, 0.5 to 4)");
+            return -1;
+        }
+        s->filter_tent = tent;
+        s->filter_radius = r;
     } else if (!strcmp(k, "plane")) {
         return add_object(s, c, OBJ_PLANE);
     } else if (!strcmp(k, "disk")) {

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #define SAMPLES_MAX_COLS 64
+#define SAMPLES_MAX_META 32
 
 struct samples_reader {
     FILE *f;
@@ -28,7 +29,43 @@ struct samples_reader {
      * text, never parsed, nan in vals. */
     unsigned char opaque[SAMPLES_MAX_COLS];
     int npass, pass[SAMPLES_MAX_COLS];
+    /* "# key: value" comments before the header (samples_meta) */
+    int nmeta;
+    char *meta_key[SAMPLES_MAX_META], *meta_value[SAMPLES_MAX_META];
 };
+
+/* Keeps a "# key: value" comment (key a word of letters, digits, '-' and '_'); the
+ * first of a key wins. Other comments are ignored. */
+static void keep_meta(samples_reader *r, const char *s)
+{
+    size_t k = strspn(s, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_");
+    if (k == 0 || s[k] != ':' || r->nmeta == SAMPLES_MAX_META)
+        return;
+    for (int i = 0; i < r->nmeta; i++)
+        if (strlen(r->meta_key[i]) == k && strncmp(r->meta_key[i], s, k) == 0)
+            return;
+    const char *v = s + k + 1;
+    v += strspn(v, " \t");
+    size_t n = strlen(v);
+    while (n > 0 && (v[n - 1] == ' ' || v[n - 1] == '\t'))
+        n--;
+    char *key = strndup(s, k), *value = strndup(v, n);
+    if (!key || !value) {
+        free(key);
+        free(value);
+        return;
+    }
+    r->meta_key[r->nmeta] = key;
+    r->meta_value[r->nmeta++] = value;
+}
+
+const char *samples_meta(const samples_reader *r, const char *key)
+{
+    for (int i = 0; i < r->nmeta; i++)
+        if (strcmp(r->meta_key[i], key) == 0)
+            return r->meta_value[i];
+    return NULL;
+}
 
 static const char *display(const samples_reader *r)
 {
@@ -130,6 +167,7 @@ samples_reader *samples_open(const char *path, lens_err *err)
                 }
                 return r;
             }
+            keep_meta(r, s);
             continue;
         }
         if (is_blank(s))
@@ -283,6 +321,10 @@ void samples_close(samples_reader *r)
         fclose(r->f);
     for (int i = 0; i < r->ncols; i++)
         free(r->names[i]);
+    for (int i = 0; i < r->nmeta; i++) {
+        free(r->meta_key[i]);
+        free(r->meta_value[i]);
+    }
     line_reader_free(&r->lr);
     free(r);
 }

@@ -27,6 +27,8 @@ int sampling_strategy_parse(const char *name, sampling_strategy *s)
         *s = SAMPLING_PUPIL;
     else if (!strcmp(name, "rear"))
         *s = SAMPLING_REAR;
+    else if (!strcmp(name, "full"))
+        *s = SAMPLING_FULL;
     else
         return -1;
     return 0;
@@ -34,7 +36,7 @@ int sampling_strategy_parse(const char *name, sampling_strategy *s)
 
 const char *sampling_strategy_name(sampling_strategy s)
 {
-    return s == SAMPLING_REAR ? "rear" : "pupil";
+    return s == SAMPLING_REAR ? "rear" : s == SAMPLING_FULL ? "full" : "pupil";
 }
 
 /* Distance from the sensor to the rear vertex plane, and the rear semi-diameter. */
@@ -65,10 +67,39 @@ double rear_pdf(const lens_t *lens, double x, double y, double u, double v)
     return px * px + py * py <= sd * sd ? D * D / (M_PI * sd * sd) : 0.0;
 }
 
+/* A passing ray meets the rear surface at a point q within its semi-diameter h, at the
+ * rim up to |sag| away from the vertex plane. On its way from the sensor point p it
+ * crosses the vertex plane at q + f (q - p) with |f| <= |sag| / (D - |sag|), so inside
+ * h + (h + |p|) |sag| / (D - |sag|): the disc the full strategy draws from. */
+double full_disc_radius(const lens_t *lens, double sensor_radius)
+{
+    double D, h;
+    rear_disc(lens, &D, &h);
+    const lens_surface *s = &lens->surf[lens->nsurf - 1];
+    double sag = 0;
+    for (int k = 1; k <= 16; k++) /* aspheres need not be monotone */
+        sag = fmax(sag, fabs(lens_sag(s, h * h * k * k / 256.0)));
+    if (!(sag < 0.5 * D) || !isfinite(sag))
+        sag = 0.5 * D;
+    return h + (h + sensor_radius) * sag / (D - sag);
+}
+
+void full_sample(const lens_t *lens, double disc, double x, double y, const double rnd[2],
+                 double *u, double *v, double *pdf)
+{
+    double D, sd;
+    rear_disc(lens, &D, &sd);
+    double r = disc * sqrt(rnd[0]), a = 2 * M_PI * rnd[1];
+    *u = (r * cos(a) - x) / D;
+    *v = (r * sin(a) - y) / D;
+    *pdf = D * D / (M_PI * disc * disc);
+}
+
 struct ray_generator {
     const lens_t *lens;
     sampling_options opt;
     pupil_sampler *ps;
+    double disc; /* the full strategy's disc radius in the rear vertex plane */
 };
 
 ray_generator *ray_generator_new(const lens_t *lens, const sampling_options *opt, lens_err *err)
@@ -103,6 +134,7 @@ ray_generator *ray_generator_new(const lens_t *lens, const sampling_options *opt
         free(g);
         return NULL;
     }
+    g->disc = full_disc_radius(lens, 0.5 * hypot(g->opt.sensor_w, g->opt.sensor_h));
     if (g->opt.strategy == SAMPLING_PUPIL) {
         pupil_sampler_options po = {g->opt.lambda_min, g->opt.lambda_max,
                                     0.5 * hypot(g->opt.sensor_w, g->opt.sensor_h),
@@ -135,6 +167,10 @@ static void one_ray(const ray_generator *g, size_t i, double *row)
         x = (rng_uniform(&r) - 0.5) * o->sensor_w;
         y = (rng_uniform(&r) - 0.5) * o->sensor_h;
         double rnd[2] = {rng_uniform(&r), rng_uniform(&r)};
+        if (o->strategy == SAMPLING_FULL) {
+            full_sample(g->lens, g->disc, x, y, rnd, &u, &v, &pdf);
+            break;
+        }
         if (o->strategy == SAMPLING_REAR || !g->ps) {
             rear_sample(g->lens, x, y, rnd, &u, &v, &pdf);
             break;

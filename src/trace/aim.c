@@ -7,6 +7,7 @@
  * aimed ray is vignetted is for the caller to find out by tracing it. */
 #include <math.h>
 
+#include "sparselens/aim.h"
 #include "sparselens/trace.h"
 #include "trace/trace_core.h"
 

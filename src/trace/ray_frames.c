@@ -3,7 +3,7 @@
 #include <math.h>
 
 #include "sparselens/intersect.h"
-#include "sparselens/trace.h"
+#include "sparselens/ray_frames.h"
 
 void ray_from_sensor(const lens_t *lens, const double xyuv[4], lens_ray *r)
 {
@@ -93,4 +93,15 @@ void ray_to_stop(const lens_t *lens, const lens_ray *r, double xyuv[4])
     } else {
         xyuv[2] = xyuv[3] = NAN;
     }
+}
+
+int outer_of_object_ray(const lens_t *lens, const lens_ray *r, double outer[4])
+{
+    double t, p[3], nrm[3];
+    if (intersect_surface(&lens->surf[0], lens->vertex_z[0], r->o, r->d, INFINITY, &t, p, nrm) !=
+        ISECT_HIT)
+        return -1;
+    lens_ray back = {{p[0], p[1], p[2]}, {-r->d[0], -r->d[1], -r->d[2]}};
+    ray_to_outer(lens, &back, outer);
+    return isfinite(outer[0] + outer[1] + outer[2] + outer[3]) ? 0 : -1;
 }

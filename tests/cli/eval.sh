@@ -24,8 +24,8 @@ then ok eval_bad_row; else fail eval_bad_row "rc=$rc $(cat $T/err.txt) $(cat $T/
 
 # the report, against the hand computation in tests/unit/analysis/test_eval_report.c
 run $E $tiny tests/data/eval_tiny.txt --report --bins 2 >$T/rep.txt 2>/dev/null
-rms=$(awk '$1 == "out_x" && $NF == "mm" && NF == 7 { print $3 }' $T/rep.txt)
-if head -1 $T/rep.txt | grep -q '^# columns: output rays rms mean p99 max unit' && near "$rms" 0.661438 1e-6 &&
+rms=$(awk '$1 == "out_x_mm" && NF == 7 { print $3 }' $T/rep.txt)
+if head -1 $T/rep.txt | grep -q '^# columns: key rays rms mean p99 max unit' && near "$rms" 0.661438 1e-6 &&
    [ "$(awk '$1 == "false_pass" { print $2 }' $T/rep.txt)" = 1 ] && [ "$(awk '$1 == "false_block" { print $2 }' $T/rep.txt)" = 1 ]
 then ok eval_report; else fail eval_report "$(head -3 $T/rep.txt)"; fi
 expect_error eval_report_needs_reference "no reference column 'out_x'" \
@@ -53,7 +53,7 @@ cat >$T/main.c <<'C'
 int lens_fn(const double in[5], double out[5]);
 int main(void) {
     char line[512];
-    double in[5], out[5];
+    double in[5], out[64];
     while (fgets(line, sizeof line, stdin)) {
         if (line[0] == '#' || sscanf(line, "%lf %lf %lf %lf %lf", &in[0], &in[1], &in[2], &in[3], &in[4]) != 5)
             continue;
@@ -96,7 +96,7 @@ if [ -x $BIN/lens-trace ] && [ -x $BIN/lens-fit ]; then
     then ok eval_emit_c_fitted; else fail eval_emit_c_fitted; fi
     # the report on a held-out set: finite, and positions within a millimetre
     run $E $T/fit.poly $T/test.txt --report >$T/frep.txt 2>/dev/null
-    if awk '$1 == "out_x" && NF == 7 { found = 1; if (!($3 + 0 == $3 && $3 > 0 && $3 < 1)) exit 1 } END { exit !found }' $T/frep.txt
+    if awk '$1 == "out_x_mm" && NF == 7 { found = 1; if (!($3 + 0 == $3 && $3 > 0 && $3 < 1)) exit 1 } END { exit !found }' $T/frep.txt
     then ok eval_report_fitted; else fail eval_report_fitted "$(head -3 $T/frep.txt)"; fi
   else
     fail eval_emit_c_fitted "could not fit, emit or compile"

@@ -38,6 +38,13 @@ grep -q 'system: cached' <<<"$err" && ok cache-reused || fail cache-reused "$err
 grep -q 'line pupil: cached' <<<"$err" && ok pupil-cache-reused || fail pupil-cache-reused "$err"
 cmp -s "$T/p.exr" "$T/p2.exr" && ok reproducible || fail reproducible "same seed, different image"
 
+# the camera module compiles on its own, warning-free, and defines lens_camera_ray
+err=$($R "$T/s.scene" --emit-camera "$T/cam.c" --cache "$T/cache" 2>&1)
+if [ -s "$T/cam.c" ] && cc -std=c99 -O2 -Wall -Wextra -Werror -c "$T/cam.c" -o "$T/cam.o" 2>&1 \
+   && nm "$T/cam.o" | grep -q ' T lens_camera_ray$'; then ok camera-module; else fail camera-module "$err"; fi
+expect_error camera-module-exact 'needs a polynomial' $R "$T/s.scene" --emit-camera "$T/c2.c" --exact
+[ ! -e "$T/c2.c" ] && ok camera-module-no-partial || fail camera-module-no-partial "c2.c left behind"
+
 # a .poly camera: the cached system, named in a scene
 poly=$(ls "$T"/cache/*.poly | head -1)
 sed "s|^camera .*|camera $poly|" "$T/s.scene" >"$T/poly.scene"

@@ -14,9 +14,11 @@ mkdir -p "$T/par" "$T/seq"
 ( cd "$T/par" && cp -r "$TOP/lenses" . &&
   printf '%s\n' $lenses | parallel --will-cite -j 2 --sshlogin : --transfer --return '{/.}.poly' --cleanup \
     "lens-trace {} -n $n --seed 1 | lens-fit -q --lens {/.} -o {/.}.poly" ) > "$T/par.log" 2>&1
+# (the sequential run in the same layout: a system records its lens path as given)
+cp -r "$TOP/lenses" "$T/seq/"
 for l in $lenses; do
   b=$(basename "$l" .lens)
-  lens-trace "$l" -n $n --seed 1 | lens-fit -q --lens "$b" -o "$T/seq/$b.poly"
+  (cd "$T/seq" && lens-trace "$l" -n $n --seed 1 | lens-fit -q --lens "$b" -o "$b.poly")
   if cmp -s "$T/par/$b.poly" "$T/seq/$b.poly"; then ok "parallel fit $b = sequential"
   else fail "parallel fit $b = sequential" "$(cat "$T/par.log")"; fi
 done

@@ -18,9 +18,9 @@ run $TR $L -n $n --seed 7 --all --sampling rear --stop-columns -o $T/test.txt
 if grep -q '^# columns: x y u v lambda out_x out_y out_u out_v out_eta ap_x ap_y$' $T/train.txt
 then ok stop_header; else fail stop_header "$(grep '^# columns' $T/train.txt)"; fi
 
-# Default output: the same rays and columns as before, ap_x ap_y simply left out.
-run $TR $L -n 500 --seed 3 --all --sampling rear >$T/plain.txt
-run $TR $L -n 500 --seed 3 --all --sampling rear --stop-columns |
+# Without passage columns: the same rays and columns, ap_x ap_y simply left out.
+run $TR $L -n 500 --seed 3 --all --sampling rear --no-passage-columns | grep -v '^# passage' >$T/plain.txt
+run $TR $L -n 500 --seed 3 --all --sampling rear --stop-columns | grep -v '^# passage' |
   sed -e 's/ ap_x ap_y$//' -e '/^#/!s/ [^ ]* [^ ]*$//' >$T/cut.txt
 if cmp -s $T/plain.txt $T/cut.txt; then ok stop_default_unchanged
 else fail stop_default_unchanged "default output differs from --stop-columns minus ap_x ap_y"; fi
@@ -33,9 +33,11 @@ npass=$(awk '!/^#/ && $10 > 0' $T/train.txt | wc -l)
 if [ "$bad" = 0 ] && [ "$npass" -gt 100 ]; then ok stop_inside_semi_diameter
 else fail stop_inside_semi_diameter "$bad of $npass passing rays outside r = $stop_sd (or nan)"; fi
 
-# The stop hit is the same point --to stop reports as out_x out_y for a passing ray.
+# The stop hit is the same point --to stop reports as out_x out_y for a ray that gets
+# there (the passage columns also hold it, rim extended, for the others).
 run $TR $L -n 300 --seed 5 --to stop --stop-columns >$T/tostop.txt
-if awk '!/^#/ && ($6 != $11 || $7 != $12) { b++ } END { exit b > 0 }' $T/tostop.txt
+if awk '!/^#/ && $6 != "nan" && (($6 - $11) ^ 2 + ($7 - $12) ^ 2 > 1e-20) { b++ }
+        !/^#/ && $6 != "nan" { n++ } END { exit b > 0 || n < 100 }' $T/tostop.txt
 then ok stop_matches_to_stop; else fail stop_matches_to_stop "ap_x ap_y differ from --to stop's out_x out_y"; fi
 
 # Filter mode: tracing the generated rays again gives the same stop columns.

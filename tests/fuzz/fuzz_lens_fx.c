@@ -3,6 +3,6 @@
 #include "fuzz_common.h"
 #include "fuzz_lens_check.h"
 #include "sparselens/lens.h"
-#include "sparselens/lens_import.h"
+#include "sparselens/import_table.h"
 
 FUZZ_LENS_READER_TARGET(lens_read_fx, "fuzz.fx")

@@ -3,6 +3,5 @@
 #include "fuzz_common.h"
 #include "fuzz_lens_check.h"
 #include "sparselens/lens.h"
-#include "sparselens/lens_import.h"
 
 FUZZ_LENS_READER_TARGET(lens_read_native, "fuzz.lens")

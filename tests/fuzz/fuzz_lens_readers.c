@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "sparselens/lens.h"
-#include "sparselens/lens_import.h"
+#include "sparselens/import_table.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

@@ -1,9 +1,8 @@
 /* libFuzzer target: the Zemax .zmx importer (lens_read_zmx).
- * needs: include/sparselens/import.h */
+ * needs: include/sparselens/import_design.h */
 #include "fuzz_common.h"
 #include "fuzz_lens_check.h"
 #include "sparselens/lens.h"
-#include "sparselens/lens_import.h"
-#include "sparselens/import.h"
+#include "sparselens/import_design.h"
 
 FUZZ_LENS_READER_TARGET(lens_read_zmx, "fuzz.zmx")

@@ -98,9 +98,9 @@ static void test_overall_rows(void **st)
 {
     (void)st;
     char *text = report(NULL, 2, EVAL_DIR_UNIT);
-    assert_true(strncmp(text, "# columns: output rays rms mean p99 max unit\n", 45) == 0);
+    assert_true(strncmp(text, "# columns: key rays rms mean p99 max unit\n", 42) == 0);
     double v[5];
-    assert_true(find_row(text, "out_x", "mm", NULL, v, 5));
+    assert_true(find_row(text, "out_x_mm", "mm", NULL, v, 5));
     near(v[0], 3);
     near(v[1], sqrt((0.25 + 1 + 0.0625) / 3));
     near(v[2], (0.5 + 1 + 0.25) / 3);
@@ -112,7 +112,7 @@ static void test_overall_rows(void **st)
     near(v[4], 0.02);
     /* unit vectors (0, 0, 1) against (0.01, 0, sqrt(1 - 0.01^2)): the angle is asin(0.01) */
     double am = 180 * 60 / M_PI;
-    assert_true(find_row(text, "out_u", "arcmin", NULL, v, 5));
+    assert_true(find_row(text, "out_u_arcmin", "arcmin", NULL, v, 5));
     near(v[1], sqrt((pow(asin(0.01) * am, 2) + pow(asin(0.02) * am, 2)) / 3));
     near(v[4], asin(0.02) * am);
     assert_true(find_row(text, "out_eta", "1", NULL, v, 5));
@@ -128,11 +128,11 @@ static void test_bins_and_counts(void **st)
     char *text = report(NULL, 2, EVAL_DIR_UNIT);
     double v[8];
     /* radii 1 | 5, 10: rmax is the largest radius, 10, so the bins are [0,5) and [5,10] */
-    assert_true(find_row(text, "out_x", "mm", "0", v, 8));
+    assert_true(find_row(text, "out_x_mm", "mm", "0", v, 8));
     near(v[1], 5);
     near(v[2], 1);
     near(v[3], 0.5);
-    assert_true(find_row(text, "out_x", "mm", "5", v, 8));
+    assert_true(find_row(text, "out_x_mm", "mm", "5", v, 8));
     near(v[1], 10);
     near(v[2], 2);
     near(v[3], sqrt((1 + 0.0625) / 2));
@@ -158,7 +158,7 @@ static void test_slope_directions(void **st)
     (void)st;
     char *text = report(NULL, 1, EVAL_DIR_SLOPE);
     double v[5], am = 180 * 60 / M_PI;
-    assert_true(find_row(text, "out_u", "arcmin", NULL, v, 5));
+    assert_true(find_row(text, "out_u_arcmin", "arcmin", NULL, v, 5));
     near(v[4], atan(0.02) * am);
     near(v[2], (atan(0.01) + atan(0.02)) * am / 3);
     free(text);
@@ -182,7 +182,7 @@ static void test_p99_rank(void **st)
     eval_report_write(f, r);
     fclose(f);
     double v[5];
-    assert_true(find_row(buf, "out_x", "mm", NULL, v, 5));
+    assert_true(find_row(buf, "out_x_mm", "mm", NULL, v, 5));
     near(v[3], 198);
     near(v[4], 200);
     near(v[2], 100.5);
@@ -220,10 +220,10 @@ static void test_part_jump(void **st)
     eval_report_write(f, r);
     fclose(f);
     double v[3];
-    char *line = strstr(buf, "# columns: output radius jump unit\n");
+    char *line = strstr(buf, "# columns: key radius_mm jump unit\n");
     assert_non_null(line);
-    assert_int_equal(sscanf(line + strlen("# columns: output radius jump unit\n"),
-                            "out_x %lf %lf mm", &v[0], &v[1]),
+    assert_int_equal(sscanf(line + strlen("# columns: key radius_mm jump unit\n"),
+                            "out_x_mm %lf %lf mm", &v[0], &v[1]),
                      2);
     near(v[0], 5);
     near(v[1], 2.5);

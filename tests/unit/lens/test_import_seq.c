@@ -8,7 +8,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
-#include "sparselens/import.h"
+#include "sparselens/import_design.h"
 #include "import_check.h"
 
 static const char *const test_catalogs[] = {DATA "test.agf", NULL};

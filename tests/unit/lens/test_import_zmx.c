@@ -9,7 +9,7 @@
 
 #include <unistd.h>
 
-#include "sparselens/import.h"
+#include "sparselens/import_design.h"
 #include "import_check.h"
 
 static const char *const test_catalogs[] = {DATA "test.agf", NULL};

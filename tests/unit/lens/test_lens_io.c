@@ -13,9 +13,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "sparselens/import.h"
+#include "lens/lens_material.h"
 #include "sparselens/lens.h"
-#include "sparselens/lens_import.h"
 #include "sparselens/paraxial.h"
 
 #define REF "lenses/reference"

@@ -258,8 +258,9 @@ static void test_pass_and_domain(void **st)
 static void test_batch_frame_layouts(void **st)
 {
     (void)st;
-    enum { N = 203 };
+    enum { N = 303 }; /* more than one chunk of the batch Jacobian */
     double *in = malloc(N * 5 * sizeof *in), *outb = malloc(N * 5 * sizeof *outb);
+    double *jb = malloc(N * 25 * sizeof *jb);
     unsigned char pb[N];
     for (int layout = 0; layout < 4; layout++) {
         poly_system *s = fixture_system(30, 9, 2, 40 + (uint64_t)layout);
@@ -282,14 +283,19 @@ static void test_batch_frame_layouts(void **st)
         in[0] = in[1] = 0;         /* on the axis */
         in[5 * 7 + 1] = 0;         /* on +x: c = 1 exactly */
         in[5 * 9 + 4] = 0;         /* 1/lambda^2 infinite */
-        in[5 * 200 + 4] = 0;       /* the same in the last, partial block */
+        in[5 * 300 + 4] = 0;       /* the same in the last, partial block */
         poly_eval_batch(s, N, in, outb, pb);
+        poly_eval_jacobian_batch(s, N, in, jb);
         int npass = 0;
         for (int r = 0; r < N; r++) {
-            double o[5];
+            double o[5], oj[5], j1[25];
             int p = poly_eval(s, in + r * 5, o);
             assert_memory_equal(o, outb + r * 5, sizeof o);
             assert_int_equal(p, pb[r]);
+            /* the batch Jacobian (cores through the kernel, chunk by chunk) is the scalar's */
+            assert_int_equal(poly_eval_jacobian(s, in + r * 5, oj, j1), p);
+            assert_memory_equal(oj, o, sizeof o);
+            assert_memory_equal(j1, jb + (size_t)r * 25, sizeof j1);
             npass += p;
         }
         if (layout != 1)
@@ -299,6 +305,7 @@ static void test_batch_frame_layouts(void **st)
     }
     free(in);
     free(outb);
+    free(jb);
 }
 
 int main(void)

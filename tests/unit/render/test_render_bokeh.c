@@ -27,6 +27,7 @@
 #include "sparselens/render.h"
 #include "sparselens/render_lens.h"
 #include "sparselens/scene.h"
+#include "sparselens/aim.h"
 #include "sparselens/trace.h"
 
 #define SW 23.6

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "fixture_lenses.h"
+#include "sparselens/aim.h"
 #include "sparselens/trace.h"
 #include "sparselens/trace_packet.h"
 

@@ -1,6 +1,12 @@
-#ifndef SPARSELENS_IMPORT_H
-#define SPARSELENS_IMPORT_H
-/* Readers for prescriptions written by lens design programs: Zemax OpticStudio .zmx
+#ifndef SPARSELENS_IMPORT_DESIGN_H
+#define SPARSELENS_IMPORT_DESIGN_H
+/* Importers, one header per family (the rule): import_design.h for the files of lens
+ * design programs, import_table.h for the prescription tables of lens sets; the one
+ * entry point every command uses is lens_load() (lens.h), and the machinery the readers
+ * share stays inside src/lens/ (lens/lens_material.h: glass look-up and notes, for every
+ * reader; lens/import_common.h: decoding, tokens and systems, for design files).
+ *
+ * This family: prescriptions written by lens design programs, Zemax OpticStudio .zmx
  * and CODE V .seq (see lens-import(5) for the subset read).
  *
  * Both give a lens_t in millimetres whatever the file's units. What sparselens does
@@ -17,7 +23,7 @@
 #include "sparselens/diag.h"
 #include "sparselens/lens.h"
 
-/* lens_load()'s readers (lens_reader in lens_import.h): the whole stream f, named path. */
+/* lens_load()'s readers: the whole stream f, named path. */
 int lens_read_zmx(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
                   lens_err *err);
 int lens_read_seq(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,

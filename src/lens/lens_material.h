@@ -1,21 +1,12 @@
-#ifndef SPARSELENS_LENS_IMPORT_H
-#define SPARSELENS_LENS_IMPORT_H
-/* Shared by the prescription readers (lens_native.c, import_*.c) and lens_load.c:
- * the readers' common signature, material look-up through glass catalogs, and
- * number formatting that reads back exactly. */
+#ifndef SPARSELENS_LENS_MATERIAL_H
+#define SPARSELENS_LENS_MATERIAL_H
+/* Inside the lens stage: what every prescription reader (lens_native.c, import_*.c)
+ * shares: material look-up through glass catalogs, notes, and number formatting that
+ * reads back exactly (lens_material.c). */
 #include <stdio.h>
 
 #include "sparselens/glass.h"
 #include "sparselens/lens.h"
-
-/* Every reader: parse f (named path in messages) into a lens that lens_finish accepted. */
-typedef int (*lens_reader)(FILE *f, const char *path, const lens_load_options *opt,
-                           lens_t *lens, lens_err *err);
-
-int lens_read_fx(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
-                 lens_err *err);
-int lens_read_pbrt(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
-                   lens_err *err);
 
 /* Glass names are looked up, in order, in the catalogs of lens_load_options, then in
  * glass.catalog beside the lens file, then in glass_default_catalog_path(). The catalogs

@@ -1,0 +1,29 @@
+/* lens-layout: the meridional section of a lens with traced rays (man lens-layout). */
+#include <stdio.h>
+
+#include "sparselens/design_cli.h"
+#include "sparselens/layout_run.h"
+
+static const char *const prog = "lens-layout";
+
+int main(int argc, char **argv)
+{
+    layout_cli o;
+    layout_cli_default(&o);
+    const char *operand[1];
+    int nop = opt_parse(&layout_command, argc, argv, &o, operand, 1);
+    imaging_cli_finish(prog, &o.im, operand, nop);
+    layout_request rq = {.rays = (int)o.rays, .png = o.im.png, .svg = o.svg, .width = o.width};
+    imaging_models models;
+    double field[IMAGING_MAX_FIELDS];
+    design_set_from_cli(prog, &o.im, &models, field, &rq.set);
+    char title[256];
+    design_set_title(&o.im, &models, "meridional section", title, sizeof title);
+    rq.title = title;
+    lens_err err;
+    int rc = layout_run(&rq, stdout, &err);
+    if (rc != 0)
+        diag_print(prog, &err);
+    imaging_models_free(&models);
+    return rc != 0;
+}

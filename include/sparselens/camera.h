@@ -1,0 +1,56 @@
+#ifndef SPARSELENS_CAMERA_H
+#define SPARSELENS_CAMERA_H
+/* A lens camera for a renderer (camera.c): camera samples in, rays in scene space out,
+ * with the weight of the supplement's Eq. 13, through the exact lens or a polynomial
+ * system, many at a time.
+ *
+ * A sample is (sx, sy, lambda, r1, r2): the point on the sensor as a fraction of its
+ * width and height ((0, 0) the top-left corner of the picture, as scene.h), the
+ * wavelength in um, and two uniforms in [0, 1) for the direction, drawn from the line
+ * pupil (render.h's pupil sampler, built from the exact lens over [lambda_min,
+ * lambda_max]). A ray is (org[3], dir[3], weight, pdf) in the scene frame of scene.h
+ * (mm, the front vertex at the origin, looking along +z): org on the front element, dir
+ * a unit vector into the scene, weight = P_a T_r cos^4(theta) / p(u, v) (0 when the lens
+ * blocks it), pdf = p(u, v) per du dv. A pixel's value is the mean over its samples of
+ * weight times the radiance arriving at org from the scene along -dir: the mean
+ * irradiance over the pixel, as lens-render computes it.
+ *
+ * Everything here is read-only after lens_camera_new: any number of threads may call
+ * lens_camera_rays at once. */
+#include <stddef.h>
+
+#include "sparselens/diag.h"
+#include "sparselens/lens.h"
+#include "sparselens/poly.h"
+
+typedef struct lens_camera lens_camera;
+
+/* sys NULL: exact tracing through lens; else the system (fitted to lens: inputs x y u v
+ * [lambda], outputs out_x out_y out_u out_v [out_eta]). lens and sys must outlive the
+ * camera. Sensor size in mm, centred on the axis. NULL with err on failure. */
+lens_camera *lens_camera_new(const lens_t *lens, const poly_system *sys, double sensor_w,
+                             double sensor_h, double lambda_min, double lambda_max,
+                             lens_err *err);
+void lens_camera_free(lens_camera *c);
+
+#define LENS_CAMERA_SAMPLE 5 /* sx sy lambda r1 r2 */
+#define LENS_CAMERA_RAY 8    /* org[3] dir[3] weight pdf */
+
+/* n samples (rows of LENS_CAMERA_SAMPLE) to n rays (rows of LENS_CAMERA_RAY); a blocked
+ * ray has weight 0 (and org, dir NAN). Returns the number of rays with weight > 0. The
+ * polynomial backend evaluates the rays in vector blocks. */
+size_t lens_camera_rays(const lens_camera *c, size_t n, const double *samples, double *rays);
+
+/* The camera as one self-contained C file a renderer compiles in (camera_emit.c): the
+ * system sys fitted to lens (its passage included), a line pupil of boxes probed from
+ * the system, the front element and the weight, behind one function
+ *   double NAME_ray(double sx, double sy, double lambda, double r1, double r2,
+ *                   double org[3], double dir[3])
+ * with the meanings of lens_camera_rays (it returns the weight). Its line pupil is
+ * coarser than the library's (fewer rays pass), the estimate the same. 0, or -1 with
+ * err (a NAME that is no C identifier, a system without the camera's inputs). */
+#include <stdio.h>
+int lens_camera_emit(FILE *f, const lens_t *lens, const poly_system *sys, double sensor_w,
+                     double sensor_h, const char *name, lens_err *err);
+
+#endif

@@ -1,0 +1,37 @@
+#ifndef SPARSELENS_RAY_FRAMES_H
+#define SPARSELENS_RAY_FRAMES_H
+/* Rays in the lens frame (lens.h: z towards the sensor) and the parametrisations the
+ * tracer and the sample files use (ray_frames.c). Ray parametrisations (design.md):
+ *  - sensor:  position (x, y) on the sensor plane z = lens_total_track(); direction
+ *             towards the lens proportional to (u, v, -1) in the lens frame, i.e.
+ *             u = dx/d(-z), v = dy/d(-z). A ray arriving at the sensor with direction d
+ *             is described by the reversed direction, so a round trip is the identity.
+ *  - outer:   the hit (x, y) on the first surface; direction components (u, v) of the
+ *             outgoing unit direction d along the tangent frame at the hit:
+ *               n  = unit surface normal pointing to object space ((0,0,-1) at the vertex)
+ *               ex = normalize(-n.z, 0, n.x),  ey = ex x n
+ *             so out_u = d.ex, out_v = d.ey and d.n = sqrt(1 - u^2 - v^2) > 0. This
+ *             stays valid for rays past 90 degrees from the axis; it is singular only
+ *             where n = (0, +-1, 0) (the rim of a full hemisphere).
+ *  - stop:    the hit (x, y) on the stop surface; direction as on the sensor side
+ *             (tangents towards the object: d proportional to (u, v, -1)).
+ *  - eta:     product over all surfaces of the unpolarised Fresnel transmittance. */
+#include "sparselens/lens.h"
+
+typedef struct {
+    double o[3]; /* origin, mm, lens frame */
+    double d[3]; /* unit direction */
+} lens_ray;
+
+/* Conversions between parametrisations and lens-frame rays. */
+void ray_from_sensor(const lens_t *lens, const double xyuv[4], lens_ray *r);
+void ray_to_sensor(const lens_t *lens, const lens_ray *r, double xyuv[4]);
+void ray_to_outer(const lens_t *lens, const lens_ray *r, double xyuv[4]);
+int ray_from_outer(const lens_t *lens, const double xyuv[4], lens_ray *r); /* -1 if off the surface */
+void ray_to_stop(const lens_t *lens, const lens_ray *r, double xyuv[4]);
+
+/* Outer-pupil coordinates of an object-space ray travelling into the lens: its hit on
+ * the front surface and the reversed direction there. -1 if it misses. */
+int outer_of_object_ray(const lens_t *lens, const lens_ray *r, double outer[4]);
+
+#endif

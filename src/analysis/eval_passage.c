@@ -1,0 +1,134 @@
+/* Passage as a share of the light (eval_passage.h). */
+#include "analysis/eval_passage.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Rings with less lens light than this many rays' worth are too noisy for the worst
+ * ring (their rows are still written). */
+#define MIN_RING_RAYS 200
+
+int eval_passage_init(eval_passage *p, const poly_system *s)
+{
+    memset(p, 0, sizeof *p);
+    p->ix = poly_input_index(s, "x");
+    p->iy = poly_input_index(s, "y");
+    p->iu = poly_input_index(s, "u");
+    p->iv = poly_input_index(s, "v");
+    p->ieta = poly_output_index(s, "out_eta");
+    return 0;
+}
+
+static int grow(eval_passage *p, size_t ring)
+{
+    if (ring < p->cap)
+        return 0;
+    size_t cap = ring + 16;
+    double *l = realloc(p->light, cap * sizeof *l);
+    if (l)
+        p->light = l;
+    double *a = realloc(p->fpass, cap * sizeof *a);
+    if (a)
+        p->fpass = a;
+    double *b = realloc(p->fblock, cap * sizeof *b);
+    if (b)
+        p->fblock = b;
+    size_t *r = realloc(p->rays, cap * sizeof *r);
+    if (r)
+        p->rays = r;
+    if (!l || !a || !b || !r)
+        return -1;
+    for (size_t k = p->cap; k < cap; k++)
+        p->light[k] = p->fpass[k] = p->fblock[k] = 0, p->rays[k] = 0;
+    p->cap = cap;
+    return 0;
+}
+
+int eval_passage_add(eval_passage *p, const double *in, const double *pred, int sys_pass,
+                     const double *ref, int lens_pass)
+{
+    double r = p->ix >= 0 && p->iy >= 0 ? hypot(in[p->ix], in[p->iy]) : 0;
+    double u = p->iu >= 0 ? in[p->iu] : 0, v = p->iv >= 0 ? in[p->iv] : 0;
+    double q = 1 + u * u + v * v, w = 1 / (q * q);
+    if (p->ieta >= 0) {
+        double t = lens_pass ? ref[p->ieta] : pred[p->ieta];
+        w *= isfinite(t) && t > 0 ? fmin(t, 1) : 0;
+    }
+    size_t ring = isfinite(r) && r < 1e6 ? (size_t)r : 0;
+    if (grow(p, ring) != 0)
+        return -1;
+    if (ring >= p->nring)
+        p->nring = ring + 1;
+    p->rays[ring]++;
+    p->lens_blocked += !lens_pass;
+    if (lens_pass)
+        p->light[ring] += w;
+    if (sys_pass && !lens_pass)
+        p->fpass[ring] += w;
+    if (!sys_pass && lens_pass)
+        p->fblock[ring] += w;
+    return 0;
+}
+
+int eval_passage_measured(const eval_passage *p) { return p->lens_blocked > 0; }
+
+static void share(table_out *t, const char *key, double v)
+{
+    table_out_str(t, key);
+    table_out_num(t, v, 0);
+    table_out_row_end(t);
+}
+
+void eval_passage_write(table_out *t, const eval_passage *p)
+{
+    if (!eval_passage_measured(p)) {
+        table_out_str(t, "passage_measured");
+        table_out_int(t, 0);
+        table_out_row_end(t);
+        if (!t->json)
+            fputs("# (the test set holds no ray the lens blocks: trace it without "
+                  "--passing-only, best with --sampling full)\n", t->f);
+        return;
+    }
+    double light = 0, fp = 0, fb = 0, worst = 0;
+    size_t wk = 0;
+    for (size_t k = 0; k < p->nring; k++) {
+        light += p->light[k], fp += p->fpass[k], fb += p->fblock[k];
+        double d = p->light[k] > 0 ? (p->fpass[k] + p->fblock[k]) / p->light[k] : 0;
+        if (p->rays[k] >= MIN_RING_RAYS && d > worst)
+            worst = d, wk = k;
+    }
+    double L = light > 0 ? light : 1;
+    share(t, "light_false_pass", fp / L);
+    share(t, "light_false_block", fb / L);
+    share(t, "light_disagree", (fp + fb) / L);
+    table_out_str(t, "worst_ring_mm");
+    table_out_int(t, (long long)wk);
+    table_out_row_end(t);
+    share(t, "worst_ring_disagree", worst);
+    static const char *const cols[] = {"rmin_mm", "rmax_mm", "rays", "false_pass", "false_block",
+                                       "disagree"};
+    table_out_table(t, "passage_by_ring",
+                    "passage by 1 mm ring of sensor radius: shares of the light the lens passes\n"
+                    "there (rays weighted by cos^4 theta times the transmittance)", cols, 6);
+    for (size_t k = 0; k < p->nring; k++) {
+        double l = p->light[k] > 0 ? p->light[k] : 1;
+        table_out_int(t, (long long)k);
+        table_out_int(t, (long long)k + 1);
+        table_out_int(t, (long long)p->rays[k]);
+        table_out_num(t, p->fpass[k] / l, 0);
+        table_out_num(t, p->fblock[k] / l, 0);
+        table_out_num(t, (p->fpass[k] + p->fblock[k]) / l, 0);
+        table_out_row_end(t);
+    }
+}
+
+void eval_passage_free(eval_passage *p)
+{
+    free(p->light);
+    free(p->fpass);
+    free(p->fblock);
+    free(p->rays);
+    memset(p, 0, sizeof *p);
+}

@@ -1,0 +1,230 @@
+/* lens-mtf's job (mtf_run.h). */
+#include "sparselens/mtf_run.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    mtf_row *rows;
+    size_t n, cap;
+} row_list;
+
+static mtf_row *row_add(row_list *l)
+{
+    if (l->n == l->cap) {
+        size_t cap = l->cap ? 2 * l->cap : 256;
+        mtf_row *r = realloc(l->rows, cap * sizeof *r);
+        if (!r)
+            return NULL;
+        l->rows = r, l->cap = cap;
+    }
+    memset(&l->rows[l->n], 0, sizeof l->rows[0]);
+    return &l->rows[l->n++];
+}
+
+/* The values at x (frequency, or focus shift at rq->focus_freq) of one field of one
+ * model from its wavefronts and OTFs; the "all" row sums the wavelengths' OTFs. */
+static int add_rows(row_list *list, const mtf_request *rq, int m, int f, double x, wavefront *const *wf,
+                    double *const *otf, const int *msz, double dz)
+{
+    const design_set *ds = &rq->set;
+    double nu = rq->focus_freq > 0 ? rq->focus_freq : x;
+    double sum[2][2] = {{0}};
+    int nrow = ds->nl > 1 ? ds->nl + 1 : 1;
+    for (int w = 0; w < nrow; w++) {
+        mtf_row *r = row_add(list);
+        if (!r)
+            return -1;
+        r->model = m, r->field = f, r->lambda = w, r->x = x;
+        for (int d = 0; d < 2; d++) {
+            int dir = d == 0 ? 1 : 0; /* tangential: frequencies along y */
+            if (w < ds->nl) {
+                double z[2];
+                mtf_otf_at(wf[w], otf[w], msz[w], dir, nu, z);
+                sum[d][0] += z[0] / ds->nl, sum[d][1] += z[1] / ds->nl;
+                r->diff[d] = hypot(z[0], z[1]);
+                r->geo[d] = mtf_geometric((const wavefront *const *)&wf[w], 1, dir, nu, dz);
+            } else {
+                r->diff[d] = hypot(sum[d][0], sum[d][1]);
+                r->geo[d] = mtf_geometric((const wavefront *const *)wf, ds->nl, dir, nu, dz);
+            }
+        }
+    }
+    return 0;
+}
+
+typedef struct {
+    int model, field, lambda;
+    double rms_waves, strehl, na[2];
+    int passed;
+} wf_summary;
+
+/* OTFs of the wavefronts as they stand (after a refocus). */
+static int make_otfs(wavefront *wf, int nl, double **otf, int *msz)
+{
+    for (int l = 0; l < nl; l++) {
+        free(otf[l]);
+        if (!(otf[l] = mtf_otf(&wf[l], &msz[l])))
+            return -1;
+    }
+    return 0;
+}
+
+/* Every field of model m: wavefronts, OTFs, rows. */
+static int run_model(mtf_request *rq, int m, row_list *list, wf_summary *sum, lens_err *err)
+{
+    design_set *ds = &rq->set;
+    wavefront_method method = ds->im[m].sys ? WAVEFRONT_RAYS : rq->lens_method;
+    wavefront wf[IMAGING_MAX_WAVELENGTHS];
+    wavefront *wp[IMAGING_MAX_WAVELENGTHS];
+    double *otf[IMAGING_MAX_WAVELENGTHS] = {0};
+    int msz[IMAGING_MAX_WAVELENGTHS], nwf = 0, rc = -1;
+    double nyquist = 1000 / (2 * rq->pixel_um);
+    for (int f = 0; f < ds->nfields; f++) {
+        double ref[4];
+        if (design_set_chief(ds, m, ds->field[f], ds->lambda[ds->primary], ref, err) != 0)
+            goto out;
+        for (nwf = 0; nwf < ds->nl; nwf++) {
+            wp[nwf] = &wf[nwf];
+            if (wavefront_trace(&ds->im[m], ds->field[f], ds->lambda[nwf], rq->grid, method, ref, &wf[nwf],
+                                err) != 0) {
+                run_error_model(err, m, ds->names[m]);
+                goto out;
+            }
+            ds->seconds[m] += wf[nwf].seconds;
+            wf_summary *s = &sum[((size_t)m * ds->nfields + f) * ds->nl + nwf];
+            s->model = m, s->field = f, s->lambda = nwf, s->passed = wf[nwf].passed;
+            s->rms_waves = wavefront_rms(&wf[nwf]) / (ds->lambda[nwf] * 1e-3);
+            s->strehl = mtf_strehl(&wf[nwf]);
+            s->na[0] = wf[nwf].scale[1], s->na[1] = wf[nwf].scale[0];
+        }
+        if (rq->focus_freq > 0) {
+            for (int k = 0; k < rq->focus_steps; k++) {
+                double dz = rq->focus_range * (2.0 * k / (rq->focus_steps - 1) - 1);
+                for (int l = 0; l < ds->nl; l++)
+                    if (wavefront_refocus(&wf[l], dz) != 0) {
+                        lens_errf(err, NULL, 0, "field %g: the wavefront fit failed at focus %g mm",
+                                  ds->field[f], dz);
+                        goto out;
+                    }
+                if (make_otfs(wf, ds->nl, otf, msz) != 0 || add_rows(list, rq, m, f, dz, wp, otf, msz, dz) != 0)
+                    goto oom;
+            }
+        } else {
+            if (make_otfs(wf, ds->nl, otf, msz) != 0)
+                goto oom;
+            for (int k = 0; k <= rq->steps; k++)
+                if (add_rows(list, rq, m, f, nyquist * k / rq->steps, wp, otf, msz, 0) != 0)
+                    goto oom;
+        }
+        for (int l = 0; l < nwf; l++)
+            wavefront_free(&wf[l]);
+        nwf = 0;
+    }
+    rc = 0;
+    goto out;
+oom:
+    lens_errf(err, NULL, 0, "out of memory");
+out:
+    for (int l = 0; l < nwf; l++)
+        wavefront_free(&wf[l]);
+    for (int l = 0; l < IMAGING_MAX_WAVELENGTHS; l++)
+        free(otf[l]);
+    return rc;
+}
+
+static void lambda_name(const design_set *ds, int l, char *s, size_t n)
+{
+    if (l == ds->nl)
+        snprintf(s, n, "all");
+    else
+        snprintf(s, n, "%.7g", ds->lambda[l]);
+}
+
+static void print_rows(FILE *out, const mtf_request *rq, const mtf_row *rows, size_t nrows)
+{
+    const design_set *ds = &rq->set;
+    if (rq->focus_freq > 0)
+        fprintf(out, "# through focus at %g cycles/mm\n# columns: model field_%s lambda_um focus_mm ",
+                rq->focus_freq, design_set_field_unit(ds));
+    else
+        fprintf(out, "# columns: model field_%s lambda_um freq_cyc_mm ", design_set_field_unit(ds));
+    fprintf(out, "diff_tan diff_sag geo_tan geo_sag\n");
+    for (size_t i = 0; i < nrows; i++) {
+        const mtf_row *r = &rows[i];
+        char lam[32];
+        lambda_name(ds, r->lambda, lam, sizeof lam);
+        fprintf(out, "%s %.10g %s %.6g %.5f %.5f %.5f %.5f\n", ds->names[r->model], ds->field[r->field], lam, r->x,
+                r->diff[0], r->diff[1], r->geo[0], r->geo[1]);
+    }
+}
+
+static void print_summaries(FILE *out, const mtf_request *rq, const wf_summary *s, size_t n)
+{
+    const design_set *ds = &rq->set;
+    fprintf(out, "# wavefront: model field lambda_um cells rms_waves strehl na_tan na_sag\n");
+    for (size_t i = 0; i < n; i++)
+        fprintf(out, "# wavefront: %s %.10g %.7g %d %.5f %.5f %.6f %.6f\n", ds->names[s[i].model],
+                ds->field[s[i].field], ds->lambda[s[i].lambda], s[i].passed, s[i].rms_waves, s[i].strehl,
+                s[i].na[0], s[i].na[1]);
+}
+
+static void print_difference(FILE *out, const design_set *ds, const mtf_row *rows, size_t nrows)
+{
+    size_t half = nrows / 2;
+    double dd = 0, dg = 0;
+    for (size_t i = 0; i < half; i++)
+        for (int d = 0; d < 2; d++) {
+            dd = fmax(dd, fabs(rows[half + i].diff[d] - rows[i].diff[d]));
+            dg = fmax(dg, fabs(rows[half + i].geo[d] - rows[i].geo[d]));
+        }
+    fprintf(out, "# %s - %s: diffraction MTF differs by at most %.4f, geometric by %.4f\n", ds->names[1],
+            ds->names[0], dd, dg);
+}
+
+int mtf_run(mtf_request *rq, FILE *out, mtf_row **rows_out, size_t *nrows_out, lens_err *err)
+{
+    design_set *ds = &rq->set;
+    if (design_set_focus(ds, err) != 0)
+        return -1;
+    size_t nsum = (size_t)ds->nmodels * ds->nfields * ds->nl;
+    wf_summary *sum = calloc(nsum ? nsum : 1, sizeof *sum);
+    row_list list = {0};
+    if (!sum) {
+        lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    int rc = -1;
+    for (int m = 0; m < ds->nmodels; m++)
+        if (run_model(rq, m, &list, sum, err) != 0)
+            goto out;
+    print_rows(out, rq, list.rows, list.n);
+    print_summaries(out, rq, sum, nsum);
+    if (ds->sensor_shift != 0)
+        fprintf(out, "# sensor plane moved %.9g mm along the axis\n", ds->sensor_shift);
+    fprintf(out, "# pixel %g um: Nyquist %g cycles/mm; pupil grid %d x %d; lens wavefront by %s\n",
+            rq->pixel_um, 1000 / (2 * rq->pixel_um), rq->grid, rq->grid,
+            rq->lens_method == WAVEFRONT_PATH ? "path lengths" : "ray errors");
+    design_set_print_time(out, ds, "the wavefronts");
+    if (ds->nmodels > 1)
+        print_difference(out, ds, list.rows, list.n);
+    rc = 0;
+    if (rq->png) {
+        /* the diffraction limit of the first field (the axis, usually) at the primary wavelength */
+        const wf_summary *s0 = &sum[ds->primary];
+        double nu_c = 2 * sqrt(fabs(s0->na[0] * s0->na[1])) / (ds->lambda[ds->primary] * 1e-3);
+        mtf_figure fig = {ds->nmodels, ds->names, ds->nfields, ds->nl, ds->field, ds->lambda, list.rows, list.n,
+                          rq->focus_freq, nu_c, rq->title, isfinite(ds->im[0].object_distance)};
+        rc = mtf_write_png(&fig, rq->png, err);
+    }
+out:
+    free(sum);
+    if (rc == 0 && rows_out) {
+        *rows_out = list.rows;
+        *nrows_out = list.n;
+    } else {
+        free(list.rows);
+    }
+    return rc;
+}

@@ -1,0 +1,28 @@
+/* Strict number parsing (numparse.h). */
+#include "sparselens/numparse.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+
+int parse_double(const char *s, double *out)
+{
+    if (!s || !*s)
+        return -1;
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (*end != '\0' || errno == ERANGE || !isfinite(v))
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int parse_long(const char *s, long *out)
+{
+    double v;
+    if (parse_double(s, &v) != 0 || v != floor(v) || fabs(v) > 9e15)
+        return -1;
+    *out = (long)v;
+    return 0;
+}

@@ -1,0 +1,35 @@
+/* Where a system's lens file is (poly.h: poly_find_lens_file). */
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "sparselens/poly.h"
+
+static int readable(const char *path)
+{
+    return access(path, R_OK) == 0;
+}
+
+int poly_find_lens_file(const poly_system *sys, const char *poly_path, char *buf, size_t len,
+                        lens_err *err)
+{
+    const char *lp = poly_lens_path(sys), *name = poly_lens_name(sys);
+    if (!lp || !*lp) {
+        lens_errf(err, poly_path, 0, "the system records no lens file (lens '%s'; systems "
+                  "fitted to lens-trace's samples do); give the lens with --lens", name);
+        return -1;
+    }
+    snprintf(buf, len, "%s", lp);
+    if (readable(buf))
+        return 0;
+    /* a relative path may be relative to the .poly file, moved together with it */
+    const char *slash = strrchr(poly_path, '/');
+    if (lp[0] != '/' && slash) {
+        snprintf(buf, len, "%.*s/%s", (int)(slash - poly_path), poly_path, lp);
+        if (readable(buf))
+            return 0;
+    }
+    lens_errf(err, poly_path, 0, "the lens file the system was fitted to (lens '%s', "
+              "lens-path %s) is not found; give it with --lens", name, lp);
+    return -1;
+}

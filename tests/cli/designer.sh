@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# lens-fan, lens-field, lens-mtf (and lens-layout): tables, closed forms through a
+# perfect system, pictures, errors, no partial files.
+source "$(dirname "$0")/lib.sh"
+DG=lenses/dgauss.50mm.lens
+W=tests/data/window.lens P=tests/data/perfect-50mm.poly
+
+for c in fan field mtf layout; do
+  if run $BIN/lens-$c --help | grep -q "^usage: lens-$c"; then ok designer_help_$c; else fail designer_help_$c; fi
+done
+
+# fans: header, a row per fan point; on the axis tangential and sagittal fans agree
+run $BIN/lens-fan $DG --fields 0,10 --wavelengths d --points 9 >$T/f.txt 2>$T/err.txt
+if head -1 $T/f.txt | grep -q '^# columns: model field_deg lambda_um fan pupil ex_um ey_um' &&
+   [ "$(grep -vc '^#' $T/f.txt)" = 36 ] &&
+   awk '$2 == 0 && $4 == "tan" { t[$5] = $7 } $2 == 0 && $4 == "sag" { s[$5] = $6 }
+        END { for (k in t) if (t[k] != "nan" && (t[k] - s[k])^2 > 1e-12) exit 1 }' $T/f.txt
+then ok designer_fan_table; else fail designer_fan_table "$(cat $T/err.txt; head -3 $T/f.txt)"; fi
+
+# a perfect system: no ray error, chief ray at 50 sin(theta), foci on the sensor
+run $BIN/lens-fan $W --compare $P --fields 5 --wavelengths d --points 5 >$T/p.txt 2>$T/err.txt
+if awk '$1 == "poly" { n++; if ($6^2 + $7^2 > 1e-12) bad = 1 } END { exit bad || n != 10 }' $T/p.txt &&
+   grep -q '^# time imaging the fans: lens .* s, poly .* s' $T/p.txt
+then ok designer_fan_perfect_system; else fail designer_fan_perfect_system "$(cat $T/err.txt $T/p.txt)"; fi
+run $BIN/lens-field $W --compare $P --fields 0,5,10 --wavelengths d >$T/c.txt 2>$T/err.txt
+if awk '$1 == "poly" { n++; if ($5^2 + $6^2 > 1e-12) bad = 1
+                       if (($4 - 50 * sin($2 * 3.14159265358979 / 180))^2 > 1e-14) bad = 1 }
+        END { exit bad || n != 3 }' $T/c.txt
+then ok designer_field_perfect_system; else fail designer_field_perfect_system "$(cat $T/err.txt $T/c.txt)"; fi
+
+# the perfect system's diffraction MTF is the closed form of a circular pupil, with the
+# numerical aperture the command reports
+run $BIN/lens-mtf $W --compare $P --fields 0 --wavelengths d --pixel 1 --steps 5 >$T/m.txt 2>$T/err.txt
+na=$(awk '$1 == "#" && $2 == "wavefront:" && $3 == "poly" { print ($9 < 0 ? -$9 : $9) }' $T/m.txt)
+if [ -n "$na" ] && awk -v na="$na" '$1 == "poly" { v = $4 * 0.5875618e-3 / (2 * na); m = 0
+        if (v < 1) m = 2 / 3.14159265358979 * (atan2(sqrt(1 - v * v), v) - v * sqrt(1 - v * v))
+        if (($5 - m)^2 > 4e-6 || ($6 - m)^2 > 4e-6 || $7 != 1) bad = 1; n++ }
+        END { exit bad || n != 6 }' $T/m.txt
+then ok designer_mtf_closed_form; else fail designer_mtf_closed_form "$(cat $T/err.txt $T/m.txt)"; fi
+# through focus: the perfect system is sharpest on its plane
+run $BIN/lens-mtf $P --fields 0 --wavelengths d --through-focus 100 --focus-range 0.02 --focus-steps 5 \
+    --grid 32 >$T/t.txt 2>$T/err.txt
+if awk '!/^#/ { v[$4] = $5 } END { exit !(v[0] > v[0.01] && v[0.01] > v[0.02] && v[0] > v[-0.01]) }' $T/t.txt
+then ok designer_mtf_through_focus; else fail designer_mtf_through_focus "$(cat $T/err.txt $T/t.txt)"; fi
+
+# focal shift: the close-ray focus agrees with the paraxial one
+run $BIN/lens-field lenses/cooke-triplet.zmx --focal-shift 5 >$T/s.txt 2>$T/err.txt
+if awk '!/^#/ { n++; if (($3 - $4)^2 > 1e-4) bad = 1 } END { exit bad || n != 5 }' $T/s.txt
+then ok designer_focal_shift; else fail designer_focal_shift "$(cat $T/err.txt $T/s.txt)"; fi
+
+# pictures
+for c in fan field mtf; do
+  run $BIN/lens-$c $DG --fields 0,10 --png $T/$c.png >/dev/null 2>$T/err.txt
+  if [ "$(head -c 4 $T/$c.png 2>/dev/null | od -An -tx1 | tr -d ' ')" = 89504e47 ]
+  then ok designer_png_$c; else fail designer_png_$c "$(cat $T/err.txt)"; fi
+done
+
+# errors: one line naming the problem; a picture that cannot be written leaves nothing
+expect_error designer_bad_wavefront "--wavefront" run $BIN/lens-mtf $DG --wavefront exact
+expect_error designer_bad_pixel "--pixel" run $BIN/lens-mtf $DG --pixel 0
+expect_error designer_field_too_far "field 80 deg: no chief ray" run $BIN/lens-fan $DG --fields 80
+expect_error designer_bad_points "--points" run $BIN/lens-fan $DG --points 1
+expect_error designer_no_lens "no lens given" run $BIN/lens-field
+run $BIN/lens-mtf $DG --fields 0 --png $T/no/such/dir/x.png >/dev/null 2>&1
+if [ $? -ne 0 ] && [ -z "$(ls $T/no 2>/dev/null)" ]; then ok designer_png_error; else fail designer_png_error; fi
+
+# layout: the surface table, every ray of a plain lens reaches the sensor, PNG and SVG
+run $BIN/lens-layout lenses/cooke-triplet.zmx --fields 0,20 --rays 5 --png $T/l.png --svg $T/l.svg >$T/l.txt 2>$T/err.txt
+if head -1 $T/l.txt | grep -q '^# columns: surface z_mm radius_mm conic semi_diameter_mm sag_rim_mm material stop' &&
+   [ "$(grep -vc '^#' $T/l.txt)" = 7 ] && grep -q '^# rays at 0.5875618 um: 10 of 10 reach the sensor' $T/l.txt &&
+   [ "$(head -c 4 $T/l.png | od -An -tx1 | tr -d ' ')" = 89504e47 ] &&
+   [ "$(grep -c '<polygon' $T/l.svg)" = 3 ] && [ "$(grep -c '<polyline' $T/l.svg)" -ge 14 ] && tail -1 $T/l.svg | grep -q '</svg>'
+then ok designer_layout; else fail designer_layout "$(cat $T/err.txt $T/l.txt)"; fi
+# through a system: its rays beside the lens's, and their difference
+run $BIN/lens-layout $W --compare $P --fields 0,5 --rays 3 --svg $T/w.svg >$T/w.txt 2>$T/err.txt
+if grep -q '^# poly - lens: sensor points differ by at most' $T/w.txt && grep -q 'stroke-dasharray="1 1"' $T/w.svg
+then ok designer_layout_system; else fail designer_layout_system "$(cat $T/err.txt $T/w.txt)"; fi
+run $BIN/lens-layout $DG --svg $T/no/such/dir/x.svg >/dev/null 2>&1
+if [ $? -ne 0 ] && [ -z "$(ls $T/no 2>/dev/null)" ]; then ok designer_svg_error; else fail designer_svg_error; fi

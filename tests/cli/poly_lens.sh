@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# A .poly remembers its lens: lens-trace writes "# lens:" and "# lens-path:" into its
+# samples, lens-fit records them (through a pipe too, where there is no file name), and
+# lens-spot SYSTEM.poly finds the lens without --lens, from any directory; when the file
+# is gone the message names the lens and the path.
+source "$(dirname "$0")/lib.sh"
+L=lenses/dgauss.50mm.lens
+abs=$(cd lenses && pwd)/dgauss.50mm.lens
+run $BIN/lens-trace $L -n 3000 --seed 1 >$T/train.txt
+if grep -qx '# lens: Double Gauss 50mm f/2 (Tronnier)' $T/train.txt && grep -qx "# lens-path: $L" $T/train.txt
+then ok samples_name_their_lens; else fail samples_name_their_lens "$(head -3 $T/train.txt)"; fi
+
+# through a pipe; -o in another directory: the path is made relative to the .poly (or
+# absolute when the two share no directory but the root)
+run $BIN/lens-fit -q --terms 15 <$T/train.txt >$T/d.poly
+run $BIN/lens-fit -q --terms 15 -o $T/d2.poly $T/train.txt
+mkdir -p tests/tmp-poly-lens.$$ && run $BIN/lens-fit -q --terms 15 -o tests/tmp-poly-lens.$$/d3.poly $T/train.txt
+rel=$(grep '^lens-path' tests/tmp-poly-lens.$$/d3.poly); rm -rf tests/tmp-poly-lens.$$
+case $T in /"${TOP#/}"*) want2="lens-path ../lenses/dgauss.50mm.lens";; *) want2="lens-path $abs";; esac
+if grep -qx 'lens Double Gauss 50mm f/2 (Tronnier)' $T/d.poly && grep -qx "lens-path $L" $T/d.poly &&
+   [ "$(grep '^lens-path' $T/d2.poly)" = "$want2" ] && [ "$rel" = "lens-path ../../lenses/dgauss.50mm.lens" ]
+then ok poly_remembers_lens; else fail poly_remembers_lens "$(sed -n 3,4p $T/d.poly) / $(grep '^lens-path' $T/d2.poly) / $rel"; fi
+cp $T/d2.poly $T/d.poly
+
+# from another directory, without --lens: the same table as with --lens
+TOPDIR=$PWD
+(cd $T && run $TOPDIR/$BIN/lens-spot d.poly --fields 0,10 >spot_auto.txt 2>err.txt); rc=$?
+run $BIN/lens-spot $T/d.poly --lens $L --fields 0,10 >$T/spot_given.txt
+if [ $rc -eq 0 ] && [ -s $T/spot_auto.txt ] && cmp -s $T/spot_auto.txt $T/spot_given.txt
+then ok spot_finds_lens_of_poly; else fail spot_finds_lens_of_poly "rc=$rc $(cat $T/err.txt)"; fi
+
+# --lens FILE on lens-fit records that file; the path is gone: a message naming lens and path
+grep -v '^# lens' $T/train.txt | run $BIN/lens-fit -q --terms 15 --lens $L >$T/given.poly
+if grep -qx 'lens dgauss.50mm' $T/given.poly && grep -qx "lens-path $L" $T/given.poly
+then ok fit_lens_file_recorded; else fail fit_lens_file_recorded "$(sed -n 3,4p $T/given.poly)"; fi
+sed "s#^lens-path .*#lens-path $T/gone/dgauss.lens#" $T/d.poly >$T/moved.poly
+expect_error spot_names_missing_lens \
+  "^lens-spot: .*moved.poly: the lens file the system was fitted to \(lens 'Double Gauss 50mm f/2 \(Tronnier\)', lens-path .*gone/dgauss.lens\) is not found; give it with --lens$" \
+  $BIN/lens-spot $T/moved.poly --fields 0
+# a relative lens-path is also found beside the .poly
+mkdir -p $T/beside && cp $L $T/beside/my.lens
+sed "s#^lens-path .*#lens-path my.lens#" $T/d.poly >$T/beside/rel.poly
+if run $BIN/lens-distort $T/beside/rel.poly --fields 0,10 >/dev/null 2>$T/err.txt
+then ok distort_finds_lens_beside_poly; else fail distort_finds_lens_beside_poly "$(cat $T/err.txt)"; fi

@@ -1,0 +1,78 @@
+/* The layout drawing: element outlines on their surfaces' sags, and rays drawn surface by
+ * surface that land where the exact tracer puts them. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "fixture_lenses.h"
+#include "sparselens/layout.h"
+#include "sparselens/ray_bundle.h"
+
+static void outlines_and_rays(void **state)
+{
+    (void)state;
+    lens_t lens;
+    assert_int_equal(fixture_dgauss50(&lens), 0);
+    imaging im = {.lens = &lens, .object_distance = INFINITY};
+    const double field[2] = {0, 12};
+    layout_drawing d;
+    lens_err err;
+    assert_int_equal(layout_build(&im, NULL, field, 2, GLASS_D_LINE, 5, &d, &err), 0);
+    int glass = 0, elements = 0, landed = 0;
+    for (size_t i = 0; i + 1 < lens.nsurf; i++)
+        glass += lens.surf[i].medium.kind != GLASS_AIR;
+    double zs = lens_total_track(&lens);
+    /* the exact tracer's sensor points for the same rays */
+    double pupil[10], s[2][20];
+    int ok[2][5];
+    for (int i = 0; i < 5; i++)
+        pupil[2 * i] = 0, pupil[2 * i + 1] = -1 + 0.5 * i;
+    for (int f = 0; f < 2; f++) {
+        ray_bundle b;
+        assert_int_equal(bundle_aim(&im, field[f], GLASS_D_LINE, pupil, 5, &b, &err), 0);
+        bundle_image(&im, &b, NULL, s[f], ok[f]);
+        bundle_free(&b);
+    }
+    int seen[2] = {0, 0};
+    for (int i = 0; i < d.nlines; i++) {
+        const layout_line *l = &d.line[i];
+        if (l->kind == LAYOUT_ELEMENT) {
+            elements++;
+            /* the first point is the front surface's bottom rim */
+            double y = l->zy[1], z = l->zy[0];
+            int k = 0;
+            while (k < (int)lens.nsurf && fabs(lens.vertex_z[k] + lens_sag(&lens.surf[k], y * y) - z) > 1e-12)
+                k++;
+            assert_true(k < (int)lens.nsurf);
+            assert_true(fabs(fabs(y) - lens.surf[k].semi_diameter) < 1e-12);
+        }
+        if (l->kind == LAYOUT_RAY) {
+            int f = l->field, r = seen[f]++;
+            double z = l->zy[2 * l->n - 2], y = l->zy[2 * l->n - 1];
+            assert_int_equal(fabs(z - zs) < 1e-12, ok[f][r]);
+            if (ok[f][r]) {
+                assert_true(fabs(y - s[f][4 * r + 1]) < 1e-9);
+                landed++;
+            }
+        }
+    }
+    assert_int_equal(elements, glass);
+    assert_int_equal(landed, d.passed);
+    assert_true(landed >= 5); /* the rims are vignetted in this lens, the rest lands */
+    layout_free(&d);
+    lens_free(&lens);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(outlines_and_rays),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

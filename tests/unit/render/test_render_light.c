@@ -1,0 +1,171 @@
+/* The integrator's pieces against independent references:
+ *  - the CIE 1931 fit at known values of the tabulated observer, the white balance (a
+ *    flat spectrum gives r = g = b = 1) and the round trip r g b -> spectrum -> r g b;
+ *  - direct light by MIS (scene_direct_mis) against closed forms: a Lambertian disk
+ *    light overhead (E = pi L R^2 / (h^2 + R^2)) and a sphere light (E = pi L (r / d)^2
+ *    for a surface facing its centre), and an infinite emitting plane, which only the
+ *    BSDF sample finds (E = pi L);
+ *  - the low-discrepancy pixel samples: stratified (a 1D dimension has one sample per
+ *    stratum; 32 2D samples one per elementary box of area 1/32), and unbiased over
+ *    pixels (the mean of many pixels' points is 1/2). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include <cmocka.h>
+
+#include "render/render_samples.h"
+#include "sparselens/render.h"
+#include "sparselens/render_spectrum.h"
+#include "sparselens/scene.h"
+
+static void test_cie_fit(void **state)
+{
+    (void)state;
+    /* CIE 1931 2-degree table: (nm, xbar, ybar, zbar) */
+    static const double tab[][4] = {{450, 0.3362, 0.0380, 1.7721}, {500, 0.0049, 0.3230, 0.2720},
+                                    {555, 0.5121, 1.0000, 0.0057}, {600, 1.0622, 0.6310, 0.0008},
+                                    {650, 0.2835, 0.1070, 0.0000}};
+    for (size_t k = 0; k < sizeof tab / sizeof tab[0]; k++) {
+        double xyz[3];
+        cie_xyz_bar(tab[k][0] / 1000, xyz);
+        for (int c = 0; c < 3; c++) assert_true(fabs(xyz[c] - tab[k][1 + c]) < 0.03 + 0.03 * tab[k][1 + c]);
+    }
+}
+
+/* The integral of a spectrum against render_rgb_bar, by the midpoint rule. */
+static void integrate(const double rgb[3], double out[3])
+{
+    int n = 6000;
+    double h = (RENDER_LAMBDA_MAX - RENDER_LAMBDA_MIN) / n;
+    out[0] = out[1] = out[2] = 0;
+    for (int i = 0; i < n; i++) {
+        double lam = RENDER_LAMBDA_MIN + (i + 0.5) * h, bar[3];
+        render_rgb_bar(lam, bar);
+        double s = rgb ? render_rgb_spectrum(rgb, lam) : 1;
+        for (int c = 0; c < 3; c++) out[c] += s * bar[c] * h;
+    }
+}
+
+static void test_spectrum_round_trip(void **state)
+{
+    (void)state;
+    double w[3];
+    integrate(NULL, w);
+    for (int c = 0; c < 3; c++) assert_true(fabs(w[c] - 1) < 1e-4);
+    double cols[][3] = {{0.8, 0.3, 0.2}, {0.2, 0.6, 0.8}, {0.5, 0.5, 0.5}, {2000, 1500, 800}};
+    for (size_t k = 0; k < 4; k++) {
+        double back[3];
+        integrate(cols[k], back);
+        for (int c = 0; c < 3; c++) assert_true(fabs(back[c] - cols[k][c]) < 1e-3 * cols[k][c]);
+    }
+    /* a grey stays flat */
+    double g[3] = {0.5, 0.5, 0.5};
+    assert_true(fabs(render_rgb_spectrum(g, 0.45) - 0.5) < 1e-9);
+    assert_true(fabs(render_rgb_spectrum(g, 0.65) - 0.5) < 1e-9);
+}
+
+static uint64_t lcg(uint64_t *s)
+{
+    return *s = *s * 6364136223846793005ull + 1442695040888963407ull;
+}
+
+/* Mean and standard error of scene_direct_mis at the origin (normal +y), channel 0. */
+static void mis_mean(const char *text, double *mean, double *se)
+{
+    scene_t s;
+    lens_err err = {{0}};
+    assert_int_equal(scene_parse(text, "t.scene", &s, &err), 0);
+    scene_hit h = {.t = 1, .p = {0, 0, 0}, .n = {0, 1, 0}, .obj = 0};
+    uint64_t st = 777;
+    int N = 40000;
+    double sum = 0, sum2 = 0;
+    for (int i = 0; i < N; i++) {
+        double u[5];
+        for (int k = 0; k < 5; k++) u[k] = (lcg(&st) >> 11) * 0x1.0p-53;
+        scene_light_terms t;
+        scene_direct_mis(&s, &h, u, &t);
+        double v = 0;
+        for (int k = 0; k < t.n; k++) v += t.w[k] * s.obj[t.emitter[k]].emit[0];
+        v *= scene_albedo(&s, 0, h.p, 0);
+        sum += v, sum2 += v * v;
+    }
+    *mean = sum / N;
+    *se = sqrt((sum2 / N - *mean * *mean) / N);
+    scene_free(&s);
+}
+
+static void test_mis_closed_forms(void **state)
+{
+    (void)state;
+    double m, se;
+    /* disk, radius 40 at height 30, L = 2: reflected albedo E / pi */
+    mis_mean("camera a.lens\nplane 0 0 0 0 1 0 albedo 0.5\ndisk 0 30 0 0 -1 0 40 emit 2\n", &m, &se);
+    double expect = 0.5 * 2 * 40 * 40 / (30.0 * 30 + 40 * 40);
+    assert_true(fabs(m - expect) < 4 * se);
+    assert_true(se < 0.01 * expect);
+    /* sphere, radius 5 at distance 50 straight above: E = pi L (r/d)^2 */
+    mis_mean("camera a.lens\nplane 0 0 0 0 1 0 albedo 0.5\nsphere 0 50 0 5 emit 3\n", &m, &se);
+    expect = 0.5 * 3 * (5.0 / 50) * (5.0 / 50);
+    assert_true(fabs(m - expect) < 4 * se);
+    assert_true(se < 0.01 * expect); /* solid-angle sampling: nearly noiseless */
+    /* an emitting plane overhead: only the BSDF sample sees it, E = pi L */
+    mis_mean("camera a.lens\nplane 0 0 0 0 1 0 albedo 0.5\nplane 0 10 0 0 -1 0 emit 2\n", &m, &se);
+    assert_true(fabs(m - 0.5 * 2) < 1e-9);
+    /* both lights at once: the sum */
+    mis_mean("camera a.lens\nplane 0 0 0 0 1 0 albedo 0.5\ndisk 0 30 0 0 -1 0 40 emit 2\n"
+             "sphere 60 20 0 5 emit 300\n", &m, &se);
+    double d2 = 60.0 * 60 + 20 * 20, cosc = 20 / sqrt(d2);
+    expect = 0.5 * 2 * 40 * 40 / (30.0 * 30 + 40 * 40) + 0.5 * 300 * 25 / d2 * cosc;
+    assert_true(fabs(m - expect) < 4 * se + 1e-3 * expect);
+}
+
+static void test_samples_stratified(void **state)
+{
+    (void)state;
+    int n = 37; /* not a power of two */
+    for (uint64_t pix = 0; pix < 20; pix++) {
+        uint64_t key = ld_pixel_key(5, pix);
+        int hits[37] = {0}, hx[37] = {0}, hy[37] = {0}, cell[4][8] = {{0}};
+        for (int k = 0; k < n; k++) {
+            double q[2];
+            hits[(int)(ld_1d(key, 0, n, k) * n)]++;
+            ld_2d(key, 1, n, k, q);
+            hx[(int)(q[0] * 32)]++, hy[(int)(q[1] * 32)]++; /* the first 32 fill 32 strata */
+        }
+        int empty1 = 0, emptyx = 0, emptyy = 0;
+        for (int i = 0; i < n; i++) empty1 += !hits[i];
+        for (int i = 0; i < 32; i++) emptyx += !hx[i], emptyy += !hy[i];
+        /* 32 points of the scrambled (0, 2)-sequence: one in each 1/4 x 1/8 box */
+        for (int k = 0; k < 32; k++) {
+            double q[2];
+            ld_2d(key, 3, 32, k, q);
+            cell[(int)(q[0] * 4)][(int)(q[1] * 8)]++;
+        }
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 8; j++) assert_int_equal(cell[i][j], 1);
+        assert_int_equal(empty1, 0); /* jittered strata: one per stratum */
+        assert_int_equal(emptyx + emptyy, 0);
+    }
+    double sum = 0;
+    int pixels = 20000;
+    for (int p = 0; p < pixels; p++) {
+        double q[2];
+        ld_2d(ld_pixel_key(9, (uint64_t)p), 2, 16, 3, q);
+        sum += q[0];
+    }
+    assert_true(fabs(sum / pixels - 0.5) < 4 * sqrt(1.0 / 12 / pixels));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_cie_fit), cmocka_unit_test(test_spectrum_round_trip),
+        cmocka_unit_test(test_mis_closed_forms), cmocka_unit_test(test_samples_stratified),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# The layout section of reports/<lens>.md (the first picture of every lens report):
+# draws OUT_DIR/lenses/<lens>-layout.png with lens-layout and prints the Markdown that
+# shows it with the command that made it. Called by tools/report_lens.sh; also alone, to
+# splice the section into a report without sweeping again.
+#   tools/report_layout.sh LENS OUT_DIR
+set -euo pipefail
+lens=$1 out=$2
+BIN=${BIN:-bin}
+name=$(basename "$lens" .lens)
+mkdir -p "$out/lenses"
+# fields: the axis, 0.7 and 1 of the half field of view of the sensor diagonal (as the
+# other commands' defaults), drawn with 7 rays each
+cmd=("$BIN"/lens-layout "$lens" --rays 7 --width 1000 --png "$out/lenses/$name-layout.png")
+txt=$("${cmd[@]}" 2>&1) || { echo "report_layout: $name: $txt" >&2; exit 1; }
+echo "## Layout (\`lens-layout $lens --rays 7 --width 1000 --png $name-layout.png\`)"
+echo
+echo "![meridional section with ray bundles](lenses/$name-layout.png)"
+echo
+echo "$txt" | grep '^# rays' | sed 's/^# rays/Rays/'
+echo
