@@ -43,6 +43,8 @@ PROJ_CFLAGS   := $(call pkg,--cflags proj,)
 PROJ_LIBS     := $(call pkg,--libs proj,-lproj)
 LAPACK_CFLAGS := $(call pkg,--cflags lapacke,)
 LAPACK_LIBS   := $(call pkg,--libs lapacke,-llapacke) $(call pkg,--libs lapack,-llapack) $(call pkg,--libs blas,-lblas)
+CAIRO_CFLAGS  := $(call pkg,--cflags cairo,-I/usr/include/cairo)
+CAIRO_LIBS    := $(call pkg,--libs cairo,-lcairo)
 CMOCKA_CFLAGS := $(call pkg,--cflags cmocka,)
 CMOCKA_LIBS   := $(call pkg,--libs cmocka,-lcmocka)
 # x86-64-v2 (SSE4.2, POPCNT) is the baseline on x86-64, where the poly and trace kernels
@@ -55,7 +57,7 @@ CPPFLAGS += -Iinclude -Isrc $(EXR_CFLAGS) $(PROJ_CFLAGS) $(LAPACK_CFLAGS) -D_DEF
 CFLAGS   += -std=c11 $(OPT) -Wall -Wextra -fopenmp $(ARCH_FLAGS)
 CXXFLAGS += -std=c++17 $(OPT) -Wall -Wextra $(OPENCV_CFLAGS)
 LDFLAGS  += $(OPT) -fopenmp
-LDLIBS   := $(OPENCV_LIBS) $(EXR_LIBS) $(PROJ_LIBS) $(LAPACK_LIBS) -lstdc++ -lm
+LDLIBS   := $(OPENCV_LIBS) $(CAIRO_LIBS) $(EXR_LIBS) $(PROJ_LIBS) $(LAPACK_LIBS) -lstdc++ -lm
 
 LIB_C    := $(wildcard src/*/*.c)
 LIB_CXX  := $(wildcard src/*/*.cpp)
@@ -98,6 +100,7 @@ $(LIB): $(LIB_OBJ)
 	ar rcs $@ $^
 
 # The version (one place: the VERSION file) reaches the commands through options.c.
+$(BUILD)/src/base/canvas_cairo.o: CPPFLAGS += $(CAIRO_CFLAGS)
 $(BUILD)/src/app/options.o: CPPFLAGS += -DSPARSELENS_VERSION='"$(VERSION)"'
 $(BUILD)/src/app/options.o: VERSION
 
@@ -139,13 +142,42 @@ reports: deps
 fuzz: deps
 	@tools/fuzz.sh $(or $(FUZZ_SECONDS),60)
 
-install: all
-	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/man/man1 \
-	           $(DESTDIR)$(PREFIX)/share/man/man5 $(DESTDIR)$(PREFIX)/share/sparselens/lenses
-	install -m 755 $(CMDS) $(DESTDIR)$(PREFIX)/bin
-	install -m 644 $(wildcard man/*.1) $(DESTDIR)$(PREFIX)/share/man/man1
-	install -m 644 $(wildcard man/*.5) $(DESTDIR)$(PREFIX)/share/man/man5
-	install -m 644 $(wildcard lenses/*) $(DESTDIR)$(PREFIX)/share/sparselens/lenses
+# make install [PREFIX=/usr/local] [DESTDIR=]: the commands, linked again with
+# PREFIX/share/sparselens compiled in as the data directory (data_path.h; the commands
+# also find it beside themselves, so a DESTDIR copy works before it is moved), the man
+# pages (source-tree paths in their text turned into installed ones), and the lenses
+# (with the reference prescriptions) and scenes under PREFIX/share/sparselens, so that
+# `lens-info dgauss.50mm` and `lens-render dgauss` work from any directory.
+DATADIR   = $(PREFIX)/share/sparselens
+MANDIR    = $(PREFIX)/share/man
+INST     := $(BUILD)/install
+INST_CMDS := $(patsubst cmd/%.c,$(INST)/bin/%,$(wildcard cmd/lens-*.c))
+MANPAGES := $(wildcard man/*.[1-8])
+.PHONY: FORCE
+$(INST)/datadir.txt: FORCE
+	@mkdir -p $(dir $@)
+	@echo '$(DATADIR)' | cmp -s - $@ || echo '$(DATADIR)' > $@
+
+$(INST)/data_path.o: src/base/data_path.c include/sparselens/data_path.h $(INST)/datadir.txt
+	$(CC) $(CPPFLAGS) -DSPARSELENS_DATADIR='"$(DATADIR)"' $(CFLAGS) -c $< -o $@
+
+$(INST)/bin/lens-%: cmd/lens-%.c $(INST)/data_path.o $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $< $(INST)/data_path.o $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
+
+install: $(INST_CMDS) man
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(DATADIR)/lenses/reference/fx \
+	           $(DESTDIR)$(DATADIR)/lenses/reference/pbrt $(DESTDIR)$(DATADIR)/scenes \
+	           $(addprefix $(DESTDIR)$(MANDIR)/man,$(sort $(subst .,,$(suffix $(MANPAGES)))))
+	install -m 755 $(INST_CMDS) $(DESTDIR)$(PREFIX)/bin
+	for m in $(MANPAGES); do \
+	  sed -e 's#\(^\|[ (]\)\(lenses\|scenes\)/#\1$(DATADIR)/\2/#g' $$m > $(DESTDIR)$(MANDIR)/man$${m##*.}/$${m##*/} && \
+	  chmod 644 $(DESTDIR)$(MANDIR)/man$${m##*.}/$${m##*/} || exit 1; done
+	install -m 644 $(filter-out %.md,$(wildcard lenses/*.*)) $(DESTDIR)$(DATADIR)/lenses
+	install -m 644 lenses/reference/README.md $(DESTDIR)$(DATADIR)/lenses/reference
+	install -m 644 $(wildcard lenses/reference/fx/*) $(DESTDIR)$(DATADIR)/lenses/reference/fx
+	install -m 644 $(wildcard lenses/reference/pbrt/*) $(DESTDIR)$(DATADIR)/lenses/reference/pbrt
+	install -m 644 $(wildcard scenes/*) $(DESTDIR)$(DATADIR)/scenes
 
 clean:
 	rm -rf build build-san bin bin-san

@@ -19,4 +19,11 @@ extern const opt_command eval_command;
 
 void eval_cli_default(eval_cli *o);
 
+/* The whole of lens-eval (src/app/eval_job.c): reads o->system, then writes it as C
+ * (o->emit_c) or evaluates the rays of o->input ("-": standard input) into o->output,
+ * which is written whole or not at all. log (may be NULL) gets the line that counts the
+ * rays outside the training domain. 0, or -1 with err set; bad rows are counted in st
+ * (and passed to o->run.on_bad_row), not errors. */
+int eval_cli_run(const eval_cli *o, FILE *log, eval_run_stats *st, lens_err *err);
+
 #endif

@@ -80,8 +80,8 @@ int glass_catalog_add(glass_catalog *cat, const glass_t *g, lens_err *err);
 /* Records a file name for glass_catalog_sources (readers of other formats). */
 int glass_catalog_add_source(glass_catalog *cat, const char *path);
 
-/* The shipped default catalog: $SPARSELENS_GLASS_CATALOG, else lenses/glass.catalog
- * beside the executable's ../lenses or ../share/sparselens/lenses. NULL if not found. */
+/* The shipped default catalog: $SPARSELENS_GLASS_CATALOG, else glass.catalog in the
+ * shipped lens directories (data_path.h). NULL if not found. */
 const char *glass_default_catalog_path(void);
 
 #endif

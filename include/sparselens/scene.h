@@ -72,6 +72,23 @@ typedef struct {
 /* Nearest hit of o + t d (d unit) with tmin < t < tmax; 1 if any. */
 int scene_intersect(const scene_t *s, const double o[3], const double d[3], double tmin,
                     double tmax, scene_hit *hit);
+/* The same over the objects that are not spheres and the listed spheres only
+ * (scene_cull.c chooses them). */
+int scene_intersect_listed(const scene_t *s, const int *spheres, int nlisted, const double o[3],
+                           const double d[3], double tmin, double tmax, scene_hit *hit);
+
+/* Camera rays leave the lens within a small ball around the origin (the front element):
+ * a grid over their directions lists, per cell, the spheres such a ray can meet, so
+ * that a scene of many small emitters (bokeh) is not tested sphere by sphere
+ * (scene_cull.c). NULL when the scene has no spheres (or memory runs out): then
+ * scene_intersect_camera is scene_intersect. */
+typedef struct scene_cull scene_cull;
+scene_cull *scene_cull_new(const scene_t *s, double origin_radius);
+void scene_cull_free(scene_cull *c);
+/* scene_intersect for a ray whose origin lies within origin_radius of the origin. */
+int scene_intersect_camera(const scene_t *s, const scene_cull *c, const double o[3],
+                           const double d[3], double tmin, scene_hit *hit);
+
 /* 1 when nothing blocks the segment between a and b (shadow rays). */
 int scene_visible(const scene_t *s, const double a[3], const double b[3]);
 /* Diffuse albedo of object obj at point p in channel c (0 r, 1 g, 2 b). */

@@ -33,6 +33,7 @@
 #include <unistd.h>
 
 #include "sparselens/agf.h"
+#include "sparselens/data_path.h"
 #include "sparselens/glass_formula.h"
 #include "sparselens/numparse.h"
 
@@ -482,28 +483,5 @@ const char *glass_default_catalog_path(void)
     const char *env = getenv("SPARSELENS_GLASS_CATALOG");
     if (env && *env)
         return readable(env) ? env : NULL;
-    char exe[PATH_MAX];
-    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    if (n > 0) {
-        exe[n] = '\0';
-        char *slash = strrchr(exe, '/');
-        if (slash) {
-            *slash = '\0';
-            /* bin/ of the source tree, an installed prefix, and build/tests/. */
-            static const char *const rel[] = {"/../lenses/glass.catalog",
-                                              "/../share/sparselens/lenses/glass.catalog",
-                                              "/../../lenses/glass.catalog"};
-            for (size_t i = 0; i < sizeof rel / sizeof *rel; i++) {
-                char cand[PATH_MAX + 64];
-                snprintf(cand, sizeof cand, "%s%s", exe, rel[i]);
-                if (readable(cand)) {
-                    /* "/x/bin/../lenses/..." reads badly in messages. */
-                    if (!realpath(cand, buf))
-                        snprintf(buf, sizeof buf, "%s", cand);
-                    return buf;
-                }
-            }
-        }
-    }
-    return NULL;
+    return data_shipped_file("lenses", "glass.catalog", buf, sizeof buf) == 0 ? buf : NULL;
 }

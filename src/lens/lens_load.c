@@ -6,6 +6,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "sparselens/data_path.h"
 #include "sparselens/import_design.h"
 #include "sparselens/import_table.h"
 #include "lens/import_common.h"
@@ -133,6 +134,20 @@ int lens_load(const char *path, const lens_load_options *opt, lens_t *lens, lens
         return -1;
     }
     int is_stdin = strcmp(path, "-") == 0;
+    /* A name that is not a file here is a lens name: ./, $SPARSELENS_LENS_PATH, then
+     * the shipped lenses (data_path.h), each with any reader's extension. */
+    char found[1024];
+    if (!is_stdin) {
+        const char *exts[NREADERS + 1] = {0};
+        for (size_t i = 0; i < NREADERS; i++)
+            exts[i] = readers[i].ext;
+        if (data_find("lenses", "SPARSELENS_LENS_PATH", path, exts, found, sizeof found) != 0) {
+            lens_errf(err, path, 0, "no such lens file, nor a lens of that name in ./, "
+                                    "$SPARSELENS_LENS_PATH or the shipped lenses");
+            return -1;
+        }
+        path = found;
+    }
     size_t k = NREADERS;
     for (size_t i = 0; i < NREADERS && !is_stdin && !format; i++)
         if (has_ext(path, readers[i].ext))

@@ -21,6 +21,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "render/render_samples.h"
 #include "sparselens/glass.h"
@@ -123,6 +124,7 @@ static double tent(double u, double r)
 typedef struct {
     double in[BLOCK * MAX_WAVE * 5], org[BLOCK * MAX_WAVE * 3], dir[BLOCK * MAX_WAVE * 3];
     double eta[BLOCK * MAX_WAVE], pdf[BLOCK];
+    double o4[BLOCK * MAX_WAVE * 4], jac[BLOCK * MAX_WAVE * 16]; /* full estimator */
     unsigned char pass[BLOCK * MAX_WAVE];
     wave_set waves[BLOCK];
 } block_buf;
@@ -146,23 +148,47 @@ static void lens_block(const render_job *job, size_t rows, block_buf *b)
                                              b->dir + 3 * r, b->eta + r);
 }
 
-/* The full estimator's lens part for row r: the outer-pupil coordinates o and their
- * Jacobian, and the ray they give in the row's place; P_a. */
-static int full_row(const render_job *job, block_buf *b, size_t r, double o[4], double jac[16])
+/* The full estimator's lens part for the block's rows: the outer-pupil coordinates and
+ * their Jacobian (in one batch where the camera can), and in place of each row's ray the
+ * ray they give; pass gets P_a. */
+static void full_block(const render_job *job, size_t rows, block_buf *b)
 {
     const render_camera *cam = job->cam;
-    lens_ray lr;
-    double eta;
-    if (!cam->outer(cam->ctx, b->in + 5 * r, o, jac, &eta) || ray_from_outer(cam->lens, o, &lr))
-        return 0;
-    memcpy(b->org + 3 * r, lr.o, sizeof lr.o);
-    memcpy(b->dir + 3 * r, lr.d, sizeof lr.d);
-    b->eta[r] = eta;
-    return 1;
+    if (cam->outer_batch)
+        cam->outer_batch(cam->ctx, rows, b->in, b->o4, b->jac, b->eta, b->pass);
+    else
+        for (size_t r = 0; r < rows; r++)
+            b->pass[r] = (unsigned char)cam->outer(cam->ctx, b->in + 5 * r, b->o4 + 4 * r,
+                                                   b->jac + 16 * r, b->eta + r);
+    for (size_t r = 0; r < rows; r++) {
+        lens_ray lr;
+        if (!b->pass[r] || ray_from_outer(cam->lens, b->o4 + 4 * r, &lr)) {
+            b->pass[r] = 0;
+            continue;
+        }
+        memcpy(b->org + 3 * r, lr.o, sizeof lr.o);
+        memcpy(b->dir + 3 * r, lr.d, sizeof lr.d);
+    }
 }
 
-static void render_block(const render_job *job, uint64_t key, int px, int py, long k0, int m,
-                         block_buf *b, pixel_acc *acc)
+/* Camera rays leave the lens within this distance of the scene's origin (the front
+ * vertex): the front element's rim, widened by a tenth; 0 when unknown (analytic lens). */
+static double origin_radius(const render_camera *cam)
+{
+    if (!cam->lens) return 0;
+    const lens_surface *f = &cam->lens->surf[0];
+    double sag = lens_sag(f, f->semi_diameter * f->semi_diameter);
+    if (!isfinite(sag)) sag = fabs(f->radius);
+    return 1.1 * (fabs(cam->lens->vertex_z[0]) + hypot(f->semi_diameter, sag));
+}
+
+typedef struct {
+    const scene_cull *cull;
+    double rho;
+} camera_cull;
+
+static void render_block(const render_job *job, const camera_cull *cc, uint64_t key, int px,
+                         int py, long k0, int m, block_buf *b, pixel_acc *acc)
 {
     const scene_t *sc = job->scene;
     const render_camera *cam = job->cam;
@@ -190,7 +216,8 @@ static void render_block(const render_job *job, uint64_t key, int px, int py, lo
             row[4] = job->achromatic ? GLASS_D_LINE : w->lambda[j];
         }
     }
-    if (!full) lens_block(job, (size_t)m * nray, b);
+    if (full) full_block(job, (size_t)m * nray, b);
+    else lens_block(job, (size_t)m * nray, b);
     for (int i = 0; i < m; i++) {
         long k = k0 + i;
         const wave_set *w = &b->waves[i];
@@ -198,8 +225,6 @@ static void render_block(const render_job *job, uint64_t key, int px, int py, lo
         int any = 0;
         for (int j = 0; j < nray && b->pdf[i] > 0; j++) {
             size_t r = (size_t)i * nray + j;
-            double o4[4], jac[16];
-            if (full) b->pass[r] = (unsigned char)full_row(job, b, r, o4, jac);
             if (!b->pass[r]) continue; /* P_a = 0 */
             any = 1;
             const double *in = b->in + 5 * r;
@@ -209,11 +234,15 @@ static void render_block(const render_job *job, uint64_t key, int px, int py, lo
             render_lens_to_scene(b->org + 3 * r, os);
             render_lens_to_scene(b->dir + 3 * r, ds);
             scene_hit h;
-            if (!scene_intersect(sc, os, ds, 1e-6, INFINITY, &h)) continue; /* L = 0 */
+            int near = os[0] * os[0] + os[1] * os[1] + os[2] * os[2] <= cc->rho * cc->rho;
+            if (!(near ? scene_intersect_camera(sc, cc->cull, os, ds, 1e-6, &h)
+                       : scene_intersect(sc, os, ds, 1e-6, INFINITY, &h)))
+                continue; /* L = 0 */
             if (full) {
                 render_full_terms t;
                 acc->full++;
-                if (render_full_weight(cam->lens, in, o4, jac, b->pdf[i], tr, h.p, h.n, &t) == 0)
+                if (render_full_weight(cam->lens, in, b->o4 + 4 * r, b->jac + 16 * r, b->pdf[i], tr, h.p,
+                                       h.n, &t) == 0)
                     wt = t.weight;
                 else
                     acc->fallback++;
@@ -226,6 +255,13 @@ static void render_block(const render_job *job, uint64_t key, int px, int py, lo
         acc->passed += any;
         for (int c = 0; c < 3; c++) acc->sum[c] += a[c], acc->sum2[c] += a[c] * a[c];
     }
+}
+
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
 int render_image(const render_job *job, float *rgb, float *var, render_stats *st,
@@ -241,11 +277,14 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
         lens_errf(err, sc->path, 0, "the full estimator needs a lens with an outer-pupil Jacobian");
         return -1;
     }
-    double t0 = omp_get_wtime();
+    double t0 = omp_get_wtime(), c0 = cpu_now();
     long rows_done = 0;
     double passed_total = 0, full_total = 0, fallback_total = 0;
     int threads = job->threads > 0 ? job->threads : omp_get_max_threads();
     int fail = 0;
+    camera_cull cc = {NULL, origin_radius(job->cam)};
+    scene_cull *cull = cc.rho > 0 ? scene_cull_new(sc, cc.rho) : NULL;
+    cc.cull = cull;
 #pragma omp parallel num_threads(threads) reduction(+ : passed_total, full_total, fallback_total)
     {
         block_buf *b = malloc(sizeof *b);
@@ -270,7 +309,7 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
                 memset(&acc, 0, sizeof acc);
                 for (long k0 = 0; k0 < job->spp; k0 += BLOCK) {
                     int m = (int)(job->spp - k0 < BLOCK ? job->spp - k0 : BLOCK);
-                    render_block(job, key, px, py, k0, m, b, &acc);
+                    render_block(job, &cc, key, px, py, k0, m, b, &acc);
                 }
                 passed_total += acc.passed;
                 full_total += acc.full;
@@ -293,6 +332,7 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
         }
         free(b);
     }
+    scene_cull_free(cull);
     if (fail) {
         lens_errf(err, sc->path, 0, "out of memory");
         return -1;
@@ -306,6 +346,7 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
         st->full_rays = full_total;
         st->full_fallback = fallback_total;
         st->seconds = omp_get_wtime() - t0;
+        st->cpu_seconds = cpu_now() - c0;
     }
     return 0;
 }

@@ -42,8 +42,7 @@ static double shift_of(uint64_t key)
  * Corput (the index's bits reversed) and the Pascal-matrix dimension. */
 static uint32_t reverse32(uint32_t x)
 {
-    x = (x << 16) | (x >> 16);
-    x = ((x & 0x00ff00ffu) << 8) | ((x >> 8) & 0x00ff00ffu);
+    x = __builtin_bswap32(x);
     x = ((x & 0x0f0f0f0fu) << 4) | ((x >> 4) & 0x0f0f0f0fu);
     x = ((x & 0x33333333u) << 2) | ((x >> 2) & 0x33333333u);
     return ((x & 0x55555555u) << 1) | ((x >> 1) & 0x55555555u);
@@ -57,13 +56,13 @@ static uint32_t sobol_dim2(uint32_t j)
     return x;
 }
 
-/* An Owen scramble of the binary fraction x (MSB = 1/2): each digit is flipped by a
+/* An Owen scramble (owen_reversed takes x with its bits already reversed) of the binary
+ * fraction x (MSB = 1/2): each digit is flipped by a
  * hash of the digits above it. With the bits reversed, "above" becomes "below", and
  * adding a constant, multiplying by an odd number or xoring with x times an even number
  * change a bit only as a function of the bits below it (Laine and Karras 2011). */
-static uint32_t owen(uint32_t x, uint64_t key)
+static uint32_t owen_reversed(uint32_t r, uint64_t key)
 {
-    uint32_t r = reverse32(x);
     uint32_t k1 = (uint32_t)key, k2 = (uint32_t)(key >> 32);
     r += k1;
     r ^= r * (k2 << 1);
@@ -73,11 +72,17 @@ static uint32_t owen(uint32_t x, uint64_t key)
     return reverse32(r);
 }
 
+static uint32_t owen(uint32_t x, uint64_t key)
+{
+    return owen_reversed(reverse32(x), key);
+}
+
 void ld_2d(uint64_t key, int dim, uint64_t n, uint64_t k, double out[2])
 {
     uint64_t kd = mix64(key ^ (0xD1B54A32D192ED03ull * (uint64_t)(dim + 1)));
     uint32_t j = (uint32_t)permute(k, n, kd);
-    uint32_t a = owen(reverse32(j), mix64(kd + 1)), b = owen(sobol_dim2(j), mix64(kd + 2));
+    /* van der Corput is j reversed: its scramble starts from j itself */
+    uint32_t a = owen_reversed(j, mix64(kd + 1)), b = owen(sobol_dim2(j), mix64(kd + 2));
     /* 32 digits, and a random point within the last interval */
     out[0] = (a + (double)(mix64(kd + 3 + j) >> 11) * 0x1.0p-53) * 0x1.0p-32;
     out[1] = (b + (double)(mix64(kd + 4 + j) >> 11) * 0x1.0p-53) * 0x1.0p-32;

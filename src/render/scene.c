@@ -9,6 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
+
+#include "sparselens/data_path.h"
 
 #define MAX_TOKENS 40
 
@@ -296,6 +299,10 @@ static int statement(scene_t *s, line_ctx *c, int *have_camera)
             return -1;
         }
         resolve(c->path, c->tok[1], s->camera, sizeof s->camera);
+        /* a bare name with no such file beside the scene is a lens name (lens_load
+         * looks in ./, $SPARSELENS_LENS_PATH and the shipped lenses) */
+        if (!strchr(c->tok[1], '/') && access(s->camera, R_OK) != 0)
+            snprintf(s->camera, sizeof s->camera, "%s", c->tok[1]);
         size_t l = strlen(s->camera);
         s->camera_is_poly = l > 5 && !strcmp(s->camera + l - 5, ".poly");
         *have_camera = 1;
@@ -419,6 +426,13 @@ fail:
 
 int scene_load(const char *path, scene_t *s, lens_err *err)
 {
+    /* A bare name that is not a file here is a scene name: ./, $SPARSELENS_SCENE_PATH,
+     * then the shipped scenes (data_path.h); the camera is then found beside it. */
+    static const char *const exts[] = {".scene", NULL};
+    char found[1024];
+    if (strcmp(path, "-") && data_find("scenes", "SPARSELENS_SCENE_PATH", path, exts, found,
+                                       sizeof found) == 0)
+        path = found;
     FILE *f = strcmp(path, "-") ? fopen(path, "rb") : stdin;
     if (!f) {
         lens_errf(err, path, 0, "cannot open: %s", strerror(errno));

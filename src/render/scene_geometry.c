@@ -53,6 +53,22 @@ static double hit_object(const scene_object *o, const double org[3], const doubl
     return t;
 }
 
+/* The hit record of object which at ray parameter t. */
+static void fill_hit(const scene_t *s, int which, double t, const double o[3], const double d[3],
+                     scene_hit *hit)
+{
+    const scene_object *ob = &s->obj[which];
+    hit->t = t;
+    hit->obj = which;
+    for (int k = 0; k < 3; k++) hit->p[k] = o[k] + t * d[k];
+    if (ob->kind == OBJ_SPHERE)
+        for (int k = 0; k < 3; k++) hit->n[k] = (hit->p[k] - ob->p[k]) / ob->radius;
+    else
+        memcpy(hit->n, ob->n, sizeof hit->n);
+    if (dot3(hit->n, d) > 0)
+        for (int k = 0; k < 3; k++) hit->n[k] = -hit->n[k];
+}
+
 int scene_intersect(const scene_t *s, const double o[3], const double d[3], double tmin,
                     double tmax, scene_hit *hit)
 {
@@ -63,16 +79,26 @@ int scene_intersect(const scene_t *s, const double o[3], const double d[3], doub
         if (t < best) best = t, which = (int)i;
     }
     if (which < 0) return 0;
-    const scene_object *ob = &s->obj[which];
-    hit->t = best;
-    hit->obj = which;
-    for (int k = 0; k < 3; k++) hit->p[k] = o[k] + best * d[k];
-    if (ob->kind == OBJ_SPHERE)
-        for (int k = 0; k < 3; k++) hit->n[k] = (hit->p[k] - ob->p[k]) / ob->radius;
-    else
-        memcpy(hit->n, ob->n, sizeof hit->n);
-    if (dot3(hit->n, d) > 0)
-        for (int k = 0; k < 3; k++) hit->n[k] = -hit->n[k];
+    fill_hit(s, which, best, o, d, hit);
+    return 1;
+}
+
+int scene_intersect_listed(const scene_t *s, const int *spheres, int nlisted, const double o[3],
+                           const double d[3], double tmin, double tmax, scene_hit *hit)
+{
+    double best = tmax;
+    int which = -1;
+    for (size_t i = 0; i < s->nobj; i++) {
+        if (s->obj[i].kind == OBJ_SPHERE) continue;
+        double t = hit_object(&s->obj[i], o, d, tmin);
+        if (t < best) best = t, which = (int)i;
+    }
+    for (int k = 0; k < nlisted; k++) {
+        double t = hit_object(&s->obj[spheres[k]], o, d, tmin);
+        if (t < best) best = t, which = spheres[k];
+    }
+    if (which < 0) return 0;
+    fill_hit(s, which, best, o, d, hit);
     return 1;
 }
 

@@ -7,7 +7,8 @@
  *    BSDF sample finds (E = pi L);
  *  - the low-discrepancy pixel samples: stratified (a 1D dimension has one sample per
  *    stratum; 32 2D samples one per elementary box of area 1/32), and unbiased over
- *    pixels (the mean of many pixels' points is 1/2). */
+ *    pixels (the mean of many pixels' points is 1/2);
+ *  - the camera rays' direction culling against the full intersection loop. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -161,11 +162,56 @@ static void test_samples_stratified(void **state)
     assert_true(fabs(sum / pixels - 0.5) < 4 * sqrt(1.0 / 12 / pixels));
 }
 
+/* Direction culling finds exactly the hits of the full loop, for rays from anywhere in
+ * the origin ball, over many spheres in every direction (and a plane behind them). */
+static void test_cull_exact(void **state)
+{
+    (void)state;
+    char text[20000];
+    int len = snprintf(text, sizeof text, "camera a.lens\nplane 0 0 3000 0 0 -1 albedo 0.5\n");
+    uint64_t st = 99;
+    for (int k = 0; k < 120; k++) {
+        double th = acos(1 - 1.1 * ((lcg(&st) >> 11) * 0x1.0p-53)), ph = 2 * M_PI * ((lcg(&st) >> 11) * 0x1.0p-53);
+        double r = 100 + 900 * ((lcg(&st) >> 11) * 0x1.0p-53), rad = 2 + 30 * ((lcg(&st) >> 11) * 0x1.0p-53);
+        len += snprintf(text + len, sizeof text - len, "sphere %.6f %.6f %.6f %.6f emit 1\n",
+                        r * sin(th) * cos(ph), r * sin(th) * sin(ph), r * cos(th), rad);
+    }
+    scene_t s;
+    lens_err err = {{0}};
+    assert_int_equal(scene_parse(text, "t.scene", &s, &err), 0);
+    double rho = 25;
+    scene_cull *c = scene_cull_new(&s, rho);
+    assert_non_null(c);
+    int hits = 0;
+    for (int i = 0; i < 200000; i++) {
+        double o[3], d[3], n;
+        do {
+            for (int k = 0; k < 3; k++) o[k] = rho * (2 * ((lcg(&st) >> 11) * 0x1.0p-53) - 1);
+        } while (o[0] * o[0] + o[1] * o[1] + o[2] * o[2] > rho * rho);
+        for (int k = 0; k < 3; k++) d[k] = 2 * ((lcg(&st) >> 11) * 0x1.0p-53) - 1;
+        n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        for (int k = 0; k < 3; k++) d[k] /= n;
+        scene_hit a, b;
+        int ha = scene_intersect(&s, o, d, 1e-6, INFINITY, &a);
+        int hb = scene_intersect_camera(&s, c, o, d, 1e-6, &b);
+        assert_int_equal(ha, hb);
+        if (ha) {
+            assert_int_equal(a.obj, b.obj);
+            assert_true(a.t == b.t);
+            hits += a.obj > 0;
+        }
+    }
+    assert_true(hits > 1000); /* the spheres were met, not only the plane */
+    scene_cull_free(c);
+    scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cie_fit), cmocka_unit_test(test_spectrum_round_trip),
         cmocka_unit_test(test_mis_closed_forms), cmocka_unit_test(test_samples_stratified),
+        cmocka_unit_test(test_cull_exact),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,55 @@
+/* lens-eval's job as a whole (eval_cli.h): the system read, then emitted as C or
+ * evaluated by eval_run (eval_run.c) into an output file that appears only when
+ * complete. */
+#include "sparselens/eval_cli.h"
+
+#include <string.h>
+
+#include "sparselens/outfile.h"
+
+static int emit(const eval_cli *o, const poly_system *sys, outfile *of, lens_err *err)
+{
+    if (poly_emit_c(outfile_stream(of), sys, o->name) != 0) {
+        outfile_abort(of);
+        lens_errf(err, NULL, 0, "--name: '%s' is not a C identifier, or writing failed",
+                  o->name);
+        return -1;
+    }
+    return outfile_commit(of, err);
+}
+
+static void print_outside(FILE *log, const poly_system *sys, const eval_run_stats *st)
+{
+    fprintf(log, "lens-eval: %zu of %zu rays outside the training domain (extrapolated):",
+            st->outside, st->rows);
+    for (int i = 0; i < poly_ninputs(sys) && i < 64; i++)
+        if (st->outside_input[i])
+            fprintf(log, " %s %zu", poly_input_name(sys, i), st->outside_input[i]);
+    fputc('\n', log);
+}
+
+int eval_cli_run(const eval_cli *o, FILE *log, eval_run_stats *st, lens_err *err)
+{
+    memset(st, 0, sizeof *st);
+    eval_run_options opt = o->run;
+    opt.json = o->out.json, opt.precision = (int)o->out.precision;
+    poly_system *sys;
+    if (poly_read(o->system, &sys, err) != 0)
+        return -1;
+    outfile *of = outfile_open(o->output, err);
+    samples_reader *rd = NULL;
+    int rc = -1;
+    if (of && o->emit_c)
+        rc = emit(o, sys, of, err);
+    else if (of && (rd = samples_open(o->input, err)) &&
+             eval_run(sys, rd, outfile_stream(of), &opt, st, err) == 0)
+        rc = outfile_commit(of, err);
+    else if (of)
+        outfile_abort(of);
+    if (rd)
+        samples_close(rd);
+    if (rc == 0 && st->outside && log)
+        print_outside(log, sys, st);
+    poly_free(sys);
+    return rc;
+}
