@@ -33,6 +33,7 @@ int main(int argc, char **argv)
     int quiet = c.quiet;
     o.scene = operand[0];
     if (!o.exr && !o.emit_camera) diag_die(prog, "no output image: give -o IMAGE.exr");
+    cli_check_output(prog, o.exr);
     progress_state ps = {-1};
     if (!quiet) o.log = stderr;
     if (!quiet && cli_progress_wanted()) {
@@ -49,8 +50,8 @@ int main(int argc, char **argv)
         return 1;
     }
     if (!quiet && !o.emit_camera) {
-        fprintf(stderr, "time %.3f s, %.4g camera rays/s, %.1f%% of camera rays passed the lens\n",
-                st.seconds, st.camera_rays / (st.seconds > 0 ? st.seconds : 1e-9),
+        fprintf(stderr, "time %.3f s (processor %.3f s), %.4g camera rays/s, %.1f%% of camera rays "
+                "passed the lens\n", st.seconds, st.cpu_seconds, st.camera_rays / (st.seconds > 0 ? st.seconds : 1e-9),
                 st.camera_rays > 0 ? 100 * st.passed_rays / st.camera_rays : 0);
     }
     return 0;
