@@ -43,6 +43,8 @@ PROJ_CFLAGS   := $(call pkg,--cflags proj,)
 PROJ_LIBS     := $(call pkg,--libs proj,-lproj)
 LAPACK_CFLAGS := $(call pkg,--cflags lapacke,)
 LAPACK_LIBS   := $(call pkg,--libs lapacke,-llapacke) $(call pkg,--libs lapack,-llapack) $(call pkg,--libs blas,-lblas)
+CAIRO_CFLAGS  := $(call pkg,--cflags cairo,-I/usr/include/cairo)
+CAIRO_LIBS    := $(call pkg,--libs cairo,-lcairo)
 CMOCKA_CFLAGS := $(call pkg,--cflags cmocka,)
 CMOCKA_LIBS   := $(call pkg,--libs cmocka,-lcmocka)
 # x86-64-v2 (SSE4.2, POPCNT) is the baseline on x86-64, where the poly and trace kernels
@@ -55,7 +57,7 @@ CPPFLAGS += -Iinclude -Isrc $(EXR_CFLAGS) $(PROJ_CFLAGS) $(LAPACK_CFLAGS) -D_DEF
 CFLAGS   += -std=c11 $(OPT) -Wall -Wextra -fopenmp $(ARCH_FLAGS)
 CXXFLAGS += -std=c++17 $(OPT) -Wall -Wextra $(OPENCV_CFLAGS)
 LDFLAGS  += $(OPT) -fopenmp
-LDLIBS   := $(OPENCV_LIBS) $(EXR_LIBS) $(PROJ_LIBS) $(LAPACK_LIBS) -lstdc++ -lm
+LDLIBS   := $(OPENCV_LIBS) $(CAIRO_LIBS) $(EXR_LIBS) $(PROJ_LIBS) $(LAPACK_LIBS) -lstdc++ -lm
 
 LIB_C    := $(wildcard src/*/*.c)
 LIB_CXX  := $(wildcard src/*/*.cpp)
@@ -98,6 +100,7 @@ $(LIB): $(LIB_OBJ)
 	ar rcs $@ $^
 
 # The version (one place: the VERSION file) reaches the commands through options.c.
+$(BUILD)/src/base/canvas_cairo.o: CPPFLAGS += $(CAIRO_CFLAGS)
 $(BUILD)/src/app/options.o: CPPFLAGS += -DSPARSELENS_VERSION='"$(VERSION)"'
 $(BUILD)/src/app/options.o: VERSION
 

@@ -73,7 +73,7 @@ int main(int argc, char **argv)
         double factor = isfinite(o.exaggerate) ? o.exaggerate : distort_auto_factor(&rep);
         const char *base = imaging_cli_basename(&o.im);
         char title[600];
-        snprintf(title, sizeof title, "%s  distortion grid map (%s ideal, %.4g um)  %s",
+        snprintf(title, sizeof title, "%s  distortion grid map (%s ideal, %.4g µm)  %s",
                  models.lens.name[0] ? models.lens.name : base, proj_name(rep.mapping), rq.lambda,
                  setup.text);
         if (distort_write_png(png, title, rq.nmodels, rq.model_names, (const double *const *)rep.pts,

@@ -17,13 +17,13 @@ int main(int argc, char **argv)
     imaging_models models;
     double field[IMAGING_MAX_FIELDS];
     design_set_from_cli(prog, &o.im, &models, field, &rq.set);
-    char title[256];
-    design_set_title(&o.im, &models, "ray fans", title, sizeof title);
+    imaging_setup setup;
+    char title[512];
+    design_set_title(&o.im, &models, &rq.set, "ray fans", &setup, title, sizeof title);
     rq.title = title;
+    table_out t;
+    output_cli_begin(&o.out, &t, stdout, 6);
     lens_err err;
-    int rc = fan_run(&rq, stdout, NULL, &err);
-    if (rc != 0)
-        diag_print(prog, &err);
-    imaging_models_free(&models);
-    return rc != 0;
+    int rc = fan_run(&rq, &t, NULL, &err);
+    return design_cli_end(prog, &t, rc, &err, &setup, &models);
 }

@@ -23,16 +23,22 @@ int main(int argc, char **argv)
         rq.set.nfields = top > 0 ? 17 : 1;
         for (int i = 0; i < rq.set.nfields; i++)
             field[i] = top * i / 16.0;
+        rq.set.focused = 0; /* --focus best over these fields */
+        lens_err e;
+        if (design_set_focus(&rq.set, &e) != 0) {
+            imaging_models_free(&models);
+            diag_die(prog, "%s", e.msg);
+        }
     }
-    char title[256];
-    design_set_title(&o.im, &models,
+    imaging_setup setup;
+    char title[512];
+    design_set_title(&o.im, &models, &rq.set,
                      rq.focal_shift ? "chromatic focal shift" : "field curves, distortion, lateral colour",
-                     title, sizeof title);
+                     &setup, title, sizeof title);
     rq.title = title;
+    table_out t;
+    output_cli_begin(&o.out, &t, stdout, 6);
     lens_err err;
-    int rc = field_run(&rq, stdout, NULL, &err);
-    if (rc != 0)
-        diag_print(prog, &err);
-    imaging_models_free(&models);
-    return rc != 0;
+    int rc = field_run(&rq, &t, NULL, &err);
+    return design_cli_end(prog, &t, rc, &err, &setup, &models);
 }

@@ -49,8 +49,8 @@ int main(int argc, char **argv)
         return 1;
     }
     if (!quiet && !o.emit_camera) {
-        fprintf(stderr, "time %.3f s, %.4g camera rays/s, %.1f%% of camera rays passed the lens\n",
-                st.seconds, st.camera_rays / (st.seconds > 0 ? st.seconds : 1e-9),
+        fprintf(stderr, "time %.3f s (processor %.3f s), %.4g camera rays/s, %.1f%% of camera rays "
+                "passed the lens\n", st.seconds, st.cpu_seconds, st.camera_rays / (st.seconds > 0 ? st.seconds : 1e-9),
                 st.camera_rays > 0 ? 100 * st.passed_rays / st.camera_rays : 0);
     }
     return 0;

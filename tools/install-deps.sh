@@ -40,7 +40,8 @@ cat <<'EOF'
 cc|required|build-essential|the C compiler (CC)
 c++|required|build-essential|the C++ compiler (CXX), for the OpenCV shim
 openmp|required|build-essential|OpenMP threads
-opencv|required|libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-calib3d-dev|OpenCV 4: pictures and the distortion check
+opencv|required|libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-calib3d-dev|OpenCV 4: the distortion check (camera-model fits)
+cairo|required|libcairo2-dev|cairo: pictures with real fonts (µm), PNG, SVG and PDF
 openexr|required|libopenexr-dev|OpenEXR Core: HDR images and renders
 proj|required|libproj-dev|PROJ's geodesic API (GeographicLib)
 lapacke|required|liblapacke-dev|LAPACKE: QR in lens-fit
@@ -61,6 +62,8 @@ have() {
     openmp) compiles c '#include <omp.h>\nint main(void) { return omp_get_max_threads() < 1; }\n' -fopenmp ;;
     opencv) compiles c++ '#include <opencv2/core.hpp>\n#include <opencv2/imgproc.hpp>\n#include <opencv2/imgcodecs.hpp>\n#include <opencv2/calib3d.hpp>\nint main() { cv::Mat m = cv::Mat::eye(2, 2, CV_64F); return m.rows != 2; }\n' \
               $(makevar OPENCV_CFLAGS) $(makevar OPENCV_LIBS) ;;
+    cairo) compiles c '#include <cairo.h>\nint main(void) { cairo_surface_t *s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 1); cairo_surface_destroy(s); return 0; }\n' \
+             $(makevar CAIRO_CFLAGS) $(makevar CAIRO_LIBS) ;;
     openexr) compiles c '#include <openexr.h>\nint main(void) { int a, b, c; exr_get_library_version(&a, &b, &c, 0); return 0; }\n' \
                $(makevar EXR_CFLAGS) $(makevar EXR_LIBS) ;;
     proj) compiles c '#include <geodesic.h>\nint main(void) { struct geod_geodesic g; geod_init(&g, 1, 0); return 0; }\n' \

@@ -5,6 +5,7 @@
  * imaging_cli.h and --fields, --wavelengths, --png through design_cli_table. */
 #include "sparselens/imaging_cli.h"
 #include "sparselens/options.h"
+#include "sparselens/output_cli.h"
 #include "sparselens/wavefront.h"
 
 extern const opt_spec design_cli_table[]; /* for an imaging_cli */
@@ -12,12 +13,14 @@ extern const opt_spec design_cli_table[]; /* for an imaging_cli */
 typedef struct {
     imaging_cli im;
     long points;
+    output_cli out;         /* --json, --precision */
 } fan_cli;
 
 typedef struct {
     imaging_cli im;
     double delta;
     long focal_shift;
+    output_cli out;         /* --json, --precision */
 } field_cli;
 
 typedef struct {
@@ -25,6 +28,7 @@ typedef struct {
     double pixel_um, through_focus, focus_range;
     long steps, grid, focus_steps;
     int wavefront;          /* wavefront_method */
+    output_cli out;         /* --json, --precision */
 } mtf_cli;
 
 typedef struct {
@@ -32,6 +36,7 @@ typedef struct {
     long rays;
     const char *svg;
     int width;
+    output_cli out;         /* --json, --precision */
 } layout_cli;
 
 extern const opt_command fan_command, field_command, mtf_command, layout_command;

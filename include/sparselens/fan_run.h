@@ -17,7 +17,7 @@ typedef struct {
 /* Errors of each fan are measured from its model's chief ray of the primary wavelength.
  * fans (may be NULL) receives the fans, [(m * nfields + f) * nl + l], for the caller
  * to free with fan_results_free; otherwise they are freed here. */
-int fan_run(fan_request *rq, FILE *out, ray_fan **fans, lens_err *err);
+int fan_run(fan_request *rq, table_out *out, ray_fan **fans, lens_err *err);
 void fan_results_free(ray_fan *fans, size_t n);
 
 #endif

@@ -19,7 +19,7 @@ typedef struct {
 
 /* rows (may be NULL) receives the field rows [(m * nfields + f) * nl + l] (freed by the
  * caller with free) when the field curves were asked for. */
-int field_run(field_request *rq, FILE *out, field_row **rows, lens_err *err);
+int field_run(field_request *rq, table_out *out, field_row **rows, lens_err *err);
 
 /* Focal shift of one model: the axial close-ray focus (field 0, the sagittal pair) at
  * each of n wavelengths, minus that at ref_lambda, in mm along +z. */

@@ -1,11 +1,12 @@
 #ifndef SPARSELENS_IMAGE_H
 #define SPARSELENS_IMAGE_H
-/* Pictures and camera-model checks through OpenCV, behind a plain C interface
- * (src/base/image_cv.cpp is the only file that includes OpenCV).
+/* Pictures through cairo (src/base/canvas_cairo.c) and camera-model checks through
+ * OpenCV (src/base/image_cv.cpp), behind a plain C interface.
  *
- * Canvas: an RGB image of floats in [0, 1], origin at the top-left pixel corner, x to
- * the right, y down (OpenCV's convention). Coordinates are doubles in pixels; drawing
- * is antialiased. Colours are {r, g, b} in [0, 1]. */
+ * Canvas: W x H pixels, origin at the top-left pixel corner, x to the right, y down.
+ * Coordinates are doubles in pixels; drawing is antialiased; text is set in DejaVu Sans
+ * (UTF-8: "µm", "°" print). Colours are {r, g, b} in [0, 1]. A picture is written as
+ * PNG, or as SVG or PDF (vector) when the file name ends in .svg or .pdf. */
 #include <stddef.h>
 
 #include "sparselens/diag.h"
@@ -19,6 +20,9 @@ int img_height(const img_canvas *c);
 
 void img_line(img_canvas *c, double x0, double y0, double x1, double y1, const double rgb[3],
               double thickness);
+/* A dashed line: dashes and gaps of `dash` pixels. */
+void img_dashed_line(img_canvas *c, double x0, double y0, double x1, double y1,
+                     const double rgb[3], double thickness, double dash);
 /* Outline (thickness > 0) or filled disc (thickness <= 0). */
 void img_circle(img_canvas *c, double cx, double cy, double r, const double rgb[3],
                 double thickness);
@@ -36,8 +40,8 @@ void img_text(img_canvas *c, double x, double y, const char *text, double height
 /* Width in pixels of text drawn at that height. */
 double img_text_width(const char *text, double height);
 
-/* Writes an 8-bit PNG through a temporary file and outfile_commit_path, so no partial
- * file is left. 0 on success. */
+/* Writes the picture (PNG; SVG or PDF by the file name's ending) through a temporary
+ * file and outfile_commit_path, so no partial file is left. 0 on success. */
 int img_write_png(const img_canvas *c, const char *path, lens_err *err);
 
 /* Reads a picture back (tests, checks): its size and the number of pixels that differ

@@ -16,6 +16,6 @@ typedef struct {
     const char *title;
 } layout_request;
 
-int layout_run(layout_request *rq, FILE *out, lens_err *err);
+int layout_run(layout_request *rq, table_out *out, lens_err *err);
 
 #endif

@@ -22,6 +22,6 @@ typedef struct {
 } mtf_request;
 
 /* rows (may be NULL) receives the rows (caller frees) and *nrows their count. */
-int mtf_run(mtf_request *rq, FILE *out, mtf_row **rows, size_t *nrows, lens_err *err);
+int mtf_run(mtf_request *rq, table_out *out, mtf_row **rows, size_t *nrows, lens_err *err);
 
 #endif

@@ -26,6 +26,12 @@ void plot_range(const double *v, int n, int symmetric, double *lo, double *hi);
  * and the axis labels. */
 void plot_axes(const plot_panel *p, const char *title, const char *xlabel, const char *ylabel);
 
+/* Text with its baseline's left end at (x, y), at most width pixels wide: the height
+ * shrinks (down to 60 %, then the text is cut with an ellipsis) rather than running off
+ * the picture. */
+void plot_title(img_canvas *c, double x, double y, double width, const char *text, double height,
+                const double rgb[3]);
+
 /* Pixel coordinates of a data point. */
 double plot_px(const plot_panel *p, double x);
 double plot_py(const plot_panel *p, double y);

@@ -32,9 +32,14 @@ typedef int (*render_outer_fn)(void *ctx, const double in[5], double o[4], doubl
 typedef void (*render_map_batch_fn)(void *ctx, size_t n, const double *in, double *org,
                                     double *dir, double *eta, unsigned char *pass);
 
+/* outer for n rays at once (rows: in n x 5, o n x 4, jac n x 16, eta and pass n). */
+typedef void (*render_outer_batch_fn)(void *ctx, size_t n, const double *in, double *o,
+                                      double *jac, double *eta, unsigned char *pass);
+
 typedef struct {
     render_map_fn map;
     render_map_batch_fn map_batch; /* may be NULL */
+    render_outer_batch_fn outer_batch; /* may be NULL: outer per ray */
     render_outer_fn outer; /* NULL: no full estimator (analytic lenses) */
     const lens_t *lens;    /* the lens whose front element o lies on (with outer) */
     void *ctx;
@@ -140,6 +145,8 @@ typedef struct {
     double full_rays;   /* full estimator: rays weighted by it (they hit the scene) */
     double full_fallback; /* ... and rays where it could not be evaluated (Eq. 13 used) */
     double seconds;
+    double cpu_seconds; /* processor time of the whole process over the render: with one
+                         * thread, the render's own time, whatever else runs */
 } render_stats;
 
 /* The wavelength bands of the rgb and spectral modes, um: blue [0.40, 0.49), green

@@ -64,6 +64,33 @@ static void tick_label(double v, double step, char *s, size_t n)
     snprintf(s, n, "%.4g", v);
 }
 
+void plot_title(img_canvas *c, double x, double y, double width, const char *text, double height,
+                const double rgb[3])
+{
+    double w = img_text_width(text, height);
+    if (w <= width) {
+        img_text(c, x, y, text, height, rgb);
+        return;
+    }
+    double h = height * width / w;
+    if (h >= 0.6 * height) {
+        img_text(c, x, y, text, h, rgb);
+        return;
+    }
+    /* too long even small: cut at a character that leaves room for the ellipsis */
+    char buf[1024];
+    size_t n = strlen(text) < sizeof buf - 4 ? strlen(text) : sizeof buf - 4;
+    h = 0.6 * height;
+    for (; n > 0; n--) {
+        if ((text[n] & 0xC0) == 0x80) /* not inside a UTF-8 character */
+            continue;
+        snprintf(buf, sizeof buf, "%.*s…", (int)n, text);
+        if (img_text_width(buf, h) <= width)
+            break;
+    }
+    img_text(c, x, y, buf, h, rgb);
+}
+
 void plot_axes(const plot_panel *p, const char *title, const char *xlabel, const char *ylabel)
 {
     char s[64];
@@ -86,7 +113,7 @@ void plot_axes(const plot_panel *p, const char *title, const char *xlabel, const
         img_line(p->c, p->x0, plot_py(p, 0), p->x0 + p->w, plot_py(p, 0), axis, 1);
     img_rect(p->c, p->x0, p->y0, p->x0 + p->w, p->y0 + p->h, black, 1);
     if (title)
-        img_text(p->c, p->x0, p->y0 - 8, title, 12, black);
+        plot_title(p->c, p->x0, p->y0 - 8, p->w, title, 12, black);
     if (xlabel)
         img_text(p->c, p->x0 + p->w - img_text_width(xlabel, 10), p->y0 + p->h + 30, xlabel, 10, black);
     if (ylabel)

@@ -38,7 +38,7 @@ int ray_fan_write_png(const ray_fan_figure *fig, const char *path, lens_err *err
         double rgb[3];
         char s[64];
         plot_lambda_rgb(fig->lambda[l], rgb);
-        snprintf(s, sizeof s, "%.4g um", fig->lambda[l]);
+        snprintf(s, sizeof s, "%.4g µm", fig->lambda[l]);
         lx = plot_legend(c, lx, 44, rgb, 0, s);
     }
     if (fig->nmodels > 1) {

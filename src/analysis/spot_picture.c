@@ -40,7 +40,7 @@ static double layout(const spot_figure *fig, panel *pn)
 
 int spot_write_png(const spot_figure *fig, const char *path, lens_err *err)
 {
-    const int P = 300, gap = 16, head = 58, foot = 62;
+    const int P = 300, gap = 16, head = 78, foot = 66;
     int W = fig->nfields * (P + gap) + gap;
     int H = head + fig->nmodels * (P + foot) + 8;
     const double white[3] = {1, 1, 1}, black[3] = {0, 0, 0}, grey[3] = {0.6, 0.6, 0.6},
@@ -55,18 +55,24 @@ int spot_write_png(const spot_figure *fig, const char *path, lens_err *err)
     }
     W = img_width(c);
     double half = layout(fig, pn), px = P / (2 * half); /* pixels per mm */
-    /* the title shrinks to fit the width */
-    double th = fmin(14, 14 * (W - 2 * gap) / fmax(1, img_text_width(fig->title, 14)));
-    img_text(c, gap, 22, fig->title, th, black);
+    /* the title: the lens and what it shows on one line, the setup (f-number, object,
+     * focus) on the next; each shrinks to fit the width rather than being cut off */
+    char line1[512];
+    const char *setup = strstr(fig->title, "  f/");
+    snprintf(line1, sizeof line1, "%.*s", setup ? (int)(setup - fig->title) : (int)strlen(fig->title),
+             fig->title);
+    plot_title(c, gap, 22, W - 2 * gap, line1, 14, black);
+    if (setup)
+        plot_title(c, gap, 42, W - 2 * gap, setup + 2, 11, black);
     /* legend: wavelengths in their colours */
     double lx = gap;
     for (int l = 0; l < fig->nl; l++) {
         double rgb[3];
         char s[32];
         plot_lambda_rgb(fig->spots[l].lambda, rgb);
-        snprintf(s, sizeof s, "%.4g um", fig->spots[l].lambda);
-        img_dot(c, lx + 5, 41, 4, rgb, 1);
-        img_text(c, lx + 14, 46, s, 11, rgb);
+        snprintf(s, sizeof s, "%.4g µm", fig->spots[l].lambda);
+        img_dot(c, lx + 5, 61, 4, rgb, 1);
+        img_text(c, lx + 14, 66, s, 11, rgb);
         lx += 24 + img_text_width(s, 11);
     }
     double bar = plot_nice(half * 1000 * 0.8) / 1000; /* mm */
@@ -104,7 +110,7 @@ int spot_write_png(const spot_figure *fig, const char *path, lens_err *err)
             img_line(c, x0 + 10, by - 4, x0 + 10, by + 4, black, 1);
             img_line(c, x0 + 10 + bl, by - 4, x0 + 10 + bl, by + 4, black, 1);
             char t[160];
-            snprintf(t, sizeof t, "%g um", bar * 1000);
+            snprintf(t, sizeof t, "%g µm", bar * 1000);
             img_text(c, x0 + 10, by - 8, t, 10, black);
             /* labels under the panel */
             double rms = 0;
@@ -113,13 +119,21 @@ int spot_write_png(const spot_figure *fig, const char *path, lens_err *err)
                 if (s[l].passed)
                     rms += s[l].rms_centroid * s[l].rms_centroid * (double)s[l].passed, np += s[l].passed;
             rms = np ? sqrt(rms / (double)np) : NAN; /* about each wavelength's centroid */
-            snprintf(t, sizeof t, "%s%sfield %g %s", fig->nmodels > 1 ? fig->model_names[m] : "",
-                     fig->nmodels > 1 ? "  " : "", s[0].field, fig->finite ? "mm" : "deg");
+            snprintf(t, sizeof t, "%s%sfield %g%s", fig->nmodels > 1 ? fig->model_names[m] : "",
+                     fig->nmodels > 1 ? "  " : "", s[0].field, fig->finite ? " mm" : "°");
             img_text(c, x0 + 2, y0 + P + 18, t, 12, black);
-            snprintf(t, sizeof t, "RMS %.3g um  y %.4g mm", rms * 1000, s[0].chief[1]);
+            snprintf(t, sizeof t, "RMS %.3g µm  y %.4g mm", rms * 1000, s[0].chief[1]);
             img_text(c, x0 + 2, y0 + P + 36, t, 11, black);
-            snprintf(t, sizeof t, "Airy r %.3g um (circle)", s[0].airy * 1000);
+            snprintf(t, sizeof t, "Airy r %.3g µm (circle)", s[0].airy * 1000);
             img_text(c, x0 + 2, y0 + P + 53, t, 10, grey);
+            /* a wavelength the model cannot image at this field says so in the panel */
+            for (int l = 0, k = 0; l < fig->nl; l++)
+                if (s[l].not_imaged) {
+                    double rgb[3];
+                    plot_lambda_rgb(s[l].lambda, rgb);
+                    snprintf(t, sizeof t, "%.4g µm: not imaged", s[l].lambda);
+                    img_text(c, x0 + 8, y0 + 18 + 16 * k++, t, 10, rgb);
+                }
         }
     int rc = img_write_png(c, path, err);
     img_free(c);

@@ -26,6 +26,7 @@ static const opt_spec fan_table[] = {
     {0, "points", "N", OPT_INT, OPT_AT(fan_cli, points), .lo = 2, .hi = 100001,
      .help = "rays per fan, evenly from -1 to 1 of the pupil", .def = "21"},
     {.type = OPT_GROUP, OPT_AT(fan_cli, im), .group = design_cli_table},
+    {.type = OPT_GROUP, OPT_AT(fan_cli, out), .group = output_cli_table},
     {0}};
 
 const opt_command fan_command = {
@@ -52,6 +53,7 @@ static const opt_spec field_table[] = {
      .help = "instead of the field curves: the chromatic focal shift at N wavelengths "
              "spanning --wavelengths"},
     {.type = OPT_GROUP, OPT_AT(field_cli, im), .group = design_cli_table},
+    {.type = OPT_GROUP, OPT_AT(field_cli, out), .group = output_cli_table},
     {0}};
 
 const opt_command field_command = {
@@ -93,6 +95,7 @@ static const opt_spec mtf_table[] = {
     {0, "focus-steps", "N", OPT_INT, OPT_AT(mtf_cli, focus_steps), .lo = 2, .hi = 10001,
      .help = "planes through focus", .def = "21"},
     {.type = OPT_GROUP, OPT_AT(mtf_cli, im), .group = design_cli_table},
+    {.type = OPT_GROUP, OPT_AT(mtf_cli, out), .group = output_cli_table},
     {0}};
 
 const opt_command mtf_command = {
@@ -119,6 +122,7 @@ static const opt_spec layout_table[] = {
     {0, "width", "PX", OPT_INT, OPT_AT(layout_cli, width), .lo = 200, .hi = 10000,
      .help = "PNG width in pixels", .def = "1200"},
     {.type = OPT_GROUP, OPT_AT(layout_cli, im), .group = design_cli_table},
+    {.type = OPT_GROUP, OPT_AT(layout_cli, out), .group = output_cli_table},
     {0}};
 
 const opt_command layout_command = {

@@ -9,6 +9,8 @@
 
 int design_set_focus(design_set *ds, lens_err *err)
 {
+    if (ds->focused)
+        return 0;
     double shift = 0;
     if (ds->focus == FOCUS_PARAXIAL &&
         imaging_paraxial_shift(ds->im[0].lens, ds->im[0].object_distance, ds->lambda[ds->primary],
@@ -38,16 +40,54 @@ int design_set_focus(design_set *ds, lens_err *err)
     ds->sensor_shift = shift;
     for (int m = 0; m < ds->nmodels; m++)
         ds->im[m].sensor_shift = shift;
+    ds->focused = 1;
     return 0;
 }
 
-void design_set_print_time(FILE *f, const design_set *ds, const char *what)
+void design_set_print_footer(table_out *t, const design_set *ds, const char *what)
 {
-    fprintf(f, "# time imaging %s: %s %.4g s", what, ds->names[0], ds->seconds[0]);
-    if (ds->nmodels > 1)
-        fprintf(f, ", %s %.4g s (%.3g x the %s's)", ds->names[1], ds->seconds[1],
-                ds->seconds[0] > 0 ? ds->seconds[1] / ds->seconds[0] : NAN, ds->names[0]);
-    fputc('\n', f);
+    double ratio = ds->seconds[0] > 0 ? ds->seconds[1] / ds->seconds[0] : NAN;
+    if (!t->json) {
+        if (ds->sensor_shift != 0)
+            fprintf(t->f, "# sensor plane moved %.9g mm along the axis\n", ds->sensor_shift);
+        fprintf(t->f, "# time imaging %s: %s %.4g s", what, ds->names[0], ds->seconds[0]);
+        if (ds->nmodels > 1)
+            fprintf(t->f, ", %s %.4g s (%.3g x the %s's)", ds->names[1], ds->seconds[1], ratio, ds->names[0]);
+        fputc('\n', t->f);
+        return;
+    }
+    table_out_keys(t, "sensor", NULL);
+    table_out_str(t, "shift_mm");
+    table_out_num(t, ds->sensor_shift, 0);
+    table_out_row_end(t);
+    table_out_keys(t, "time", NULL);
+    for (int m = 0; m < ds->nmodels; m++) {
+        char key[32];
+        snprintf(key, sizeof key, "%s_s", ds->names[m]);
+        table_out_str(t, key);
+        table_out_num(t, ds->seconds[m], 0);
+        table_out_row_end(t);
+    }
+    if (ds->nmodels > 1) {
+        table_out_str(t, "ratio");
+        table_out_num(t, ratio, 0);
+        table_out_row_end(t);
+    }
+}
+
+void design_set_print_difference(table_out *t, const design_set *ds, const char *text, int n,
+                                 const char *const *keys, const double *values)
+{
+    if (!t->json) {
+        fprintf(t->f, "# %s - %s: %s\n", ds->names[1], ds->names[0], text);
+        return;
+    }
+    table_out_keys(t, "difference", NULL);
+    for (int i = 0; i < n; i++) {
+        table_out_str(t, keys[i]);
+        table_out_num(t, values[i], 0);
+        table_out_row_end(t);
+    }
 }
 
 const char *design_set_field_unit(const design_set *ds)
@@ -79,11 +119,28 @@ void design_set_from_cli(const char *prog, imaging_cli *a, imaging_models *model
         diag_die(prog, "%s%s", a->fields ? "--fields: " : "", err.msg);
     }
     ds->field = field, ds->nfields = nf;
+    if (design_set_focus(ds, &err) != 0) {
+        imaging_models_free(models);
+        diag_die(prog, "%s", err.msg);
+    }
 }
 
-void design_set_title(const imaging_cli *a, const imaging_models *models, const char *what,
-                      char *title, size_t size)
+void design_set_title(const imaging_cli *a, const imaging_models *models, const design_set *ds,
+                      const char *what, imaging_setup *setup, char *title, size_t size)
 {
-    snprintf(title, size, "%s  %s", models->lens.name[0] ? models->lens.name : imaging_cli_basename(a),
-             what);
+    imaging_cli_setup(a, models, ds->lambda[ds->primary], ds->sensor_shift, setup);
+    snprintf(title, size, "%s  %s  %s", models->lens.name[0] ? models->lens.name : imaging_cli_basename(a),
+             what, setup->text);
+}
+
+int design_cli_end(const char *prog, table_out *t, int rc, const lens_err *err,
+                   const imaging_setup *setup, imaging_models *models)
+{
+    if (rc == 0)
+        imaging_setup_print(t, setup, models);
+    table_out_end(t, NULL, 0);
+    if (rc != 0)
+        diag_print(prog, err);
+    imaging_models_free(models);
+    return rc != 0;
 }

@@ -46,7 +46,13 @@ static const opt_spec distort_table[] = {
      "at about a tenth of the half width.\n"},
     {0, "map", "FILE", OPT_STRING, OPT_AT(distort_cli, map),
      .help = "write the grid displacement field as text ('-': standard output)"},
-    {0, "png", "FILE", OPT_STRING, OPT_AT(distort_cli, png), .help = "the grid map picture"},
+    {0, "png", "FILE", OPT_STRING, OPT_AT(distort_cli, png), .help = "the grid map picture",
+     .man = "PNG, or SVG or PDF (vector) when FILE ends in .svg or .pdf. With\n"
+            ".BR \\-\\-compare ,\n"
+            "the lens's grid is drawn wide, solid and blue and the system's over it thin, dashed\n"
+            "and red, so both stay visible, with a legend of the two styles above the map; the\n"
+            "title names the lens, the mapping and the wavelength, then the f-number, the object\n"
+            "and where the sensor is focused.\n"},
     {0, "opencv", "WxH", OPT_CALL, OPT_AT(distort_cli, opencv), .set = set_pixels,
      .help = "fit OpenCV's Brown-Conrady and fisheye models for a sensor of WxH pixels; "
              "prints coefficients and residuals",

@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 
 void fan_results_free(ray_fan *fans, size_t n)
@@ -13,19 +14,27 @@ void fan_results_free(ray_fan *fans, size_t n)
     free(fans);
 }
 
-static void print_rows(FILE *out, const fan_request *rq, const ray_fan *fans)
+static void print_rows(table_out *t, const fan_request *rq, const ray_fan *fans)
 {
     const design_set *ds = &rq->set;
-    fprintf(out, "# columns: model field_%s lambda_um fan pupil ex_um ey_um\n", design_set_field_unit(ds));
+    const char *cols[] = {"model", isfinite(ds->im[0].object_distance) ? "field_mm" : "field_deg",
+                          "lambda_um", "fan", "pupil", "ex_um", "ey_um"};
+    table_out_table(t, "fans", NULL, cols, 7);
     for (int m = 0; m < ds->nmodels; m++)
         for (int f = 0; f < ds->nfields; f++)
             for (int l = 0; l < ds->nl; l++) {
                 const ray_fan *fn = &fans[((size_t)m * ds->nfields + f) * ds->nl + l];
                 for (int side = 0; side < 2; side++)
-                    for (int i = 0; i < fn->npts; i++)
-                        fprintf(out, "%s %.10g %.7g %s %.6g %.6g %.6g\n", ds->names[m], ds->field[f],
-                                ds->lambda[l], side ? "sag" : "tan", fn->pupil[i],
-                                1e3 * fn->ex[side * fn->npts + i], 1e3 * fn->ey[side * fn->npts + i]);
+                    for (int i = 0; i < fn->npts; i++) {
+                        table_out_str(t, ds->names[m]);
+                        table_out_fmt(t, ds->field[f], 0, "%.10g");
+                        table_out_fmt(t, ds->lambda[l], 0, "%.7g");
+                        table_out_str(t, side ? "sag" : "tan");
+                        table_out_fmt(t, fn->pupil[i], 1, "%.6g");
+                        table_out_fmt(t, 1e3 * fn->ex[side * fn->npts + i], 1e-3, "%.6g");
+                        table_out_fmt(t, 1e3 * fn->ey[side * fn->npts + i], 1e-3, "%.6g");
+                        table_out_row_end(t);
+                    }
             }
 }
 
@@ -45,7 +54,7 @@ static double fan_difference(const design_set *ds, const ray_fan *fans)
     return 1e3 * d;
 }
 
-int fan_run(fan_request *rq, FILE *out, ray_fan **result, lens_err *err)
+int fan_run(fan_request *rq, table_out *out, ray_fan **result, lens_err *err)
 {
     design_set *ds = &rq->set;
     size_t n = (size_t)ds->nmodels * ds->nfields * ds->nl;
@@ -76,12 +85,14 @@ int fan_run(fan_request *rq, FILE *out, ray_fan **result, lens_err *err)
             chief_diff = fmax(chief_diff, 1e3 * hypot(ref[1][0] - ref[0][0], ref[1][1] - ref[0][1]));
     }
     print_rows(out, rq, fans);
-    if (ds->sensor_shift != 0)
-        fprintf(out, "# sensor plane moved %.9g mm along the axis\n", ds->sensor_shift);
-    design_set_print_time(out, ds, "the fans");
-    if (ds->nmodels > 1)
-        fprintf(out, "# %s - %s: fans differ by at most %.4g um, chief rays by %.4g um\n", ds->names[1],
-                ds->names[0], fan_difference(ds, fans), chief_diff);
+    design_set_print_footer(out, ds, "the fans");
+    if (ds->nmodels > 1) {
+        double v[2] = {fan_difference(ds, fans), chief_diff};
+        const char *k[2] = {"fans_um", "chief_rays_um"};
+        char text[160];
+        snprintf(text, sizeof text, "fans differ by at most %.4g um, chief rays by %.4g um", v[0], v[1]);
+        design_set_print_difference(out, ds, text, 2, k, v);
+    }
     if (rq->png) {
         ray_fan_figure fig = {ds->nmodels, ds->nfields, ds->nl, ds->names, fans, ds->field, ds->lambda,
                               rq->title, isfinite(ds->im[0].object_distance)};

@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "sparselens/distort.h"
@@ -56,23 +57,30 @@ static int run_rows(field_request *rq, field_row *rows, lens_err *err)
     return 0;
 }
 
-static void print_rows(FILE *out, const design_set *ds, const field_row *rows)
+static void print_rows(table_out *t, const design_set *ds, const field_row *rows)
 {
-    fprintf(out, "# columns: model field_%s lambda_um chief_y_mm z_tan_mm z_sag_mm astig_mm "
-                 "petzval_mm distortion_pct lateral_colour_um\n", design_set_field_unit(ds));
+    const char *cols[] = {"model", isfinite(ds->im[0].object_distance) ? "field_mm" : "field_deg",
+                          "lambda_um", "chief_y_mm", "z_tan_mm", "z_sag_mm", "astig_mm", "petzval_mm",
+                          "distortion_pct", "lateral_colour_um"};
+    table_out_table(t, "field_curves", NULL, cols, 10);
     for (int m = 0; m < ds->nmodels; m++)
         for (int f = 0; f < ds->nfields; f++)
             for (int l = 0; l < ds->nl; l++) {
                 const field_row *r = &rows[((size_t)m * ds->nfields + f) * ds->nl + l];
-                double t = r->focus.z_tan, s = r->focus.z_sag;
-                fprintf(out, "%s %.10g %.7g %.9g %.6g %.6g %.6g %.6g %.6g %.6g\n", ds->names[m],
-                        ds->field[f], ds->lambda[l], r->focus.chief[1], t, s, t - s, 0.5 * (3 * s - t),
-                        r->distortion_pct, r->lateral_um);
+                double tz = r->focus.z_tan, sz = r->focus.z_sag;
+                double v[6] = {tz, sz, tz - sz, 0.5 * (3 * sz - tz), r->distortion_pct, r->lateral_um};
+                table_out_str(t, ds->names[m]);
+                table_out_fmt(t, ds->field[f], 0, "%.10g");
+                table_out_fmt(t, ds->lambda[l], 0, "%.7g");
+                table_out_fmt(t, r->focus.chief[1], 1, "%.9g");
+                for (int k = 0; k < 6; k++)
+                    table_out_fmt(t, v[k], k < 4 ? 1e-3 : k == 4 ? 1e-3 : 1, "%.6g");
+                table_out_row_end(t);
             }
 }
 
 /* Largest differences between the models: foci (mm), distortion (%), lateral colour (um). */
-static void print_difference(FILE *out, const design_set *ds, const field_row *rows)
+static void print_difference(table_out *t, const design_set *ds, const field_row *rows)
 {
     size_t half = (size_t)ds->nfields * ds->nl;
     double dz = 0, dd = 0, dl = 0, dy = 0;
@@ -88,15 +96,19 @@ static void print_difference(FILE *out, const design_set *ds, const field_row *r
         dl = fmax(dl, fabs(b->lateral_um - a->lateral_um));
         dy = fmax(dy, fabs(b->focus.chief[1] - a->focus.chief[1]));
     }
-    fprintf(out, "# %s - %s: foci differ by at most %.4g mm, chief-ray heights by %.4g um, distortion by "
-                 "%.4g %%, lateral colour by %.4g um\n",
-            ds->names[1], ds->names[0], dz, 1e3 * dy, dd, dl);
-    if (skipped)
-        fprintf(out, "# %d rows without a finite focus in one of the models are left out of the difference\n",
-                skipped);
+    char text[320];
+    int n = snprintf(text, sizeof text,
+                     "foci differ by at most %.4g mm, chief-ray heights by %.4g um, distortion by %.4g %%, "
+                     "lateral colour by %.4g um",
+                     dz, 1e3 * dy, dd, dl);
+    if (skipped && n > 0 && (size_t)n < sizeof text)
+        snprintf(text + n, sizeof text - (size_t)n, " (%d rows without a finite focus left out)", skipped);
+    const char *k[5] = {"foci_mm", "chief_y_um", "distortion_pct", "lateral_colour_um", "rows_left_out"};
+    double v[5] = {dz, 1e3 * dy, dd, dl, skipped};
+    design_set_print_difference(t, ds, text, 5, k, v);
 }
 
-static int run_focal_shift(field_request *rq, FILE *out, lens_err *err)
+static int run_focal_shift(field_request *rq, table_out *out, lens_err *err)
 {
     design_set *ds = &rq->set;
     int n = rq->focal_shift;
@@ -127,12 +139,19 @@ static int run_focal_shift(field_request *rq, FILE *out, lens_err *err)
             run_error_model(err, m, ds->names[m]);
             goto out;
         }
-    fprintf(out, "# columns: model lambda_um focal_shift_um paraxial_focal_shift_um\n");
+    const char *cols[] = {"model", "lambda_um", "focal_shift_um", "paraxial_focal_shift_um"};
+    table_out_table(out, "focal_shift", NULL, cols, 4);
     for (int m = 0; m < ds->nmodels; m++)
-        for (int i = 0; i < n; i++)
-            fprintf(out, "%s %.7g %.6g %.6g\n", ds->names[m], lam[i], 1e3 * shift[m * n + i], 1e3 * parax[i]);
-    fprintf(out, "# focal shift: the axial focus of rays close to the axis, from that at %.7g um; "
-                 "paraxial: the lens's paraxial focus\n", ref);
+        for (int i = 0; i < n; i++) {
+            table_out_str(out, ds->names[m]);
+            table_out_fmt(out, lam[i], 0, "%.7g");
+            table_out_fmt(out, 1e3 * shift[m * n + i], 1e-3, "%.6g");
+            table_out_fmt(out, 1e3 * parax[i], 1e-3, "%.6g");
+            table_out_row_end(out);
+        }
+    if (!out->json)
+        fprintf(out->f, "# focal shift: the axial focus of rays close to the axis, from that at %.7g um; "
+                        "paraxial: the lens's paraxial focus\n", ref);
     rc = 0;
     if (rq->png) {
         field_shift_figure fig = {ds->nmodels, ds->names, n, lam, shift, rq->title};
@@ -143,7 +162,7 @@ out:
     return rc;
 }
 
-int field_run(field_request *rq, FILE *out, field_row **result, lens_err *err)
+int field_run(field_request *rq, table_out *out, field_row **result, lens_err *err)
 {
     design_set *ds = &rq->set;
     if (design_set_focus(ds, err) != 0)
@@ -151,7 +170,7 @@ int field_run(field_request *rq, FILE *out, field_row **result, lens_err *err)
     if (rq->focal_shift > 1) {
         if (run_focal_shift(rq, out, err) != 0)
             return -1;
-        design_set_print_time(out, ds, "the close rays");
+        design_set_print_footer(out, ds, "the close rays");
         return 0;
     }
     size_t n = (size_t)ds->nmodels * ds->nfields * ds->nl;
@@ -165,9 +184,7 @@ int field_run(field_request *rq, FILE *out, field_row **result, lens_err *err)
         return -1;
     }
     print_rows(out, ds, rows);
-    if (ds->sensor_shift != 0)
-        fprintf(out, "# sensor plane moved %.9g mm along the axis\n", ds->sensor_shift);
-    design_set_print_time(out, ds, "the close rays");
+    design_set_print_footer(out, ds, "the close rays");
     if (ds->nmodels > 1)
         print_difference(out, ds, rows);
     int rc = 0;

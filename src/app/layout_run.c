@@ -2,20 +2,36 @@
 #include "sparselens/layout_run.h"
 
 #include <math.h>
+#include <stdio.h>
 
-static void print_surfaces(FILE *out, const lens_t *lens)
+static void surface_row(table_out *t, long i, double z, double radius, double conic, double sd, double sag,
+                        const char *material, int stop)
 {
-    fprintf(out, "# columns: surface z_mm radius_mm conic semi_diameter_mm sag_rim_mm material stop\n");
-    for (size_t i = 0; i < lens->nsurf; i++) {
-        const lens_surface *s = &lens->surf[i];
-        fprintf(out, "%zu %.9g %.9g %.6g %.6g %.6g %s %d\n", i + 1, lens->vertex_z[i], s->radius, s->conic,
-                s->semi_diameter, lens_sag(s, s->semi_diameter * s->semi_diameter),
-                s->medium.kind == GLASS_AIR ? "air" : s->material[0] ? s->material : "glass", s->is_stop);
-    }
-    fprintf(out, "%zu %.9g inf 0 nan 0 sensor 0\n", lens->nsurf + 1, lens_total_track(lens));
+    table_out_int(t, i);
+    table_out_fmt(t, z, 1, "%.9g");
+    table_out_fmt(t, radius, 0, "%.9g");
+    table_out_fmt(t, conic, 0, "%.6g");
+    table_out_fmt(t, sd, 0, "%.6g");
+    table_out_fmt(t, sag, 1e-3, "%.6g");
+    table_out_str(t, material);
+    table_out_int(t, stop);
+    table_out_row_end(t);
 }
 
-int layout_run(layout_request *rq, FILE *out, lens_err *err)
+static void print_surfaces(table_out *t, const lens_t *lens)
+{
+    const char *cols[] = {"surface", "z_mm", "radius_mm", "conic", "semi_diameter_mm", "sag_rim_mm", "material", "stop"};
+    table_out_table(t, "surfaces", NULL, cols, 8);
+    for (size_t i = 0; i < lens->nsurf; i++) {
+        const lens_surface *s = &lens->surf[i];
+        surface_row(t, (long)i + 1, lens->vertex_z[i], s->radius, s->conic, s->semi_diameter,
+                    lens_sag(s, s->semi_diameter * s->semi_diameter),
+                    s->medium.kind == GLASS_AIR ? "air" : s->material[0] ? s->material : "glass", s->is_stop);
+    }
+    surface_row(t, (long)lens->nsurf + 1, lens_total_track(lens), INFINITY, 0, NAN, 0, "sensor", 0);
+}
+
+int layout_run(layout_request *rq, table_out *out, lens_err *err)
 {
     design_set *ds = &rq->set;
     if (design_set_focus(ds, err) != 0)
@@ -29,14 +45,36 @@ int layout_run(layout_request *rq, FILE *out, lens_err *err)
         return -1;
     d.title = rq->title;
     print_surfaces(out, lens_im.lens);
-    fprintf(out, "# rays at %.7g um: %d of %d reach the sensor\n", ds->lambda[ds->primary], d.passed, d.rays);
-    if (ds->sensor_shift != 0)
-        fprintf(out, "# sensor plane moved %.9g mm along the axis\n", ds->sensor_shift);
+    if (!out->json) {
+        fprintf(out->f, "# rays at %.7g um: %d of %d reach the sensor\n", ds->lambda[ds->primary], d.passed, d.rays);
+    } else {
+        table_out_keys(out, "rays", NULL);
+        table_out_str(out, "launched");
+        table_out_int(out, d.rays);
+        table_out_row_end(out);
+        table_out_str(out, "reach_sensor");
+        table_out_int(out, d.passed);
+        table_out_row_end(out);
+    }
     if (sys_im) {
-        fprintf(out, "# time imaging the rays: lens %.4g s, poly %.4g s (%.3g x the lens's)\n", d.seconds[0],
-                d.seconds[1], d.seconds[0] > 0 ? d.seconds[1] / d.seconds[0] : NAN);
-        fprintf(out, "# poly - lens: sensor points differ by at most %.4g um (dotted: the system's rays)\n",
-                1e3 * d.system_diff);
+        /* the rays' times: the lens's and the system's for the same rays */
+        design_set both = *ds;
+        both.nmodels = 2, both.names[0] = "lens", both.names[1] = "poly";
+        both.seconds[0] = d.seconds[0], both.seconds[1] = d.seconds[1];
+        design_set_print_footer(out, &both, "the rays");
+        char text[128];
+        snprintf(text, sizeof text, "sensor points differ by at most %.4g um (dotted: the system's rays)",
+                 1e3 * d.system_diff);
+        const char *k[1] = {"sensor_points_um"};
+        double v[1] = {1e3 * d.system_diff};
+        design_set_print_difference(out, &both, text, 1, k, v);
+    } else if (!out->json && ds->sensor_shift != 0) {
+        fprintf(out->f, "# sensor plane moved %.9g mm along the axis\n", ds->sensor_shift);
+    } else if (out->json) {
+        table_out_keys(out, "sensor", NULL);
+        table_out_str(out, "shift_mm");
+        table_out_num(out, ds->sensor_shift, 0);
+        table_out_row_end(out);
     }
     int rc = 0;
     if (rq->png && layout_write_png(&d, rq->png, rq->width, err) != 0)

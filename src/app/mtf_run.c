@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 
 typedef struct {
@@ -142,48 +143,74 @@ static void lambda_name(const design_set *ds, int l, char *s, size_t n)
         snprintf(s, n, "%.7g", ds->lambda[l]);
 }
 
-static void print_rows(FILE *out, const mtf_request *rq, const mtf_row *rows, size_t nrows)
+static void print_rows(table_out *t, const mtf_request *rq, const mtf_row *rows, size_t nrows)
 {
     const design_set *ds = &rq->set;
-    if (rq->focus_freq > 0)
-        fprintf(out, "# through focus at %g cycles/mm\n# columns: model field_%s lambda_um focus_mm ",
-                rq->focus_freq, design_set_field_unit(ds));
-    else
-        fprintf(out, "# columns: model field_%s lambda_um freq_cyc_mm ", design_set_field_unit(ds));
-    fprintf(out, "diff_tan diff_sag geo_tan geo_sag\n");
+    const char *cols[] = {"model", isfinite(ds->im[0].object_distance) ? "field_mm" : "field_deg",
+                          "lambda_um", rq->focus_freq > 0 ? "focus_mm" : "freq_cyc_mm",
+                          "diff_tan", "diff_sag", "geo_tan", "geo_sag"};
+    char note[64];
+    snprintf(note, sizeof note, "through focus at %g cycles/mm", rq->focus_freq);
+    table_out_table(t, rq->focus_freq > 0 ? "through_focus" : "mtf", rq->focus_freq > 0 ? note : NULL, cols, 8);
     for (size_t i = 0; i < nrows; i++) {
         const mtf_row *r = &rows[i];
         char lam[32];
         lambda_name(ds, r->lambda, lam, sizeof lam);
-        fprintf(out, "%s %.10g %s %.6g %.5f %.5f %.5f %.5f\n", ds->names[r->model], ds->field[r->field], lam, r->x,
-                r->diff[0], r->diff[1], r->geo[0], r->geo[1]);
+        table_out_str(t, ds->names[r->model]);
+        table_out_fmt(t, ds->field[r->field], 0, "%.10g");
+        table_out_str(t, lam);
+        table_out_fmt(t, r->x, 1e-3, "%.6g");
+        for (int k = 0; k < 4; k++)
+            table_out_fmt(t, k < 2 ? r->diff[k] : r->geo[k - 2], 1e-3, "%.5f");
+        table_out_row_end(t);
     }
 }
 
-static void print_summaries(FILE *out, const mtf_request *rq, const wf_summary *s, size_t n)
+/* Per wavefront: cells passed, RMS in waves, Strehl, pupil scales; comment lines in text
+ * (so the rows above stay one table for awk), a table "wavefronts" in JSON. */
+static void print_summaries(table_out *t, const mtf_request *rq, const wf_summary *s, size_t n)
 {
     const design_set *ds = &rq->set;
-    fprintf(out, "# wavefront: model field lambda_um cells rms_waves strehl na_tan na_sag\n");
-    for (size_t i = 0; i < n; i++)
-        fprintf(out, "# wavefront: %s %.10g %.7g %d %.5f %.5f %.6f %.6f\n", ds->names[s[i].model],
-                ds->field[s[i].field], ds->lambda[s[i].lambda], s[i].passed, s[i].rms_waves, s[i].strehl,
-                s[i].na[0], s[i].na[1]);
+    const char *cols[] = {"model", "field", "lambda_um", "cells", "rms_waves", "strehl", "na_tan", "na_sag"};
+    if (t->json)
+        table_out_table(t, "wavefronts", NULL, cols, 8);
+    else
+        fprintf(t->f, "# wavefront: model field lambda_um cells rms_waves strehl na_tan na_sag\n");
+    for (size_t i = 0; i < n; i++) {
+        if (!t->json) {
+            fprintf(t->f, "# wavefront: %s %.10g %.7g %d %.5f %.5f %.6f %.6f\n", ds->names[s[i].model],
+                    ds->field[s[i].field], ds->lambda[s[i].lambda], s[i].passed, s[i].rms_waves, s[i].strehl,
+                    fabs(s[i].na[0]), fabs(s[i].na[1]));
+            continue;
+        }
+        table_out_str(t, ds->names[s[i].model]);
+        table_out_num(t, ds->field[s[i].field], 0);
+        table_out_num(t, ds->lambda[s[i].lambda], 0);
+        table_out_int(t, s[i].passed);
+        table_out_num(t, s[i].rms_waves, 0);
+        table_out_num(t, s[i].strehl, 0);
+        table_out_num(t, fabs(s[i].na[0]), 0);
+        table_out_num(t, fabs(s[i].na[1]), 0);
+        table_out_row_end(t);
+    }
 }
 
-static void print_difference(FILE *out, const design_set *ds, const mtf_row *rows, size_t nrows)
+static void print_difference(table_out *t, const design_set *ds, const mtf_row *rows, size_t nrows)
 {
     size_t half = nrows / 2;
-    double dd = 0, dg = 0;
+    double v[2] = {0, 0};
     for (size_t i = 0; i < half; i++)
         for (int d = 0; d < 2; d++) {
-            dd = fmax(dd, fabs(rows[half + i].diff[d] - rows[i].diff[d]));
-            dg = fmax(dg, fabs(rows[half + i].geo[d] - rows[i].geo[d]));
+            v[0] = fmax(v[0], fabs(rows[half + i].diff[d] - rows[i].diff[d]));
+            v[1] = fmax(v[1], fabs(rows[half + i].geo[d] - rows[i].geo[d]));
         }
-    fprintf(out, "# %s - %s: diffraction MTF differs by at most %.4f, geometric by %.4f\n", ds->names[1],
-            ds->names[0], dd, dg);
+    char text[128];
+    snprintf(text, sizeof text, "diffraction MTF differs by at most %.4f, geometric by %.4f", v[0], v[1]);
+    const char *k[2] = {"diffraction_mtf", "geometric_mtf"};
+    design_set_print_difference(t, ds, text, 2, k, v);
 }
 
-int mtf_run(mtf_request *rq, FILE *out, mtf_row **rows_out, size_t *nrows_out, lens_err *err)
+int mtf_run(mtf_request *rq, table_out *out, mtf_row **rows_out, size_t *nrows_out, lens_err *err)
 {
     design_set *ds = &rq->set;
     if (design_set_focus(ds, err) != 0)
@@ -201,12 +228,26 @@ int mtf_run(mtf_request *rq, FILE *out, mtf_row **rows_out, size_t *nrows_out, l
             goto out;
     print_rows(out, rq, list.rows, list.n);
     print_summaries(out, rq, sum, nsum);
-    if (ds->sensor_shift != 0)
-        fprintf(out, "# sensor plane moved %.9g mm along the axis\n", ds->sensor_shift);
-    fprintf(out, "# pixel %g um: Nyquist %g cycles/mm; pupil grid %d x %d; lens wavefront by %s\n",
-            rq->pixel_um, 1000 / (2 * rq->pixel_um), rq->grid, rq->grid,
-            rq->lens_method == WAVEFRONT_PATH ? "path lengths" : "ray errors");
-    design_set_print_time(out, ds, "the wavefronts");
+    if (!out->json) {
+        fprintf(out->f, "# pixel %g um: Nyquist %g cycles/mm; pupil grid %d x %d; lens wavefront by %s\n",
+                rq->pixel_um, 1000 / (2 * rq->pixel_um), rq->grid, rq->grid,
+                rq->lens_method == WAVEFRONT_PATH ? "path lengths" : "ray errors");
+    } else {
+        table_out_keys(out, "sampling", NULL);
+        table_out_str(out, "pixel_um");
+        table_out_num(out, rq->pixel_um, 0);
+        table_out_row_end(out);
+        table_out_str(out, "nyquist_cyc_mm");
+        table_out_num(out, 1000 / (2 * rq->pixel_um), 0);
+        table_out_row_end(out);
+        table_out_str(out, "pupil_grid");
+        table_out_int(out, rq->grid);
+        table_out_row_end(out);
+        table_out_str(out, "lens_wavefront");
+        table_out_str(out, rq->lens_method == WAVEFRONT_PATH ? "path" : "rays");
+        table_out_row_end(out);
+    }
+    design_set_print_footer(out, ds, "the wavefronts");
     if (ds->nmodels > 1)
         print_difference(out, ds, list.rows, list.n);
     rc = 0;

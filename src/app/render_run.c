@@ -280,8 +280,8 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         free(other);
         if (o->log)
             fprintf(o->log, "noise: median per-pixel relative variance %.4g against %s "
-                    "(times this render's time: %.4g s)\n", nz, o->noise_against,
-                    st ? nz * st->seconds : NAN);
+                    "(times this render's processor time: %.4g s)\n", nz, o->noise_against,
+                    st ? nz * st->cpu_seconds : NAN);
     }
     rc = 0;
 done:

@@ -30,6 +30,9 @@ static const opt_spec spot_table[] = {
      .help = "seed for --pupil random", .def = "1"},
     {0, "png", "FILE", OPT_STRING, OPT_AT(spot_cli, png), .help = "the spot diagram picture",
      .man =
+     "PNG, or SVG or PDF (vector) when FILE ends in .svg or .pdf (drawn through cairo, in\n"
+     "DejaVu Sans). The title names the lens, then the f-number, the object and where the\n"
+     "sensor is focused; a wavelength a model cannot image at a field is named in its panel.\n"
      "One panel per field (one row per model), the landing points in a colour per\n"
      "wavelength, the chief ray as a cross, the Airy disc of the first wavelength as a grey\n"
      "circle, a scale bar in micrometres and the RMS radius under each panel.\n"

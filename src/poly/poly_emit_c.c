@@ -103,16 +103,26 @@ static int emit_part(FILE *f, const poly_system *s, const poly_part *p, const ch
         comment_name(f, s->outputs[o]);
         fprintf(f, ": %d terms */\n", ot->nterms);
         fputs("            double a0 = 0, a1 = 0, a2 = 0, a3 = 0;\n", f);
-        /* the plan's order: single terms, then fused ones, each run from sum a0 on */
-        for (int q = t0; q < pl->start[o + 1]; q++) {
-            int t = pl->src[q], k = ot->slot[t];
-            fprintf(f, "            a%d += ", (q - t0 - (q - t0 >= ns ? ns : 0)) % POLY_NSUMS);
-            num(f, ot->coef[t]);
-            if (q - t0 < ns)
-                fprintf(f, " * m%d;\n", k);
-            else
-                fprintf(f, " * (m%d * m%d);\n", m->a[k], m->b[k]);
+        /* the plan's runs (poly_impl.h): single terms, then the fused ones by quads,
+         * pairs and lone terms, each run from sum a0 on */
+        int q = t0;
+        for (int i = 0; i < ns; i++, q++) {
+            fprintf(f, "            a%d += ", i % POLY_NSUMS);
+            num(f, ot->coef[pl->src[q]]);
+            fprintf(f, " * m%d;\n", ot->slot[pl->src[q]]);
         }
+        const int nq = pl->nquad[o], np = pl->npair[o];
+        const int nl = pl->start[o + 1] - t0 - ns - 4 * nq - 2 * np;
+        for (int w = 4; w >= 1; w /= 2)
+            for (int i = 0; i < (w == 4 ? nq : w == 2 ? np : nl); i++, q += w) {
+                fprintf(f, "            a%d += %s", i % POLY_NSUMS, w == 4 ? "((" : "(");
+                for (int j = 0; j < w; j++) {
+                    fputs(j == 0 ? "" : j == 2 ? ") + (" : " + ", f);
+                    num(f, ot->coef[pl->src[q + j]]);
+                    fprintf(f, " * m%d", pl->vslot[pl->fa[q + j]]);
+                }
+                fprintf(f, "%s * m%d;\n", w == 4 ? "))" : ")", pl->vslot[pl->fb[q]]);
+            }
         fputs("            ", f);
         fprintf(f, outfmt, o);
         fputs(" = (a0 + a1) + (a2 + a3);\n        }\n", f);

@@ -59,45 +59,58 @@ static void values_one(const poly_system *s, const poly_plan *pl, const double *
         d[j] = v[pr[2 * j]] * v[pr[2 * j + 1]];
 }
 
+/* The fused items of the plan (poly_impl.h): a quad, a pair, a lone term at planned
+ * term k. */
+#define QUAD_ONE(k)                                                                        \
+    (((c[k] * v[fa[k]] + c[(k) + 1] * v[fa[(k) + 1]]) +                                     \
+      (c[(k) + 2] * v[fa[(k) + 2]] + c[(k) + 3] * v[fa[(k) + 3]])) *                        \
+     v[fb[k]])
+#define PAIR_ONE(k) ((c[k] * v[fa[k]] + c[(k) + 1] * v[fa[(k) + 1]]) * v[fb[k]])
+#define LONE_ONE(k) ((c[k] * v[fa[k]]) * v[fb[k]])
+
+/* One run of n items of the given width from planned term k on, into a0..a3 (item i to
+ * a(i % 4)); k is left past the run. */
+#define RUN_ONE(ITEM, width, n)                                                            \
+    do {                                                                                   \
+        int i_ = 0;                                                                        \
+        for (; i_ + 4 <= (n); i_ += 4, k += 4 * (width)) {                                \
+            a0 += ITEM(k);                                                                 \
+            a1 += ITEM(k + (width));                                                       \
+            a2 += ITEM(k + 2 * (width));                                                   \
+            a3 += ITEM(k + 3 * (width));                                                   \
+        }                                                                                  \
+        if (i_ < (n))                                                                      \
+            a0 += ITEM(k), k += (width);                                                   \
+        if (i_ + 1 < (n))                                                                  \
+            a1 += ITEM(k), k += (width);                                                   \
+        if (i_ + 2 < (n))                                                                  \
+            a2 += ITEM(k), k += (width);                                                   \
+    } while (0)
+
 /* The plan's sums for one ray (the same additions as the batch kernel's). */
 static void sums_one(const poly_plan *pl, const double *v, double *out)
 {
+    const double *c = pl->coef;
+    const int *fa = pl->fa, *fb = pl->fb;
     for (int o = 0; o < pl->nout; o++) {
-        const int t0 = pl->start[o], ns = pl->nsingle[o], nf = pl->start[o + 1] - t0 - ns;
-        const double *c = pl->coef + t0;
-        const int *fa = pl->fa + t0;
+        const int t0 = pl->start[o], ns = pl->nsingle[o];
+        const int nq = pl->nquad[o], np = pl->npair[o];
+        const int nl = pl->start[o + 1] - t0 - ns - 4 * nq - 2 * np;
         double a0 = 0, a1 = 0, a2 = 0, a3 = 0;
-        int t = 0;
-        for (; t + 4 <= ns; t += 4) {
-            a0 += c[t] * v[fa[t]];
-            a1 += c[t + 1] * v[fa[t + 1]];
-            a2 += c[t + 2] * v[fa[t + 2]];
-            a3 += c[t + 3] * v[fa[t + 3]];
-        }
-        if (t < ns)
-            a0 += c[t] * v[fa[t]];
-        if (t + 1 < ns)
-            a1 += c[t + 1] * v[fa[t + 1]];
-        if (t + 2 < ns)
-            a2 += c[t + 2] * v[fa[t + 2]];
-        c += ns;
-        fa += ns;
-        const int *fb = pl->fb + t0 + ns;
-        for (t = 0; t + 4 <= nf; t += 4) {
-            a0 += c[t] * (v[fa[t]] * v[fb[t]]);
-            a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
-            a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
-            a3 += c[t + 3] * (v[fa[t + 3]] * v[fb[t + 3]]);
-        }
-        if (t < nf)
-            a0 += c[t] * (v[fa[t]] * v[fb[t]]);
-        if (t + 1 < nf)
-            a1 += c[t + 1] * (v[fa[t + 1]] * v[fb[t + 1]]);
-        if (t + 2 < nf)
-            a2 += c[t + 2] * (v[fa[t + 2]] * v[fb[t + 2]]);
+        int k = t0;
+#define SINGLE_ONE(k) (c[k] * v[fa[k]])
+        RUN_ONE(SINGLE_ONE, 1, ns);
+#undef SINGLE_ONE
+        RUN_ONE(QUAD_ONE, 4, nq);
+        RUN_ONE(PAIR_ONE, 2, np);
+        RUN_ONE(LONE_ONE, 1, nl);
         out[o] = (a0 + a1) + (a2 + a3);
     }
 }
+#undef QUAD_ONE
+#undef PAIR_ONE
+#undef LONE_ONE
+#undef RUN_ONE
 
 /* Runs plan pl on one ray: out[pl->nout]. Returns -1 when out of memory. */
 static int run_one(const poly_system *s, const poly_plan *pl, const double *in, double *out)

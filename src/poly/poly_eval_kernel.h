@@ -95,7 +95,7 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
         for (int w = 0; w < nview; w++) {
             const poly_plan *pl = pls[w];
             const int np = pl->nprod;
-            const int *pr = offs[w], *fa_off = pr + 2 * np, *fb_off = fa_off + pl->start[nres];
+            const int *pr = offs[w], *fa_off = pr + 2 * np;
             vn *res = (vn *)resbuf + (size_t)w * nres * NV;
             for (int i = 0; i < nin; i++) {
                 _Alignas(64) double col[KBLK]; /* aligned: a split vector access here cost up to 2x, by stack position */
@@ -124,57 +124,81 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 for (int q = 0; q < NV; q++)
                     d[j * NV + q] = x[q] * y[q];
             }
+            const int *fb_off = fa_off + pl->start[nres];
             for (int o = 0; o < nres; o++) {
-                const int t0 = pl->start[o], ns = pl->nsingle[o], nf = pl->start[o + 1] - t0 - ns;
-                const double *c = pl->coef + t0;
-                const int *fa = fa_off + t0;
+                const int t0 = pl->start[o], ns = pl->nsingle[o];
+                const int nq = pl->nquad[o], npr = pl->npair[o];
+                const int nl = pl->start[o + 1] - t0 - ns - 4 * nq - 2 * npr;
+                const double *c = pl->coef;
+                const int *fa = fa_off, *fb = fb_off;
                 vn a0[NV], a1[NV], a2[NV], a3[NV];
                 for (int q = 0; q < NV; q++)
                     a0[q] = a1[q] = a2[q] = a3[q] = (vn){0};
+/* the items of the plan (poly_impl.h) at planned term k, into acc */
+#define V(k) ((const vn *)(vd + fa[k]))
 #define SINGLE(acc, k)                                                                    \
     do {                                                                                   \
-        const vn *x = (const vn *)(vd + fa[k]);                                            \
+        const vn *x = V(k);                                                                \
         const double ck = c[k];                                                            \
         for (int q = 0; q < NV; q++)                                                       \
             acc[q] += ck * x[q];                                                           \
     } while (0)
-#define FUSED(acc, k)                                                                     \
+#define QUAD(acc, k)                                                                      \
     do {                                                                                   \
-        const vn *x = (const vn *)(vd + fa[k]), *y = (const vn *)(vd + fb[k]);             \
-        const double ck = c[k];                                                            \
+        const vn *x0 = V(k), *x1 = V((k) + 1), *x2 = V((k) + 2), *x3 = V((k) + 3);         \
+        const vn *y = (const vn *)(vd + fb[k]);                                            \
+        const double c0 = c[k], c1 = c[(k) + 1], c2 = c[(k) + 2], c3 = c[(k) + 3];          \
         for (int q = 0; q < NV; q++)                                                       \
-            acc[q] += ck * (x[q] * y[q]);                                                  \
+            acc[q] += ((c0 * x0[q] + c1 * x1[q]) + (c2 * x2[q] + c3 * x3[q])) * y[q];      \
     } while (0)
-                int t = 0;
-                for (; t + 4 <= ns; t += 4) {
-                    SINGLE(a0, t);
-                    SINGLE(a1, t + 1);
-                    SINGLE(a2, t + 2);
-                    SINGLE(a3, t + 3);
-                }
-                if (t < ns)
-                    SINGLE(a0, t);
-                if (t + 1 < ns)
-                    SINGLE(a1, t + 1);
-                if (t + 2 < ns)
-                    SINGLE(a2, t + 2);
-                c += ns;
-                fa += ns;
-                const int *fb = fb_off + t0 + ns;
-                for (t = 0; t + 4 <= nf; t += 4) {
-                    FUSED(a0, t);
-                    FUSED(a1, t + 1);
-                    FUSED(a2, t + 2);
-                    FUSED(a3, t + 3);
-                }
-                if (t < nf)
-                    FUSED(a0, t);
-                if (t + 1 < nf)
-                    FUSED(a1, t + 1);
-                if (t + 2 < nf)
-                    FUSED(a2, t + 2);
+#define PAIR(acc, k)                                                                      \
+    do {                                                                                   \
+        const vn *x0 = V(k), *x1 = V((k) + 1), *y = (const vn *)(vd + fb[k]);              \
+        const double c0 = c[k], c1 = c[(k) + 1];                                           \
+        for (int q = 0; q < NV; q++)                                                       \
+            acc[q] += (c0 * x0[q] + c1 * x1[q]) * y[q];                                    \
+    } while (0)
+#define LONE(acc, k)                                                                      \
+    do {                                                                                   \
+        const vn *x0 = V(k), *y = (const vn *)(vd + fb[k]);                                \
+        const double c0 = c[k];                                                            \
+        for (int q = 0; q < NV; q++)                                                       \
+            acc[q] += (c0 * x0[q]) * y[q];                                                 \
+    } while (0)
+/* a run of n items of the given width from planned term k on, item i into a(i % 4) */
+#define RUN(ITEM, width, n)                                                               \
+    do {                                                                                   \
+        int i_ = 0;                                                                        \
+        for (; i_ + 4 <= (n); i_ += 4, k += 4 * (width)) {                                \
+            ITEM(a0, k);                                                                   \
+            ITEM(a1, k + (width));                                                         \
+            ITEM(a2, k + 2 * (width));                                                     \
+            ITEM(a3, k + 3 * (width));                                                     \
+        }                                                                                  \
+        if (i_ < (n)) {                                                                    \
+            ITEM(a0, k);                                                                   \
+            k += (width);                                                                  \
+        }                                                                                  \
+        if (i_ + 1 < (n)) {                                                                \
+            ITEM(a1, k);                                                                   \
+            k += (width);                                                                  \
+        }                                                                                  \
+        if (i_ + 2 < (n)) {                                                                \
+            ITEM(a2, k);                                                                   \
+            k += (width);                                                                  \
+        }                                                                                  \
+    } while (0)
+                int k = t0;
+                RUN(SINGLE, 1, ns);
+                RUN(QUAD, 4, nq);
+                RUN(PAIR, 2, npr);
+                RUN(LONE, 1, nl);
+#undef V
 #undef SINGLE
-#undef FUSED
+#undef QUAD
+#undef PAIR
+#undef LONE
+#undef RUN
                 for (int q = 0; q < NV; q++)
                     res[o * NV + q] = (a0[q] + a1[q]) + (a2[q] + a3[q]);
             }

@@ -16,13 +16,21 @@
  * Plan. Evaluation runs a flat program (poly_plan) built from the table and the terms:
  * values are numbered compactly (0 the constant, 1 + i the inputs, then only the
  * products that must be kept: a monomial that one term alone uses and nothing is built
- * from is multiplied inside that term, coef * (v[a] * v[b]), the same product, without a
- * store and a load). Each output then sums first its "single" terms, coef * v[x], in add
- * order, then its "fused" terms, coef * (v[a] * v[b]), in add order; within each of the
- * two runs term t goes to partial sum t % POLY_NSUMS, and the output is
- * (s0 + s1) + (s2 + s3). Independent partial sums let the additions overlap. All paths
- * (scalar, batch, Jacobian, emitted C) follow this plan, without contraction into FMA,
- * so they give the same bits. */
+ * from is "fused": never stored, its term multiplies its two factors in place). Each
+ * output sums first its "single" terms, coef * v[x], in add order; then its fused terms
+ * by a shared factor v[b] (of a fused term's two factors the one more fused terms of the
+ * output have; groups of the same b in the order of their first term, terms in add
+ * order), each group cut into quads, a pair and a lone term:
+ *   quad  ((c0 * v[a0] + c1 * v[a1]) + (c2 * v[a2] + c3 * v[a3])) * v[b]
+ *   pair  (c0 * v[a0] + c1 * v[a1]) * v[b]
+ *   lone  (c0 * v[a0]) * v[b]
+ * with every quad of the output first, then every pair, then every lone term. A quad
+ * loads 5 values where 4 terms apiece loaded 8: the batch kernel is bound by loads.
+ * Within each of the runs (singles, quads, pairs, lone terms) item t goes to partial
+ * sum t % POLY_NSUMS, and the output is (s0 + s1) + (s2 + s3). Independent partial sums
+ * let the additions overlap, and fixed-size items keep the loops free of branches that
+ * depend on the data. All paths (scalar, batch, Jacobian, emitted C) follow this plan,
+ * without contraction into FMA, so they give the same bits. */
 #include "sparselens/poly.h"
 
 #include <stdint.h>
@@ -50,10 +58,14 @@ typedef struct {
                              order: neighbours rarely wait on each other) */
     int nout;
     int *start;           /* nout + 1: terms of output o are start[o] .. start[o+1] - 1 */
-    int *nsingle;         /* nout: the first nsingle[o] of them are single terms */
+    int *nsingle;         /* nout: the first nsingle[o] of them are single terms, then
+                             4 nquad[o] in quads, 2 npair[o] in pairs, the rest lone */
+    int *nquad, *npair;   /* nout */
     double *coef;         /* per planned term */
-    int *fa, *fb;         /* single: coef * v[fa]; fused: coef * (v[fa] * v[fb]) */
+    int *fa, *fb;         /* single: coef * v[fa]; fused: coef * v[fa] in an item of
+                             factor v[fb] */
     int *src;             /* per planned term: its index in the output's add order */
+    int *vslot;           /* nvals: the slot each value holds (the emitter's names) */
 } poly_plan;
 
 typedef struct {

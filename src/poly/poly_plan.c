@@ -37,6 +37,9 @@ void poly_plan_free(poly_plan *pl)
     free(pl->fa);
     free(pl->fb);
     free(pl->src);
+    free(pl->nquad);
+    free(pl->npair);
+    free(pl->vslot);
     memset(pl, 0, sizeof *pl);
 }
 
@@ -200,11 +203,21 @@ int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
     n.fa = malloc((size_t)(nt + 1) * sizeof(int));
     n.fb = malloc((size_t)(nt + 1) * sizeof(int));
     n.src = malloc((size_t)(nt + 1) * sizeof(int));
+    n.nquad = malloc((size_t)(nout + 1) * sizeof(int));
+    n.npair = malloc((size_t)(nout + 1) * sizeof(int));
+    n.vslot = malloc((size_t)(ns + 1) * sizeof(int));
+    int *fz = malloc(4 * (size_t)(nt + 1) * sizeof(int)); /* fused terms: t, a, b; order */
+    int *cnt = calloc((size_t)ns + 1, sizeof(int));       /* per value: fused factors */
+    char *done = calloc((size_t)nt + 1, 1);                /* fused terms grouped */
     if (!uses || !factor || !cidx || !n.prod || !n.order || !n.start || !n.nsingle ||
-        !n.coef || !n.fa || !n.fb || !n.src) {
+        !n.coef || !n.fa || !n.fb || !n.src || !n.nquad || !n.npair || !n.vslot || !fz ||
+        !cnt || !done) {
         free(uses);
         free(factor);
         free(cidx);
+        free(fz);
+        free(cnt);
+        free(done);
         poly_plan_free(&n);
         return -1;
     }
@@ -224,7 +237,7 @@ int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
         factor[m->b[k]]++;
     }
     for (int k = 0; k <= nin && k < ns; k++)
-        cidx[k] = k;
+        cidx[k] = n.vslot[k] = k;
     n.nvals = 1 + nin;
     for (int j = 0; j < no; j++) {
         int k = n.order[j];
@@ -235,6 +248,7 @@ int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
         n.prod[2 * n.nprod] = cidx[m->a[k]];
         n.prod[2 * n.nprod + 1] = cidx[m->b[k]];
         n.nprod++;
+        n.vslot[n.nvals] = k;
         cidx[k] = n.nvals++;
     }
     n.nout = nout;
@@ -250,19 +264,66 @@ int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
                 n.src[q++] = t;
             }
         n.nsingle[o] = q - n.start[o];
+        /* the fused terms and their factors; the shared factor: the one more of them
+         * have (the table's second factor on a tie) */
+        int nf = 0;
         for (int t = 0; t < ot->nterms; t++)
             if (cidx[ot->slot[t]] < 0) {
                 int k = ot->slot[t];
-                n.coef[q] = ot->coef[t];
-                n.fa[q] = cidx[m->a[k]];
-                n.fb[q] = cidx[m->b[k]];
-                n.src[q++] = t;
+                fz[3 * nf] = t;
+                fz[3 * nf + 1] = cidx[m->a[k]];
+                fz[3 * nf + 2] = cidx[m->b[k]];
+                cnt[fz[3 * nf + 1]]++;
+                cnt[fz[3 * nf + 2]]++;
+                nf++;
+            }
+        for (int f = 0; f < nf; f++)
+            if (cnt[fz[3 * f + 1]] > cnt[fz[3 * f + 2]]) {
+                int a = fz[3 * f + 1];
+                fz[3 * f + 1] = fz[3 * f + 2];
+                fz[3 * f + 2] = a;
+            }
+        for (int f = 0; f < nf; f++)
+            cnt[fz[3 * f + 1]] = cnt[fz[3 * f + 2]] = 0;
+        /* gr: the fused terms group by group (groups by first term, terms in add order) */
+        int *gr = fz + 3 * (nt + 1), ngr = 0;
+        for (int f = 0; f < nf; f++) {
+            if (done[f])
+                continue;
+            for (int g = f; g < nf; g++)
+                if (!done[g] && fz[3 * g + 2] == fz[3 * f + 2]) {
+                    gr[ngr++] = g;
+                    done[g] = 1;
+                }
+        }
+        memset(done, 0, (size_t)nf);
+        /* the quads of every group, then the pairs, then the lone terms */
+        n.nquad[o] = n.npair[o] = 0;
+        for (int pass = 4; pass >= 1; pass /= 2)
+            for (int i = 0, j; i < ngr; i = j) {
+                for (j = i; j < ngr && fz[3 * gr[j] + 2] == fz[3 * gr[i] + 2]; j++)
+                    ; /* gr[i .. j - 1]: one group */
+                const int nq = (j - i) / 4 * 4, np = (j - i - nq) / 2 * 2;
+                const int from = pass == 4 ? i : pass == 2 ? i + nq : i + nq + np;
+                const int to = pass == 4 ? i + nq : pass == 2 ? i + nq + np : j;
+                n.nquad[o] += pass == 4 ? nq / 4 : 0;
+                n.npair[o] += pass == 2 ? np / 2 : 0;
+                for (int g = from; g < to; g++) {
+                    const int f = gr[g], t = fz[3 * f];
+                    n.coef[q] = ot->coef[t];
+                    n.fa[q] = fz[3 * f + 1];
+                    n.fb[q] = fz[3 * f + 2];
+                    n.src[q++] = t;
+                }
             }
     }
     n.start[nout] = q;
     free(uses);
     free(factor);
     free(cidx);
+    free(fz);
+    free(cnt);
+    free(done);
     poly_plan_free(pl);
     *pl = n;
     return 0;

@@ -21,6 +21,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "render/render_samples.h"
 #include "sparselens/glass.h"
@@ -123,6 +124,7 @@ static double tent(double u, double r)
 typedef struct {
     double in[BLOCK * MAX_WAVE * 5], org[BLOCK * MAX_WAVE * 3], dir[BLOCK * MAX_WAVE * 3];
     double eta[BLOCK * MAX_WAVE], pdf[BLOCK];
+    double o4[BLOCK * MAX_WAVE * 4], jac[BLOCK * MAX_WAVE * 16]; /* full estimator */
     unsigned char pass[BLOCK * MAX_WAVE];
     wave_set waves[BLOCK];
 } block_buf;
@@ -146,19 +148,27 @@ static void lens_block(const render_job *job, size_t rows, block_buf *b)
                                              b->dir + 3 * r, b->eta + r);
 }
 
-/* The full estimator's lens part for row r: the outer-pupil coordinates o and their
- * Jacobian, and the ray they give in the row's place; P_a. */
-static int full_row(const render_job *job, block_buf *b, size_t r, double o[4], double jac[16])
+/* The full estimator's lens part for the block's rows: the outer-pupil coordinates and
+ * their Jacobian (in one batch where the camera can), and in place of each row's ray the
+ * ray they give; pass gets P_a. */
+static void full_block(const render_job *job, size_t rows, block_buf *b)
 {
     const render_camera *cam = job->cam;
-    lens_ray lr;
-    double eta;
-    if (!cam->outer(cam->ctx, b->in + 5 * r, o, jac, &eta) || ray_from_outer(cam->lens, o, &lr))
-        return 0;
-    memcpy(b->org + 3 * r, lr.o, sizeof lr.o);
-    memcpy(b->dir + 3 * r, lr.d, sizeof lr.d);
-    b->eta[r] = eta;
-    return 1;
+    if (cam->outer_batch)
+        cam->outer_batch(cam->ctx, rows, b->in, b->o4, b->jac, b->eta, b->pass);
+    else
+        for (size_t r = 0; r < rows; r++)
+            b->pass[r] = (unsigned char)cam->outer(cam->ctx, b->in + 5 * r, b->o4 + 4 * r,
+                                                   b->jac + 16 * r, b->eta + r);
+    for (size_t r = 0; r < rows; r++) {
+        lens_ray lr;
+        if (!b->pass[r] || ray_from_outer(cam->lens, b->o4 + 4 * r, &lr)) {
+            b->pass[r] = 0;
+            continue;
+        }
+        memcpy(b->org + 3 * r, lr.o, sizeof lr.o);
+        memcpy(b->dir + 3 * r, lr.d, sizeof lr.d);
+    }
 }
 
 /* Camera rays leave the lens within this distance of the scene's origin (the front
@@ -206,7 +216,8 @@ static void render_block(const render_job *job, const camera_cull *cc, uint64_t 
             row[4] = job->achromatic ? GLASS_D_LINE : w->lambda[j];
         }
     }
-    if (!full) lens_block(job, (size_t)m * nray, b);
+    if (full) full_block(job, (size_t)m * nray, b);
+    else lens_block(job, (size_t)m * nray, b);
     for (int i = 0; i < m; i++) {
         long k = k0 + i;
         const wave_set *w = &b->waves[i];
@@ -214,8 +225,6 @@ static void render_block(const render_job *job, const camera_cull *cc, uint64_t 
         int any = 0;
         for (int j = 0; j < nray && b->pdf[i] > 0; j++) {
             size_t r = (size_t)i * nray + j;
-            double o4[4], jac[16];
-            if (full) b->pass[r] = (unsigned char)full_row(job, b, r, o4, jac);
             if (!b->pass[r]) continue; /* P_a = 0 */
             any = 1;
             const double *in = b->in + 5 * r;
@@ -232,7 +241,8 @@ static void render_block(const render_job *job, const camera_cull *cc, uint64_t 
             if (full) {
                 render_full_terms t;
                 acc->full++;
-                if (render_full_weight(cam->lens, in, o4, jac, b->pdf[i], tr, h.p, h.n, &t) == 0)
+                if (render_full_weight(cam->lens, in, b->o4 + 4 * r, b->jac + 16 * r, b->pdf[i], tr, h.p,
+                                       h.n, &t) == 0)
                     wt = t.weight;
                 else
                     acc->fallback++;
@@ -245,6 +255,13 @@ static void render_block(const render_job *job, const camera_cull *cc, uint64_t 
         acc->passed += any;
         for (int c = 0; c < 3; c++) acc->sum[c] += a[c], acc->sum2[c] += a[c] * a[c];
     }
+}
+
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
 int render_image(const render_job *job, float *rgb, float *var, render_stats *st,
@@ -260,7 +277,7 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
         lens_errf(err, sc->path, 0, "the full estimator needs a lens with an outer-pupil Jacobian");
         return -1;
     }
-    double t0 = omp_get_wtime();
+    double t0 = omp_get_wtime(), c0 = cpu_now();
     long rows_done = 0;
     double passed_total = 0, full_total = 0, fallback_total = 0;
     int threads = job->threads > 0 ? job->threads : omp_get_max_threads();
@@ -329,6 +346,7 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
         st->full_rays = full_total;
         st->full_fallback = fallback_total;
         st->seconds = omp_get_wtime() - t0;
+        st->cpu_seconds = cpu_now() - c0;
     }
     return 0;
 }

@@ -172,6 +172,44 @@ static int outer_poly(void *ctx, const double in[5], double o[4], double jac[16]
     return 1;
 }
 
+/* The full estimator's lens part for n rays: poly_eval_batch for the outputs and the
+ * pass flags, poly_eval_jacobian_batch for the derivatives (the values of outer_poly). */
+static void outer_poly_batch(void *ctx, size_t n, const double *in, double *o, double *jac,
+                             double *eta, unsigned char *pass)
+{
+    const render_lens_ctx *c = ctx;
+    double x[POLY_CHUNK * 16], y[POLY_CHUNK * 16], *J = malloc(POLY_CHUNK * 256 * sizeof *J);
+    if (!J) {
+        for (size_t r = 0; r < n; r++)
+            pass[r] = (unsigned char)outer_poly(ctx, in + 5 * r, o + 4 * r, jac + 16 * r, eta + r);
+        return;
+    }
+    int no = c->nout, ni = c->nin;
+    for (size_t r0 = 0; r0 < n; r0 += POLY_CHUNK) {
+        size_t m = n - r0 < POLY_CHUNK ? n - r0 : POLY_CHUNK;
+        for (size_t r = 0; r < m; r++) {
+            double *row = x + r * ni;
+            for (int i = 0; i < ni; i++) row[i] = 0;
+            for (int k = 0; k < 5; k++)
+                if (c->in_idx[k] >= 0) row[c->in_idx[k]] = in[5 * (r0 + r) + k];
+        }
+        poly_eval_batch(c->sys, m, x, y, pass + r0);
+        poly_eval_jacobian_batch(c->sys, m, x, J);
+        for (size_t r = 0; r < m; r++) {
+            size_t q = r0 + r;
+            const double *yr = y + r * no, *Jr = J + r * (size_t)no * ni;
+            for (int k = 0; k < 4; k++) o[4 * q + k] = yr[c->out_idx[k]];
+            double e = c->out_idx[4] >= 0 ? yr[c->out_idx[4]] : 1;
+            if (!(e > 0)) pass[q] = 0;
+            eta[q] = e > 1 ? 1 : e; /* as map_poly */
+            for (int k = 0; k < 4; k++)
+                for (int i = 0; i < 4; i++)
+                    jac[16 * q + 4 * k + i] = Jr[c->out_idx[k] * ni + c->in_idx[i]];
+        }
+    }
+    free(J);
+}
+
 render_lens_ctx *render_lens_exact(const lens_t *lens, double sw, double sh,
                                    render_camera *cam, lens_err *err)
 {
@@ -236,6 +274,7 @@ render_lens_ctx *render_lens_poly(const poly_system *sys, const lens_t *lens, do
     fill_camera(cam, c, map_poly, lens, sw, sh);
     cam->map_batch = map_poly_batch;
     cam->outer = outer_poly;
+    cam->outer_batch = outer_poly_batch;
     return c;
 }
 

@@ -77,3 +77,10 @@ if grep -q '^# poly - lens: sensor points differ by at most' $T/w.txt && grep -q
 then ok designer_layout_system; else fail designer_layout_system "$(cat $T/err.txt $T/w.txt)"; fi
 run $BIN/lens-layout $DG --svg $T/no/such/dir/x.svg >/dev/null 2>&1
 if [ $? -ne 0 ] && [ -z "$(ls $T/no 2>/dev/null)" ]; then ok designer_svg_error; else fail designer_svg_error; fi
+
+# --json: one valid object with the tables by name
+for c in fan field mtf layout; do
+  run $BIN/lens-$c $DG --fields 0,10 --wavelengths d --json >$T/$c.json 2>$T/err.txt
+  if python3 -c "import json, sys; d = json.load(open(sys.argv[1])); assert 'setup' in d and len(d) >= 3" $T/$c.json
+  then ok designer_json_$c; else fail designer_json_$c "$(cat $T/err.txt; head -c 300 $T/$c.json)"; fi
+done

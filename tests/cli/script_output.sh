@@ -104,3 +104,23 @@ expect_error spot_fnumber_not_faster "f/1.2 is faster than the lens' widest aper
   $BIN/lens-spot $FE --fnumber 1.2 --fields 0
 if run $BIN/lens-spot $FE --fnumber 2.8 --fields 0 --wavelengths d --rays 60 | grep -q ': f/2.8, object at infinity'
 then ok spot_fnumber_stated; else fail spot_fnumber_stated; fi
+
+# lens-eval --report: unique keys with units, named tables, the same numbers in JSON
+run $BIN/lens-trace $DG -n 1500 --seed 1 >$T/train.txt 2>/dev/null
+run $BIN/lens-fit -q --terms 15 -o $T/dg.poly $T/train.txt 2>/dev/null
+run $BIN/lens-trace $DG -n 1500 --seed 2 --sampling full >$T/test.txt 2>/dev/null
+run $BIN/lens-eval $T/dg.poly $T/test.txt --report >$T/r.txt 2>/dev/null
+run $BIN/lens-eval $T/dg.poly $T/test.txt --report --json >$T/r.json 2>/dev/null
+keys=$(awk '/^# columns: key rays/ { on = 1; next } on && /^$/ { exit } on { print $1 }' $T/r.txt)
+if python3 -m json.tool $T/r.json >/dev/null && same_numbers $T/r.txt $T/r.json error &&
+   [ "$(echo "$keys" | sort | uniq -d)" = "" ] && echo "$keys" | grep -qx out_u_arcmin && echo "$keys" | grep -qx out_x_mm &&
+   grep -q '^# table: error_by_radius$' $T/r.txt && grep -q '^# table: passage$' $T/r.txt &&
+   python3 - $T/r.txt $T/r.json <<'PY'
+import json, sys
+d = json.load(open(sys.argv[2]))
+kv = dict(l.split()[:2] for l in open(sys.argv[1]) if l.split() and l.split()[0] in d['passage'])
+assert kv and all(float(v) == d['passage'][k] for k, v in kv.items()), kv
+assert len(d['error_by_radius']) == 8 * len(d['error'])
+PY
+then ok eval_report_json_keys; else fail eval_report_json_keys "$(head -12 $T/r.txt)"; fi
+expect_error eval_json_needs_report "only the report" $BIN/lens-eval $T/dg.poly $T/test.txt --json

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Pictures through cairo: PNG, and SVG/PDF by the file name; a system drawn over its lens
+# in lens-distort's grid map leaves the lens visible (both colours cover many pixels);
+# the titles state f-number, object and focus.
+source "$(dirname "$0")/lib.sh"
+command -v python3 >/dev/null || { ok "pictures (skipped: no python3)"; exit 0; }
+DG=lenses/dgauss.50mm.lens
+
+# count_rgb PNG R G B TOL: pixels within TOL (0..255) of the colour (8-bit RGB or RGBA PNG)
+count_rgb() {
+  python3 - "$@" <<'PY'
+import struct, sys, zlib
+path, r, g, b, tol = sys.argv[1], *map(int, sys.argv[2:6])
+data = open(path, 'rb').read()
+assert data[:8] == b'\x89PNG\r\n\x1a\n'
+pos, idat, w = 8, b'', 0
+while pos < len(data):
+    n, kind = struct.unpack('>I4s', data[pos:pos + 8]); body = data[pos + 8:pos + 8 + n]; pos += 12 + n
+    if kind == b'IHDR': w, h, depth, ctype = struct.unpack('>IIBB', body[:10])
+    if kind == b'IDAT': idat += body
+bpp = {2: 3, 6: 4}[ctype]; raw = zlib.decompress(idat); stride = w * bpp
+prev, rows, i = bytearray(stride), [], 0
+for y in range(h):
+    f = raw[i]; line = bytearray(raw[i + 1:i + 1 + stride]); i += 1 + stride
+    for x in range(stride):
+        a = line[x - bpp] if x >= bpp else 0; up = prev[x]; c = prev[x - bpp] if x >= bpp else 0
+        if f == 1: line[x] = (line[x] + a) & 255
+        elif f == 2: line[x] = (line[x] + up) & 255
+        elif f == 3: line[x] = (line[x] + (a + up) // 2) & 255
+        elif f == 4:
+            p = a + up - c; pa, pb, pc = abs(p - a), abs(p - up), abs(p - c)
+            line[x] = (line[x] + (a if pa <= pb and pa <= pc else up if pb <= pc else c)) & 255
+    rows.append(line); prev = line
+print(sum(1 for line in rows for x in range(0, stride, bpp)
+          if abs(line[x] - r) <= tol and abs(line[x + 1] - g) <= tol and abs(line[x + 2] - b) <= tol))
+PY
+}
+
+run $BIN/lens-trace $DG -n 20000 --seed 1 --no-passage-columns -o $T/train.txt 2>/dev/null
+run $BIN/lens-fit -q --terms 12 -o $T/dg.poly $T/train.txt 2>/dev/null
+run $BIN/lens-distort $DG --compare $T/dg.poly --fields 0,10,20 --illum-rays 0 --png $T/g.png >$T/g.txt 2>/dev/null
+# lens: (0.05, 0.3, 0.8) wide and solid; system: (0.85, 0.15, 0.1) thin and dashed, on top
+blue=$(count_rgb $T/g.png 13 77 204 40) red=$(count_rgb $T/g.png 217 38 26 40)
+if [ "${blue:-0}" -gt 10000 ] && [ "${red:-0}" -gt 1000 ]
+then ok distort_compare_both_visible; else fail distort_compare_both_visible "lens $blue px, system $red px"; fi
+
+# vector output by the file name
+run $BIN/lens-spot $DG --fields 0,10 --rays 60 --png $T/s.svg >/dev/null
+run $BIN/lens-distort $DG --fields 0,10 --illum-rays 0 --png $T/d.pdf >/dev/null
+if head -c 200 $T/s.svg | grep -q '<svg' && [ "$(head -c 5 $T/d.pdf)" = "%PDF-" ] && ! ls $T | grep -q tmp
+then ok pictures_svg_pdf; else fail pictures_svg_pdf "$(head -c 100 $T/s.svg)"; fi
