@@ -20,6 +20,8 @@ int main(int argc, char **argv)
     imaging_cli_finish(prog, &o.im, operand, nop);
     const char *input = o.im.input, *fields_s = o.im.fields, *map_path = o.map, *png = o.png;
     int opencv = o.opencv.w > 0;
+    cli_check_output(prog, map_path);
+    cli_check_output(prog, png);
     lens_err err;
     double field[IMAGING_MAX_FIELDS];
     distort_request rq = {.lambda = o.im.lambda[o.im.nl / 2], .mapping = o.mapping,

@@ -3,6 +3,7 @@
  * the system written (or its C code), and the figures printed. */
 #include <stdio.h>
 
+#include "sparselens/cli.h"
 #include "sparselens/fit_run.h"
 #include "sparselens/outfile.h"
 
@@ -15,6 +16,7 @@ int main(int argc, char **argv)
     const char *operand[1];
     if (opt_parse(&fit_command, argc, argv, &o, operand, 1) == 1)
         o.samples_path = operand[0];
+    cli_check_output(prog, o.out_path);
     lens_err err;
     fit_run_stats st;
     poly_system *sys = NULL;

@@ -33,6 +33,7 @@ int main(int argc, char **argv)
     int quiet = c.quiet;
     o.scene = operand[0];
     if (!o.exr && !o.emit_camera) diag_die(prog, "no output image: give -o IMAGE.exr");
+    cli_check_output(prog, o.exr);
     progress_state ps = {-1};
     if (!quiet) o.log = stderr;
     if (!quiet && cli_progress_wanted()) {

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sparselens/cli.h"
 #include "sparselens/spot_cli.h"
 #include "sparselens/spot_run.h"
 
@@ -18,6 +19,8 @@ int main(int argc, char **argv)
     imaging_cli_finish(prog, &o.im, operand, nop);
     const char *exr = o.exr, *png = o.png, *fields_s = o.im.fields, *focus_s = o.im.focus;
     const double *lambda = o.im.lambda;
+    cli_check_output(prog, exr);
+    cli_check_output(prog, png);
     int nl = o.im.nl;
     double dist = o.im.object_distance;
 

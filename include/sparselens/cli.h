@@ -22,6 +22,11 @@ void cli_pair(const char *prog, const opt_spec *spec, const char *s, char sep, d
  * "prog: warning: FILE: ..." lines (lens_cli_options.h). */
 void cli_load_lens(const char *prog, const char *path, const lens_load_options *opt, lens_t *lens);
 
+/* Exits with "prog: PATH: cannot write: ..." unless path (an -o FILE; NULL or "-":
+ * nothing to check) can be written: called before the work, so a long computation is
+ * not lost to a typo in a directory name (outfile_check). */
+void cli_check_output(const char *prog, const char *path);
+
 /* True when stderr is a terminal (progress lines are shown only then). */
 int cli_progress_wanted(void);
 

@@ -1,8 +1,12 @@
 #ifndef SPARSELENS_OUTFILE_H
 #define SPARSELENS_OUTFILE_H
 /* Output files that are never left half-written: data goes to a temporary file beside
- * the target, which is renamed over it only when complete. An error, an abort, or
- * SIGINT/SIGTERM removes the temporary file. "-" means stdout (written directly). */
+ * the target, which is renamed over it only when complete. An error, an abort, a
+ * terminating signal (INT, TERM, HUP, PIPE, XCPU, ...) or an exit from elsewhere (a
+ * thread library that cannot start its threads) removes the temporary file. A symlink
+ * is followed (the file it names is replaced, the link stays); a FIFO or a device is
+ * written in place, never replaced. "-" means stdout (written directly). Paths of any
+ * length: one the system cannot hold is refused, never cut. */
 #include <stdio.h>
 
 #include "sparselens/diag.h"
@@ -11,6 +15,9 @@ typedef struct outfile outfile;
 
 /* Opens path for writing; NULL with err set on failure. */
 outfile *outfile_open(const char *path, lens_err *err);
+/* Whether path can be written, tried before a long computation (a temporary file is
+ * created and removed; a FIFO or device is checked, not opened). 0, or -1 with err. */
+int outfile_check(const char *path, lens_err *err);
 FILE *outfile_stream(outfile *of);
 /* Flushes, closes and renames into place; 0 on success (write errors are reported here). */
 int outfile_commit(outfile *of, lens_err *err);

@@ -1,4 +1,5 @@
 #include "sparselens/cli.h"
+#include "sparselens/outfile.h"
 #include "sparselens/lens_cli_options.h"
 #include "sparselens/numparse.h"
 
@@ -45,4 +46,13 @@ void cli_load_lens(const char *prog, const char *path, const lens_load_options *
 int cli_progress_wanted(void)
 {
     return isatty(STDERR_FILENO);
+}
+
+void cli_check_output(const char *prog, const char *path)
+{
+    lens_err err;
+    if (path && outfile_check(path, &err) != 0) {
+        diag_print(prog, &err);
+        exit(1);
+    }
 }

@@ -67,13 +67,23 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
             for (int r = 0; r < VW; r++)
                 v[q][r] = 1;
 #ifdef KERNEL_SCATTER
-        for (int q = 0; q < NV; q++) {
-            vidx at;
-            for (int r = 0; r < VW; r++)
-                at[r] = (long long)row[q * VW + r] * nin;
-            for (int i = 0; i < nin; i++)
-                ((vn *)raw)[i * NV + q] = KERNEL_GATHER(in + i, at);
-        }
+#ifdef KERNEL_LOAD_COLS5
+        if (nin == 5 && !idx && m == KBLK)
+            for (int q = 0; q < NV; q++) {
+                vn cols[5];
+                KERNEL_LOAD_COLS5(in + (first + b0 + (size_t)q * VW) * 5, cols);
+                for (int i = 0; i < 5; i++)
+                    ((vn *)raw)[i * NV + q] = cols[i];
+            }
+        else
+#endif
+            for (int q = 0; q < NV; q++) {
+                vidx at;
+                for (int r = 0; r < VW; r++)
+                    at[r] = (long long)row[q * VW + r] * nin;
+                for (int i = 0; i < nin; i++)
+                    ((vn *)raw)[i * NV + q] = KERNEL_GATHER(in + i, at);
+            }
 #else
         for (int i = 0; i < nin; i++)
             for (int r = 0; r < KBLK; r++)
@@ -227,13 +237,22 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                     res[k * NV + q] *= inv;
             }
 #ifdef KERNEL_SCATTER
-        for (int q = 0; q < NV; q++) {
-            vidx at;
-            for (int r = 0; r < VW; r++)
-                at[r] = (long long)row[q * VW + r] * nres;
-            for (int k = 0; k < nres; k++)
-                KERNEL_SCATTER(out + k, at, res[k * NV + q]);
-        }
+#ifdef KERNEL_STORE_ROWS5
+        if (nres == 5 && !idx && m == KBLK)
+            for (int q = 0; q < NV; q++) {
+                const vn cols[5] = {res[q], res[NV + q], res[2 * NV + q], res[3 * NV + q],
+                                    res[4 * NV + q]};
+                KERNEL_STORE_ROWS5(out + (first + b0 + (size_t)q * VW) * 5, cols);
+            }
+        else
+#endif
+            for (int q = 0; q < NV; q++) {
+                vidx at;
+                for (int r = 0; r < VW; r++)
+                    at[r] = (long long)row[q * VW + r] * nres;
+                for (int k = 0; k < nres; k++)
+                    KERNEL_SCATTER(out + k, at, res[k * NV + q]);
+            }
 #else
         const double *rs = (const double *)res; /* output k of lane r at rs[k * KBLK + r] */
         for (int r = 0; r < m; r++) {

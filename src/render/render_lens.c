@@ -61,10 +61,15 @@ static int map_exact(void *ctx, const double in[5], double org[3], double dir[3]
     return 1;
 }
 
+/* Inputs and outputs a camera's system may have (a passage pair per surface that limits
+ * the beam: up to 8 of them, render_fit.c). */
+#define MAX_IN 16
+#define MAX_OUT 24
+
 static int map_poly(void *ctx, const double in[5], double org[3], double dir[3], double *eta)
 {
     const render_lens_ctx *c = ctx;
-    double x[16], y[16];
+    double x[MAX_IN], y[MAX_OUT];
     for (int i = 0; i < c->nin; i++) x[i] = 0;
     for (int k = 0; k < 5; k++)
         if (c->in_idx[k] >= 0) x[c->in_idx[k]] = in[k];
@@ -94,7 +99,7 @@ static void map_poly_batch(void *ctx, size_t n, const double *in, double *org, d
                            double *eta, unsigned char *pass)
 {
     const render_lens_ctx *c = ctx;
-    double x[POLY_CHUNK * 16], y[POLY_CHUNK * 16];
+    double x[POLY_CHUNK * MAX_IN], y[POLY_CHUNK * MAX_OUT];
     for (size_t r0 = 0; r0 < n; r0 += POLY_CHUNK) {
         size_t m = n - r0 < POLY_CHUNK ? n - r0 : POLY_CHUNK;
         for (size_t r = 0; r < m; r++) {
@@ -157,7 +162,7 @@ static int outer_exact(void *ctx, const double in[5], double o[4], double jac[16
 static int outer_poly(void *ctx, const double in[5], double o[4], double jac[16], double *eta)
 {
     const render_lens_ctx *c = ctx;
-    double x[16], y[16], J[16 * 16];
+    double x[MAX_IN], y[MAX_OUT], J[MAX_OUT * MAX_IN];
     for (int i = 0; i < c->nin; i++) x[i] = 0;
     for (int k = 0; k < 5; k++)
         if (c->in_idx[k] >= 0) x[c->in_idx[k]] = in[k];
@@ -256,7 +261,7 @@ render_lens_ctx *render_lens_poly(const poly_system *sys, const lens_t *lens, do
     c->nsurf = (int)lens->nsurf;
     c->nin = poly_ninputs(sys);
     c->nout = poly_noutputs(sys);
-    if (c->nin > 16 || c->nout > 16) {
+    if (c->nin > MAX_IN || c->nout > MAX_OUT) {
         lens_errf(err, poly_lens_path(sys), 0, "system has too many inputs or outputs to render");
         free(c);
         return NULL;

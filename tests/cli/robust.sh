@@ -85,3 +85,55 @@ grep -q 'k=-0.6123456789 ' <(run "$BIN/lens-info" --format lens "$T/long.seq" 2>
 { head -2 lenses/glass.catalog; echo "HUGE sellmeier1 1 1 1 1 1 1 0.3 2.5 1e154 60"; } >"$T/nd.catalog"
 err_has catalog_nd_bound 'nd.catalog:3: glass HUGE: n_d 1e\+154 is above' \
   "$BIN/lens-info" --glass-catalog "$T/nd.catalog" lenses/lensbaby.lens
+
+# ---- -o: in place into FIFOs and devices, through symlinks, whole paths, no leftovers --
+O=$T/out; mkdir -p "$O"
+mkfifo "$O/fifo"
+cat "$O/fifo" >"$T/from-fifo" & reader=$!
+run "$BIN/lens-trace" "$LENS" -n 5 --seed 1 -o "$O/fifo" 2>/dev/null; rc=$?
+wait $reader
+rows=$(grep -vc '^#' "$T/from-fifo")
+[ $rc -eq 0 ] && [ -p "$O/fifo" ] && [ "$rows" = 5 ] && ok out_fifo_in_place ||
+  fail out_fifo_in_place "rc $rc, fifo kept: $([ -p "$O/fifo" ] && echo yes || echo no), rows $rows"
+if [ "$(id -u)" = 0 ] && mknod "$O/null" c 1 3 2>/dev/null; then
+  run "$BIN/lens-trace" "$LENS" -n 5 -o "$O/null" 2>/dev/null && [ -c "$O/null" ] &&
+    ok out_char_device_kept || fail out_char_device_kept "the device was replaced"
+  rm -f "$O/null"
+fi
+echo old >"$O/real.txt"; ln -s real.txt "$O/link.txt"; ln -s missing.txt "$O/dangling.txt"
+run "$BIN/lens-trace" "$LENS" -n 5 -o "$O/link.txt" 2>/dev/null &&
+  run "$BIN/lens-trace" "$LENS" -n 5 -o "$O/dangling.txt" 2>/dev/null
+[ -L "$O/link.txt" ] && [ -L "$O/dangling.txt" ] && [ "$(grep -vc '^#' "$O/real.txt")" = 5 ] &&
+  [ "$(grep -vc '^#' "$O/missing.txt")" = 5 ] && ok out_symlink_followed ||
+  fail out_symlink_followed "$(ls -l "$O" | tr '\n' '|')"
+rm -f "$O"/*
+# A path longer than 1023 characters is written whole (it was cut, exit 0); one the
+# system cannot hold is refused.
+d=$O; for i in 1 2 3 4 5 6; do d=$d/$(printf 'd%.0s' {1..200}); done; mkdir -p "$d"
+run "$BIN/lens-trace" "$LENS" -n 2 -o "$d/rays.txt" 2>/dev/null && [ -s "$d/rays.txt" ] &&
+  ok out_long_path_whole || fail out_long_path_whole "not written at its full path"
+rm -rf "$O"/d*
+err_has out_name_too_long 'File name too long' \
+  "$BIN/lens-trace" "$LENS" -n 2 -o "$O/$(printf 'n%.0s' {1..300}).txt"
+[ -z "$(ls -A "$O")" ] && ok out_name_too_long_nothing_left || fail out_name_too_long_nothing_left "$(ls "$O")"
+# The output is checked before the work: lens-fit with an unwritable -o stops at once,
+# without waiting for its input.
+start=$(date +%s)
+timeout 15 "$BIN/lens-fit" -o "$O/no/such/dir/x.poly" 2>"$T/fit-err" < <(exec sleep 20); rc=$?
+err=$(cat "$T/fit-err")
+[ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q 'cannot write' <<<"$err" && [ $(( $(date +%s) - start )) -lt 10 ] &&
+  ok out_checked_before_work || fail out_checked_before_work "rc $rc: $err"
+# Signals beyond INT/TERM/HUP, and a thread library that exits, leave no temporary file.
+for sig in XCPU PIPE QUIT; do
+  mkdir -p "$O/$sig"
+  "$BIN/lens-trace" "$LENS" -n 1e8 --seed 3 -o "$O/$sig/big.txt" 2>/dev/null & pid=$!
+  for _ in $(seq 50); do [ -n "$(ls -A "$O/$sig")" ] && break; sleep 0.1; done
+  kill -$sig $pid 2>/dev/null; wait $pid 2>/dev/null
+  [ -z "$(ls -A "$O/$sig")" ] && ok "out_signal_$sig" || fail "out_signal_$sig" "left $(ls "$O/$sig")"
+done
+if [ -z "$SANITIZE" ]; then
+  mkdir -p "$O/threads"
+  (ulimit -v 400000; run "$BIN/lens-trace" "$LENS" -n 100000 --threads 1024 -o "$O/threads/x.txt" 2>/dev/null)
+  [ -z "$(ls -A "$O/threads")" ] && ok out_thread_failure_nothing_left ||
+    fail out_thread_failure_nothing_left "left $(ls "$O/threads")"
+fi
