@@ -2,7 +2,7 @@
  * time of this thread, on the rays a renderer would ask for: sensor points uniform over
  * fisheye-ii's sensor aimed at uniform points of its rear element, wavelengths uniform
  * over 0.4..0.7 um (lens-trace's rear sampling); some of them the lens blocks.
- *   bench_poly [RAYS [SYSTEM.poly [NOFRAME.poly]]]
+ *   bench_poly [RAYS [SYSTEM.poly [NOFRAME.poly]]]   (RAYS default 20000)
  * SYSTEM.poly: the system measured (inputs x y u v lambda, outputs out_x out_y out_u
  * out_v out_eta, one part); make bench passes the default fit of fisheye-ii (lens-fit
  * --terms 40 --degree 11: the meridional frame except out_u, out_v, and 1/lambda^2).
@@ -17,6 +17,9 @@
  *                     the rays it passes
  *   batch, batch_passing  poly_eval_batch on the same rays (pass test included)
  *   batch_noframe     poly_eval_batch of NOFRAME.poly (the cost of the frame)
+ *   batch_cold        poly_eval_batch on COLD x RAYS rays (rows of 80 bytes a ray in and
+ *                     out, beyond the caches: what memory traffic adds; the other
+ *                     methods see RAYS rays, a renderer's batch, whose rows stay cached)
  *   scalar            poly_eval, one ray at a time
  *   naive             each term's powers from scratch (the textbook baseline)
  *   jacobian, jacobian_batch  poly_eval_jacobian one ray at a time, and
@@ -40,7 +43,8 @@
 #include "sparselens/sampling.h"
 #include "sparselens/trace.h"
 
-#define ROUNDS 9
+#define ROUNDS 21
+#define COLD 16
 
 static double now(void)
 {
@@ -134,13 +138,14 @@ static void flatten(const poly_system *s, flat *F)
 }
 
 enum {
-    M_TRACE, M_TRACE_PASSING, M_BATCH, M_BATCH_PASSING, M_BATCH_NOFRAME, M_SCALAR, M_NAIVE,
-    M_JAC, M_JAC_BATCH, M_EMIT, M_EMIT_NATIVE, M_EMIT_BATCH, M_EMIT_BATCH_NATIVE, M_COUNT
+    M_TRACE, M_TRACE_PASSING, M_BATCH, M_BATCH_PASSING, M_BATCH_NOFRAME, M_BATCH_COLD,
+    M_SCALAR, M_NAIVE, M_JAC, M_JAC_BATCH, M_EMIT, M_EMIT_NATIVE, M_EMIT_BATCH,
+    M_EMIT_BATCH_NATIVE, M_COUNT
 };
 static const char *const names[M_COUNT] = {
     "trace",    "trace_passing",  "batch",     "batch_passing",    "batch_noframe",
-    "scalar",   "naive",          "jacobian",  "jacobian_batch",   "emitted_c",
-    "emitted_c_native", "emitted_c_batch", "emitted_c_batch_native"};
+    "batch_cold", "scalar",       "naive",     "jacobian",         "jacobian_batch",
+    "emitted_c", "emitted_c_native", "emitted_c_batch", "emitted_c_batch_native"};
 
 typedef struct {
     const lens_t *lens;
@@ -148,8 +153,8 @@ typedef struct {
     const flat *F;
     emitted_fn fn[2];
     emitted_batch_fn fnb[2];
-    double *out, *jac;
-    unsigned char *pass;
+    double *out, *jac, *cold_out;
+    unsigned char *pass, *cold_pass;
 } bench_ctx;
 
 /* One round of method m on n rays; returns its CPU time. */
@@ -168,6 +173,9 @@ static double run(const bench_ctx *c, int m, size_t n, const double *in)
         break;
     case M_BATCH_NOFRAME:
         poly_eval_batch(c->s0, n, in, c->out, c->pass);
+        break;
+    case M_BATCH_COLD:
+        poly_eval_batch(c->s, n, in, c->cold_out, c->cold_pass);
         break;
     case M_SCALAR:
         for (size_t r = 0; r < n; r++)
@@ -250,9 +258,9 @@ static poly_system *read_system(const char *path)
 
 int main(int argc, char **argv)
 {
-    size_t n = argc > 1 ? strtoul(argv[1], NULL, 10) : 200000;
+    size_t n = argc > 1 ? strtoul(argv[1], NULL, 10) : 20000;
     if (n < 1000)
-        n = 200000;
+        n = 20000;
     poly_system *s = argc > 2 ? read_system(argv[2]) : fixture_default_layout(1);
     poly_system *s0 = argc > 3 ? read_system(argv[3]) : argc > 2 ? NULL : fixture_default_layout(0);
     lens_t lens;
@@ -267,8 +275,14 @@ int main(int argc, char **argv)
     c.out = malloc(n * 5 * sizeof(double));
     c.jac = malloc(n * 25 * sizeof(double));
     c.pass = malloc(n);
-    if (!in || !pin || !c.out || !c.jac || !c.pass || make_rays(&lens, n, in) != 0)
+    double *cold = malloc(COLD * n * 5 * sizeof(double));
+    c.cold_out = malloc(COLD * n * 5 * sizeof(double));
+    c.cold_pass = malloc(COLD * n);
+    if (!in || !pin || !c.out || !c.jac || !c.pass || !cold || !c.cold_out || !c.cold_pass ||
+        make_rays(&lens, n, in) != 0)
         return 1;
+    for (size_t k = 0; k < COLD; k++)
+        memcpy(cold + k * n * 5, in, n * 5 * sizeof(double));
     /* who passes: the tracer's flags (out_eta > 0) and the system's */
     trace_batch(&lens, TRACE_TO_OUTER, n, in, c.out, NULL, 1, &err);
     size_t npass_exact = 0, npass_poly = 0;
@@ -293,6 +307,7 @@ int main(int argc, char **argv)
     size_t nm[M_COUNT];
     for (int m = 0; m < M_COUNT; m++)
         nm[m] = m == M_TRACE_PASSING || m == M_BATCH_PASSING ? npass_exact
+                : m == M_BATCH_COLD ? COLD * n
                 : m == M_SCALAR || m == M_NAIVE || m == M_JAC || m == M_EMIT || m == M_EMIT_NATIVE
                     ? n / 10
                     : n;
@@ -303,7 +318,10 @@ int main(int argc, char **argv)
     for (int round = 0; round < ROUNDS; round++)
         for (int m = 0; m < M_COUNT; m++)
             if (have[m])
-                t[m][round] = run(&c, m, nm[m], m == M_TRACE_PASSING || m == M_BATCH_PASSING ? pin : in);
+                t[m][round] = run(&c, m, nm[m],
+                                  m == M_TRACE_PASSING || m == M_BATCH_PASSING ? pin
+                                  : m == M_BATCH_COLD                        ? cold
+                                                                             : in);
     double best[M_COUNT] = {0};
     for (int m = 0; m < M_COUNT; m++) {
         if (!have[m]) {
@@ -332,6 +350,7 @@ int main(int argc, char **argv)
     const int pairs[][2] = {{M_TRACE_PASSING, M_BATCH_PASSING}, {M_SCALAR, M_BATCH},
                             {M_JAC_BATCH, M_BATCH},             {M_JAC, M_JAC_BATCH},
                             {M_NAIVE, M_BATCH},                 {M_BATCH, M_BATCH_NOFRAME},
+                            {M_BATCH_COLD, M_BATCH},
                             {M_EMIT, M_SCALAR},                 {M_EMIT_NATIVE, M_SCALAR},
                             {M_EMIT_BATCH, M_BATCH},            {M_EMIT_BATCH_NATIVE, M_BATCH}};
     for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++) {
@@ -350,6 +369,9 @@ int main(int argc, char **argv)
     lens_free(&lens);
     free(in);
     free(pin);
+    free(cold);
+    free(c.cold_out);
+    free(c.cold_pass);
     free(c.out);
     free(c.jac);
     free(c.pass);
