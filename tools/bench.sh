@@ -25,7 +25,7 @@ for b in "$BUILD"/bench/bench_*; do
   [ -x "$b" ] || continue
   echo "# $(basename "$b")" >&2
   args=()
-  [ "$(basename "$b")" = bench_poly ] && args=(200000 "$work/fisheye-ii.poly" "$work/fisheye-ii-noframe.poly")
+  [ "$(basename "$b")" = bench_poly ] && args=(20000 "$work/fisheye-ii.poly" "$work/fisheye-ii-noframe.poly")
   { "$b" "${args[@]}" || echo "bench $(basename "$b")_failed 1 flag"; } | { grep "^bench " || true; } | tee -a "$out"
 done
 

@@ -7,6 +7,11 @@
 #include <string.h>
 
 
+/* A system's inputs and outputs, at most: the outer pupil and out_eta, and a passage
+ * pair for the stop and each of up to 8 surfaces that limit the beam (lens-trace(1)). */
+#define SOLVE_MAX_IN 8
+#define SOLVE_MAX_OUT 32
+
 static const char *const in_names[5] = {"x", "y", "u", "v", "lambda"};
 static const char *const out_names[4] = {"out_x", "out_y", "out_u", "out_v"};
 
@@ -74,7 +79,7 @@ typedef struct {
     int in[5], out[4], eta;
     double lambda;
     const double *target;
-    double buf_in[8], buf_out[16], jac[16 * 8];
+    double buf_in[SOLVE_MAX_IN], buf_out[SOLVE_MAX_OUT], jac[SOLVE_MAX_OUT * SOLVE_MAX_IN];
 } solver;
 
 /* Residual F(s) = sys(s) - target, and (unless j is NULL) its Jacobian
@@ -127,7 +132,7 @@ int poly_solve_sensor(const poly_system *sys, double lambda, const double outer[
                       const double *guess, double sensor[4], int *pass, double *eta)
 {
     solver sv = {.sys = sys, .lambda = lambda, .target = outer};
-    if (poly_ninputs(sys) > 8 || poly_noutputs(sys) > 16)
+    if (poly_ninputs(sys) > SOLVE_MAX_IN || poly_noutputs(sys) > SOLVE_MAX_OUT)
         return -1;
     for (int i = 0; i < 5; i++)
         if ((sv.in[i] = poly_input_index(sys, in_names[i])) < 0)
