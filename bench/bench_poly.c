@@ -3,10 +3,12 @@
  * fisheye-ii's sensor aimed at uniform points of its rear element, wavelengths uniform
  * over 0.4..0.7 um (lens-trace's rear sampling); some of them the lens blocks.
  *   bench_poly [RAYS [SYSTEM.poly [NOFRAME.poly]]]   (RAYS default 20000)
- * SYSTEM.poly: the system measured (inputs x y u v lambda, outputs out_x out_y out_u
- * out_v out_eta, one part); make bench passes the default fit of fisheye-ii (lens-fit
- * --terms 40 --degree 11: the meridional frame except out_u, out_v, and 1/lambda^2).
- * Without it, the 5 x 40 term fixture of tests/unit/poly_fixture.h laid out the same way.
+ * SYSTEM.poly: the system measured (inputs x y u v lambda, first outputs out_x out_y
+ * out_u out_v out_eta, one part); make bench passes the default fit of fisheye-ii
+ * (lens-fit --terms 40 --degree 11 on lens-trace's samples: 5 x 40 terms, the meridional
+ * frame except out_u, out_v, 1/lambda^2, and the passage: the hit points on the stop and
+ * the limiting rims as more outputs with pass circles, 129 small terms in all). Without
+ * it, the 5 x 40 term fixture of tests/unit/poly_fixture.h laid out the same way.
  * NOFRAME.poly: the same fit with --frame none --lambda-transform identity.
  *
  * Every method is timed once per round, the methods in turn, for ROUNDS rounds
@@ -23,7 +25,7 @@
  *   scalar            poly_eval, one ray at a time
  *   naive             each term's powers from scratch (the textbook baseline)
  *   jacobian, jacobian_batch  poly_eval_jacobian one ray at a time, and
- *                     poly_eval_jacobian_batch (the 25 derivatives)
+ *                     poly_eval_jacobian_batch (5 derivatives of every output)
  *   emitted_c, emitted_c_native  the C of poly_emit_c compiled now with $CC (or cc),
  *                     -O2 and -O3 -march=native, one call per ray
  *   emitted_c_batch, emitted_c_batch_native  its NAME_batch function on all rays
@@ -90,8 +92,8 @@ static emitted_fn load_emitted(const poly_system *s, const char *dir, const char
 }
 
 typedef struct {
-    int nterms[5];
-    int *exps; /* 5 x 40 x 5 */
+    int nout, *nterms;
+    int *exps; /* terms x 5 inputs */
     double *coef;
     double off[5], scale[5];
 } flat;
@@ -106,7 +108,7 @@ static void naive(const flat *F, size_t n, const double *in, double *out)
             s[i] = (in[r * 5 + i] - F->off[i]) / F->scale[i];
         const int *e = F->exps;
         const double *c = F->coef;
-        for (int o = 0; o < 5; o++) {
+        for (int o = 0; o < F->nout; o++) {
             double acc = 0;
             for (int t = 0; t < F->nterms[o]; t++, e += 5, c++) {
                 double m = *c;
@@ -115,7 +117,7 @@ static void naive(const flat *F, size_t n, const double *in, double *out)
                         m *= s[i];
                 acc += m;
             }
-            out[r * 5 + o] = acc;
+            out[r * (size_t)F->nout + o] = acc;
         }
     }
 }
@@ -123,12 +125,14 @@ static void naive(const flat *F, size_t n, const double *in, double *out)
 static void flatten(const poly_system *s, flat *F)
 {
     int total = 0;
-    for (int o = 0; o < 5; o++)
+    F->nout = poly_noutputs(s);
+    F->nterms = malloc((size_t)F->nout * sizeof(int));
+    for (int o = 0; o < F->nout; o++)
         total += poly_nterms(s, 0, o);
     F->exps = malloc((size_t)total * 5 * sizeof(int));
     F->coef = malloc((size_t)total * sizeof(double));
     int k = 0;
-    for (int o = 0; o < 5; o++) {
+    for (int o = 0; o < F->nout; o++) {
         F->nterms[o] = poly_nterms(s, 0, o);
         for (int t = 0; t < F->nterms[o]; t++, k++)
             poly_get_term(s, 0, o, t, F->exps + 5 * k, F->coef + k);
@@ -153,6 +157,7 @@ typedef struct {
     const flat *F;
     emitted_fn fn[2];
     emitted_batch_fn fnb[2];
+    size_t nout;
     double *out, *jac, *cold_out;
     unsigned char *pass, *cold_pass;
 } bench_ctx;
@@ -179,14 +184,14 @@ static double run(const bench_ctx *c, int m, size_t n, const double *in)
         break;
     case M_SCALAR:
         for (size_t r = 0; r < n; r++)
-            c->pass[r] = (unsigned char)poly_eval(c->s, in + r * 5, c->out + r * 5);
+            c->pass[r] = (unsigned char)poly_eval(c->s, in + r * 5, c->out + r * c->nout);
         break;
     case M_NAIVE:
         naive(c->F, n, in, c->out);
         break;
     case M_JAC:
         for (size_t r = 0; r < n; r++)
-            poly_eval_jacobian(c->s, in + r * 5, c->out + r * 5, c->jac + r * 25);
+            poly_eval_jacobian(c->s, in + r * 5, c->out + r * c->nout, c->jac + r * 5 * c->nout);
         break;
     case M_JAC_BATCH:
         poly_eval_jacobian_batch(c->s, n, in, c->jac);
@@ -194,7 +199,7 @@ static double run(const bench_ctx *c, int m, size_t n, const double *in)
     case M_EMIT:
     case M_EMIT_NATIVE:
         for (size_t r = 0; r < n; r++)
-            c->pass[r] = (unsigned char)c->fn[m == M_EMIT_NATIVE](in + r * 5, c->out + r * 5);
+            c->pass[r] = (unsigned char)c->fn[m == M_EMIT_NATIVE](in + r * 5, c->out + r * c->nout);
         break;
     default:
         c->fnb[m == M_EMIT_BATCH_NATIVE](n, in, c->out, c->pass);
@@ -247,8 +252,8 @@ static poly_system *read_system(const char *path)
     }
     for (int i = 0; i < 5; i++)
         if (poly_ninputs(s) != 5 || poly_input_index(s, fixture_inputs[i]) != i ||
-            poly_noutputs(s) != 5 || poly_nparts(s) != 1) {
-            fprintf(stderr, "bench_poly: %s: needs inputs x y u v lambda, 5 outputs, 1 part\n",
+            poly_noutputs(s) < 5 || poly_nparts(s) != 1) {
+            fprintf(stderr, "bench_poly: %s: needs inputs x y u v lambda, 1 part\n",
                     path);
             poly_free(s);
             return NULL;
@@ -272,11 +277,14 @@ int main(int argc, char **argv)
     }
     double *in = malloc(n * 5 * sizeof(double)), *pin = malloc(n * 5 * sizeof(double));
     bench_ctx c = {.lens = &lens, .s = s, .s0 = s0};
-    c.out = malloc(n * 5 * sizeof(double));
-    c.jac = malloc(n * 25 * sizeof(double));
+    c.nout = (size_t)poly_noutputs(s);
+    if (s0 && (size_t)poly_noutputs(s0) > c.nout)
+        c.nout = (size_t)poly_noutputs(s0);
+    c.out = malloc(n * c.nout * sizeof(double));
+    c.jac = malloc(n * 5 * c.nout * sizeof(double));
     c.pass = malloc(n);
     double *cold = malloc(COLD * n * 5 * sizeof(double));
-    c.cold_out = malloc(COLD * n * 5 * sizeof(double));
+    c.cold_out = malloc(COLD * n * c.nout * sizeof(double));
     c.cold_pass = malloc(COLD * n);
     if (!in || !pin || !c.out || !c.jac || !c.pass || !cold || !c.cold_out || !c.cold_pass ||
         make_rays(&lens, n, in) != 0)
@@ -376,6 +384,7 @@ int main(int argc, char **argv)
     free(c.jac);
     free(c.pass);
     free(F.exps);
+    free(F.nterms);
     free(F.coef);
     poly_free(s);
     poly_free(s0);
