@@ -25,8 +25,8 @@ SAN="-fsanitize=address,undefined -fno-sanitize-recover=undefined"
 # The library flags come from the Makefile (pkg-config and its fallbacks, the x86-64
 # baseline only on x86-64); the outer make's job server is not passed on.
 makevar() { env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL "${MAKE:-make}" -s --no-print-directory "print-$1"; }
-CFLAGS="-std=c11 -O1 -g -fno-omit-frame-pointer -fopenmp $(makevar ARCH_FLAGS) -Wall -Wextra $(makevar CPPFLAGS) -Itests/fuzz -D_GNU_SOURCE"
-LIBS="$(makevar EXR_LIBS) $(makevar PROJ_LIBS) $(makevar LAPACK_LIBS) -lm"
+CFLAGS="-std=c11 -O1 -g -fno-omit-frame-pointer -fopenmp $(makevar ARCH_FLAGS) -Wall -Wextra $(makevar CPPFLAGS) $(makevar CAIRO_CFLAGS) -Itests/fuzz -D_GNU_SOURCE"
+LIBS="$(makevar CAIRO_LIBS) $(makevar EXR_LIBS) $(makevar PROJ_LIBS) $(makevar LAPACK_LIBS) -lm"
 export SPARSELENS_GLASS_CATALOG=${SPARSELENS_GLASS_CATALOG:-lenses/glass.catalog}
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}

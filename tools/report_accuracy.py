@@ -65,16 +65,18 @@ def plot(lens, rows, front, picdir):
     png = os.path.join(picdir, f"{lens}-pareto.png")
     exact = rows[0]["exact_ns_per_ray"]
     script = f"""
-set terminal pngcairo size 720,480 noenhanced
+set terminal pngcairo size 860,480 noenhanced
 set output '{png}.tmp.png'
-set title '{lens}: held-out outer-pupil position error against evaluation time'
+set title "{lens}: held-out outer-pupil position error\\nagainst evaluation time"
 set xlabel 'time per ray, ns (one thread)'
 set ylabel 'position RMS error, mm'
 set logscale xy
 set grid
-set key top right
+# the key below the plot and the tracer's label at the bottom of its line: neither
+# overprints the other or the points
+set key outside right top vertical
 set arrow from {exact}, graph 0 to {exact}, graph 1 nohead dt 2 lc rgb '#c00000'
-set label 'exact tracer' at {exact}, graph 0.95 right offset -0.5,0 tc rgb '#c00000'
+set label 'exact tracer' at {exact}, graph 0.05 right offset -0.5,0 tc rgb '#c00000'
 plot '{dat}' using 1:2 with points pt 7 ps 0.8 lc rgb '#808080' title 'fitted systems', \\
      '{dat}' using ($3 == 1 ? $1 : 1/0):2 with linespoints pt 7 lw 2 lc rgb '#0060c0' title 'Pareto front'
 """

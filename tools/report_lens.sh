@@ -26,7 +26,8 @@ awk '/^# columns: key rmin_mm rmax_mm/ { on = 1; next } on && /^$/ { exit }
 gnuplot <<GP
 set terminal pngcairo size 640,400 noenhanced
 set output '$pics/$name-error-radius.png'
-set title '$name: held-out position error against sensor radius ($id)'
+# the title on two lines, so that a long lens name and fit id are not cut off
+set title "$name: held-out position error against sensor radius\\n($id)"
 set xlabel 'sensor radius, mm'
 set ylabel 'outer-pupil position RMS, mm'
 set grid

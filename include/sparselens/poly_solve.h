@@ -13,7 +13,9 @@ int poly_solve_check(const poly_system *sys, lens_err *err);
 
 /* Solves for sensor[4] = (x, y, u, v) with sys(sensor, lambda) = outer. guess (may be
  * NULL: the axis) seeds Newton. Returns 0 when the residual falls below 1e-9 (1 + |outer x, y|)
- * (mm and tangent units), -1 otherwise; *pass (may be NULL) gets the system's passage test at
+ * (mm and tangent units), or when Newton stalls within 10x the held-out error the system
+ * records for out_x..out_v (a meridional system is that discontinuous at the axis), -1
+ * otherwise; *pass (may be NULL) gets the system's passage test at
  * the solution, *eta (may be NULL) its out_eta output or 1 when it has none. */
 int poly_solve_sensor(const poly_system *sys, double lambda, const double outer[4],
                       const double *guess, double sensor[4], int *pass, double *eta);

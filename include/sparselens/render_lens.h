@@ -19,6 +19,14 @@ render_lens_ctx *render_lens_poly(const poly_system *sys, const lens_t *lens, do
                                   double sensor_h, render_camera *cam, lens_err *err);
 void render_lens_free(render_lens_ctx *c);
 
+/* An aperture of blades (0: the stop's circle; 3 .. RENDER_MAX_BLADES): the regular
+ * polygon inscribed in the stop's circle, its vertices at angles rotation + k 2 pi /
+ * blades (radians, from +x of the lens frame), tested where each ray meets the stop (exact:
+ * traced there; a system: its ap_x ap_y outputs, which it must have). The line pupil
+ * of the circle still covers every passing direction. 0, or -1 with err. */
+#define RENDER_MAX_BLADES 16
+int render_lens_set_blades(render_lens_ctx *c, int blades, double rotation, lens_err *err);
+
 /* Applies the scene's focus distance (mm in front of the front vertex, INFINITY) by the
  * paraxial last thickness, and its f-stop by the stop's semi-diameter; NAN leaves the
  * lens as it is. */

@@ -48,6 +48,8 @@ typedef struct {
     long spp;
     unsigned long seed;
     effect_setting transmittance, vignetting, dispersion;
+    int blades;            /* 0: a round stop; else the polygon of render_lens_set_blades */
+    double blade_rotation; /* degrees */
     int filter_tent;       /* 0: box (the pixel); 1: tent of filter_radius pixels */
     double filter_radius;
     size_t nobj;

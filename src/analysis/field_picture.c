@@ -67,7 +67,7 @@ int field_write_png(const field_figure *fig, const char *path, lens_err *err)
         lens_errf(err, path, 0, "out of memory");
         return -1;
     }
-    img_text(c, 10, 22, fig->title, 14, black);
+    plot_title(c, 10, 22, img_width(c) - 20, fig->title, 14, black);
     double lx = 10;
     for (int l = 0; l < fig->nl; l++) {
         double rgb[3];
@@ -110,7 +110,7 @@ int field_shift_write_png(const field_shift_figure *fig, const char *path, lens_
         lens_errf(err, path, 0, "out of memory");
         return -1;
     }
-    img_text(c, 10, 22, fig->title, 14, black);
+    plot_title(c, 10, 22, img_width(c) - 20, fig->title, 14, black);
     for (int i = 0; i < fig->nmodels * fig->n; i++)
         um[i] = 1e3 * fig->shift[i];
     plot_panel p = {c, left, top, PW, PH, fig->lambda[0], fig->lambda[fig->n - 1], 0, 0};

@@ -7,6 +7,7 @@
 #include "sparselens/image.h"
 #include "sparselens/layout.h"
 #include "sparselens/outfile.h"
+#include "sparselens/plot.h"
 
 static const double glass_fill[3] = {0.80, 0.90, 0.97}, glass_edge[3] = {0.2, 0.35, 0.5},
                     dark[3] = {0.1, 0.1, 0.1}, axis_rgb[3] = {0.6, 0.6, 0.6};
@@ -118,16 +119,15 @@ int layout_write_png(const layout_drawing *d, const char *path, int width, lens_
         int closed = l->kind == LAYOUT_ELEMENT;
         for (int k = 0; k + 1 < l->n + closed; k++) {
             int a = k, b = (k + 1) % l->n;
-            if (l->kind == LAYOUT_AXIS) { /* dashed */
-                for (double u = 0; u < 1; u += 0.02)
-                    img_line(c, xy[0] + u * (xy[2] - xy[0]), xy[1], xy[0] + (u + 0.012) * (xy[2] - xy[0]), xy[1], rgb, 1);
-                break;
-            }
-            img_line(c, xy[2 * a], xy[2 * a + 1], xy[2 * b], xy[2 * b + 1], rgb, t);
+            if (l->kind == LAYOUT_AXIS || l->kind == LAYOUT_SYSTEM)
+                img_dashed_line(c, xy[2 * a], xy[2 * a + 1], xy[2 * b], xy[2 * b + 1], rgb, t,
+                                l->kind == LAYOUT_AXIS ? 8 : 3);
+            else
+                img_line(c, xy[2 * a], xy[2 * a + 1], xy[2 * b], xy[2 * b + 1], rgb, t);
         }
     }
     free(xy);
-    img_text(c, margin, 24, d->title ? d->title : "", 14, dark);
+    plot_title(c, margin, 24, width - 2 * margin, d->title ? d->title : "", 14, dark);
     double lx = margin;
     for (int k = 0; k < d->nfields; k++) {
         double rgb[3];

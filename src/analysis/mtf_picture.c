@@ -19,7 +19,7 @@ int mtf_write_png(const mtf_figure *fig, const char *path, lens_err *err)
         lens_errf(err, path, 0, "out of memory");
         return -1;
     }
-    img_text(c, 10, 22, fig->title, 14, black);
+    plot_title(c, 10, 22, img_width(c) - 20, fig->title, 14, black);
     double lx = plot_legend(c, 10, 44, blue, 0, "diffraction T (thick) S (thin)");
     lx = plot_legend(c, lx, 44, grey, 0, "geometric");
     if (fig->nu_c > 0 && !(fig->through_focus > 0))

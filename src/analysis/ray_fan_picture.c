@@ -32,7 +32,7 @@ int ray_fan_write_png(const ray_fan_figure *fig, const char *path, lens_err *err
     hi = hi > 0 ? hi * 1e3 : 1;
     double dummy[2] = {-hi, hi};
     plot_range(dummy, 2, 1, &lo, &hi);
-    img_text(c, left - 50, 22, fig->title, 14, black);
+    plot_title(c, left - 50, 22, W - left + 40, fig->title, 14, black);
     double lx = left - 50;
     for (int l = 0; l < fig->nl; l++) {
         double rgb[3];

@@ -18,6 +18,7 @@ void eval_run_options_default(eval_run_options *opt)
 
 typedef struct {
     const poly_system *sys;
+    const char **names;  /* the system's inputs, then its outputs */
     int nin, nout, ncols, eta;
     int *map_in, *map_ref;
     double *row, *in, *pred, *ref, *outrow;
@@ -74,60 +75,128 @@ static void flush(ctx_t *c, size_t n, FILE *out, const eval_run_options *opt, ev
     c->text_len = 0;
 }
 
+static void ctx_free(ctx_t *c)
+{
+    free(c->names);
+    free(c->map_in);
+    free(c->map_ref);
+    free(c->row);
+    free(c->in);
+    free(c->pred);
+    free(c->ref);
+    free(c->outrow);
+    free(c->pass);
+    free(c->bad);
+    free(c->text);
+    free(c->text_at);
+}
+
+static int ctx_init(ctx_t *c, const poly_system *sys, const samples_reader *rd, lens_err *err)
+{
+    c->sys = sys;
+    c->nin = poly_ninputs(sys);
+    c->nout = poly_noutputs(sys);
+    c->ncols = samples_ncols(rd);
+    c->eta = poly_output_index(sys, "out_eta");
+    c->names = malloc((size_t)(c->nin + c->nout) * sizeof *c->names);
+    c->map_in = malloc((size_t)c->nin * sizeof(int));
+    c->map_ref = malloc((size_t)c->nout * sizeof(int));
+    c->row = malloc((size_t)(c->ncols > 0 ? c->ncols : 1) * sizeof(double));
+    c->in = malloc(CHUNK * (size_t)c->nin * sizeof(double));
+    c->pred = malloc(CHUNK * (size_t)c->nout * sizeof(double));
+    c->ref = malloc(CHUNK * (size_t)c->nout * sizeof(double));
+    c->outrow = malloc((size_t)(c->nin + c->nout) * sizeof(double));
+    c->pass = malloc(CHUNK);
+    c->bad = malloc(CHUNK);
+    c->text_at = malloc(CHUNK * sizeof *c->text_at);
+    if (!c->names || !c->map_in || !c->map_ref || !c->row || !c->in || !c->pred || !c->ref ||
+        !c->outrow || !c->pass || !c->bad || !c->text_at) {
+        lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    for (int i = 0; i < c->nin; i++)
+        c->names[i] = poly_input_name(sys, i);
+    for (int o = 0; o < c->nout; o++)
+        c->names[c->nin + o] = poly_output_name(sys, o);
+    return 0;
+}
+
+/* The report's reference columns (named as the outputs), or the predictions' header. */
+static int start_output(ctx_t *c, samples_reader *rd, FILE *out, const eval_run_options *opt,
+                        eval_report **rep, lens_err *err)
+{
+    if (!opt->report) {
+        samples_passthrough(rd, c->names, c->nin + c->nout);
+        samples_write_filter_header(out, c->names, c->nin + c->nout, rd);
+        return 0;
+    }
+    for (int o = 0; o < c->nout; o++) {
+        c->map_ref[o] = samples_find(rd, c->names[c->nin + o]);
+        if (c->map_ref[o] < 0) {
+            lens_errf(err, samples_path(rd), 0,
+                      "no reference column '%s': --report needs the traced outputs "
+                      "(a lens-trace test set)",
+                      c->names[c->nin + o]);
+            return -1;
+        }
+    }
+    *rep = eval_report_new(c->sys, &opt->ropt);
+    if (!*rep) {
+        lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    return 0;
+}
+
+/* Row n of the chunk from the row just read (got: samples_next's answer): its inputs and
+ * references, or marked bad (reported, evaluated as zeros, never written or counted);
+ * a good row outside the training domain is counted per input. */
+static void take_row(ctx_t *c, size_t n, int got, lens_err *rowerr, const samples_reader *rd,
+                     const eval_run_options *opt, eval_run_stats *st)
+{
+    double *in = c->in + n * (size_t)c->nin;
+    c->bad[n] = got <= 0;
+    if (got > 0) {
+        for (int i = 0; i < c->nin; i++)
+            in[i] = c->row[c->map_in[i]];
+        for (int i = 0; i < c->nin && !c->bad[n]; i++)
+            if (!isfinite(in[i])) {
+                lens_errf(rowerr, samples_path(rd), samples_line(rd),
+                          "input '%s' is not a finite number", c->names[i]);
+                c->bad[n] = 1;
+            }
+        if (opt->report)
+            for (int o = 0; o < c->nout; o++)
+                c->ref[n * (size_t)c->nout + (size_t)o] = c->row[c->map_ref[o]];
+    }
+    if (c->bad[n]) {
+        st->bad_rows++;
+        for (int i = 0; i < c->nin; i++)
+            in[i] = 0;
+        if (opt->on_bad_row)
+            opt->on_bad_row(opt->ctx, rowerr);
+    } else if (!poly_in_domain(c->sys, in)) {
+        st->outside++;
+        for (int i = 0; i < c->nin && i < 64; i++) {
+            double lo, hi;
+            poly_get_domain(c->sys, i, &lo, &hi);
+            if (!(in[i] >= lo && in[i] <= hi))
+                st->outside_input[i]++;
+        }
+    }
+    st->rows++;
+}
+
 int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_run_options *opt,
              eval_run_stats *st, lens_err *err)
 {
     ctx_t c = {0};
-    c.sys = sys;
-    c.nin = poly_ninputs(sys);
-    c.nout = poly_noutputs(sys);
-    c.ncols = samples_ncols(rd);
-    c.eta = poly_output_index(sys, "out_eta");
     memset(st, 0, sizeof *st);
     int rc = -1;
     eval_report *rep = NULL;
-    const char **names = malloc((size_t)(c.nin + c.nout) * sizeof *names);
-    c.map_in = malloc((size_t)c.nin * sizeof(int));
-    c.map_ref = malloc((size_t)c.nout * sizeof(int));
-    c.row = malloc((size_t)(c.ncols > 0 ? c.ncols : 1) * sizeof(double));
-    c.in = malloc(CHUNK * (size_t)c.nin * sizeof(double));
-    c.pred = malloc(CHUNK * (size_t)c.nout * sizeof(double));
-    c.ref = malloc(CHUNK * (size_t)c.nout * sizeof(double));
-    c.outrow = malloc((size_t)(c.nin + c.nout) * sizeof(double));
-    c.pass = malloc(CHUNK);
-    c.bad = malloc(CHUNK);
-    c.text_at = malloc(CHUNK * sizeof *c.text_at);
-    if (!names || !c.map_in || !c.map_ref || !c.row || !c.in || !c.pred || !c.ref ||
-        !c.outrow || !c.pass || !c.bad || !c.text_at) {
-        lens_errf(err, NULL, 0, "out of memory");
+    if (ctx_init(&c, sys, rd, err) != 0 || samples_map(rd, c.names, c.nin, c.map_in, err) != 0 ||
+        start_output(&c, rd, out, opt, &rep, err) != 0)
         goto done;
-    }
-    for (int i = 0; i < c.nin; i++)
-        names[i] = poly_input_name(sys, i);
-    for (int o = 0; o < c.nout; o++)
-        names[c.nin + o] = poly_output_name(sys, o);
-    if (samples_map(rd, names, c.nin, c.map_in, err) != 0)
-        goto done;
-    if (opt->report) {
-        for (int o = 0; o < c.nout; o++) {
-            c.map_ref[o] = samples_find(rd, names[c.nin + o]);
-            if (c.map_ref[o] < 0) {
-                lens_errf(err, samples_path(rd), 0,
-                          "no reference column '%s': --report needs the traced outputs "
-                          "(a lens-trace test set)",
-                          names[c.nin + o]);
-                goto done;
-            }
-        }
-        rep = eval_report_new(sys, &opt->ropt);
-        if (!rep) {
-            lens_errf(err, NULL, 0, "out of memory");
-            goto done;
-        }
-    } else {
-        samples_passthrough(rd, names, c.nin + c.nout);
-        samples_write_filter_header(out, names, c.nin + c.nout, rd);
-    }
     size_t n = 0;
     for (;;) {
         lens_err rowerr;
@@ -139,43 +208,11 @@ int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_r
             *err = rowerr;
             goto done;
         }
-        double *in = c.in + n * (size_t)c.nin;
-        c.bad[n] = 0;
         if (!opt->report && keep_text(&c, rd, n) != 0) {
             lens_errf(err, NULL, 0, "out of memory");
             goto done;
         }
-        if (got > 0) {
-            for (int i = 0; i < c.nin; i++)
-                in[i] = c.row[c.map_in[i]];
-            for (int i = 0; i < c.nin && !c.bad[n]; i++)
-                if (!isfinite(in[i])) {
-                    lens_errf(&rowerr, samples_path(rd), samples_line(rd),
-                              "input '%s' is not a finite number", names[i]);
-                    c.bad[n] = 1;
-                }
-            if (opt->report)
-                for (int o = 0; o < c.nout; o++)
-                    c.ref[n * (size_t)c.nout + (size_t)o] = c.row[c.map_ref[o]];
-        } else {
-            c.bad[n] = 1;
-        }
-        if (c.bad[n]) {
-            st->bad_rows++;
-            for (int i = 0; i < c.nin; i++)
-                in[i] = 0; /* evaluated, but never written or counted */
-            if (opt->on_bad_row)
-                opt->on_bad_row(opt->ctx, &rowerr);
-        } else if (!poly_in_domain(sys, in)) {
-            st->outside++;
-            for (int i = 0; i < c.nin && i < 64; i++) {
-                double lo, hi;
-                poly_get_domain(sys, i, &lo, &hi);
-                if (!(in[i] >= lo && in[i] <= hi))
-                    st->outside_input[i]++;
-            }
-        }
-        st->rows++;
+        take_row(&c, n, got, &rowerr, rd, opt, st);
         if (++n == CHUNK) {
             flush(&c, n, out, opt, rep);
             n = 0;
@@ -192,17 +229,6 @@ int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_r
     rc = 0;
 done:
     eval_report_free(rep);
-    free(names);
-    free(c.map_in);
-    free(c.map_ref);
-    free(c.row);
-    free(c.in);
-    free(c.pred);
-    free(c.ref);
-    free(c.outrow);
-    free(c.pass);
-    free(c.bad);
-    free(c.text);
-    free(c.text_at);
+    ctx_free(&c);
     return rc;
 }

@@ -225,7 +225,13 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
         lc = render_lens_poly(sys, &lens, sw, sh, &cam, err);
     }
     if (!lc) goto done;
+    if (sc.blades && render_lens_set_blades(lc, sc.blades, sc.blade_rotation * M_PI / 180, err))
+        goto done;
     if (o->emit_camera) {
+        if (sc.blades) {
+            lens_errf(err, sc.path, 0, "--emit-camera: the module has a round stop (no blades)");
+            goto done;
+        }
         rc = emit_camera(o, &lens, sys, sw, sh, err);
         goto done;
     }

@@ -158,6 +158,21 @@ void poly_eval_core_batch(const poly_system *sys, size_t count, const double *in
 void poly_eval_jacobian_batch_core(const poly_system *sys, size_t count, const double *in,
                                    double *jac);
 
+/* Monomial tables and plans (poly_plan.c). A table's slot 0 is the constant and slots
+ * 1..nin the scaled inputs; poly_mono_ensure returns the slot of monomial e, created
+ * (with the slots it is built from) if missing, poly_mono_find the slot or -1;
+ * poly_terms_push appends a term (exponents e, or NULL for derivative sums) to a sum;
+ * poly_plan_build plans nout sums over table m. -1 on failure (out of memory). */
+int poly_mono_init(poly_mono *m, int nin);
+int poly_mono_find(const poly_mono *m, int nin, const int *e);
+int poly_mono_ensure(poly_mono *m, int nin, const int *e);
+int poly_terms_push(poly_out_terms *ot, int nin, const int *e, double coef, int slot);
+int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
+                    const poly_out_terms *sums);
+void poly_terms_free(poly_out_terms *t, int n);
+void poly_mono_free(poly_mono *m);
+void poly_plan_free(poly_plan *pl);
+
 /* Hooks of the builders in poly.c: a change of scaling or parts rebuilds the views, a
  * new term is added to its view. */
 void poly_frame_on_change(poly_system *s);

@@ -3,8 +3,14 @@
 #include "sparselens/poly_solve.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
+
+/* A system's inputs and outputs, at most: the outer pupil and out_eta, and a passage
+ * pair for the stop and each of up to 8 surfaces that limit the beam (lens-trace(1)). */
+#define SOLVE_MAX_IN 8
+#define SOLVE_MAX_OUT 32
 
 static const char *const in_names[5] = {"x", "y", "u", "v", "lambda"};
 static const char *const out_names[4] = {"out_x", "out_y", "out_u", "out_v"};
@@ -73,7 +79,7 @@ typedef struct {
     int in[5], out[4], eta;
     double lambda;
     const double *target;
-    double buf_in[8], buf_out[16], jac[16 * 8];
+    double buf_in[SOLVE_MAX_IN], buf_out[SOLVE_MAX_OUT], jac[SOLVE_MAX_OUT * SOLVE_MAX_IN];
 } solver;
 
 /* Residual F(s) = sys(s) - target, and (unless j is NULL) its Jacobian
@@ -100,11 +106,33 @@ static double residual(solver *sv, const double s[4], double f[4], double j[4][4
     return isfinite(nrm) ? nrm : INFINITY;
 }
 
+/* A meridional system is discontinuous at the axis by about its fit error: its frame
+ * turns with the sensor point, and a polynomial in the frame is rotation-equivariant at
+ * the axis only as far as the fit is right. Newton can stall there (the on-axis spot of
+ * dgauss.50mm loses 3% of its rays) at a residual of that size, and such a solution is
+ * as good as the system: accepted within 10x the largest held-out error of out_x..out_v
+ * the system records (0 when it records none, or has no frame). */
+static double fit_level(const poly_system *sys)
+{
+    if (poly_get_frame(sys) == POLY_FRAME_NONE)
+        return 0;
+    double level = 0;
+    for (int o = 0; o < 4; o++) {
+        char key[32];
+        snprintf(key, sizeof key, "fit_%s", out_names[o]);
+        const char *m = poly_get_meta(sys, key), *h = m ? strstr(m, "holdout_rms ") : NULL;
+        double rms;
+        if (h && sscanf(h + 12, "%lf", &rms) == 1 && isfinite(rms))
+            level = fmax(level, 10 * rms);
+    }
+    return level;
+}
+
 int poly_solve_sensor(const poly_system *sys, double lambda, const double outer[4],
                       const double *guess, double sensor[4], int *pass, double *eta)
 {
     solver sv = {.sys = sys, .lambda = lambda, .target = outer};
-    if (poly_ninputs(sys) > 8 || poly_noutputs(sys) > 16)
+    if (poly_ninputs(sys) > SOLVE_MAX_IN || poly_noutputs(sys) > SOLVE_MAX_OUT)
         return -1;
     for (int i = 0; i < 5; i++)
         if ((sv.in[i] = poly_input_index(sys, in_names[i])) < 0)
@@ -136,7 +164,7 @@ int poly_solve_sensor(const poly_system *sys, double lambda, const double outer[
                 break;
         }
         if (!(nr < r))
-            return -1;
+            break; /* stalled */
         if (k > 0)
             residual(&sv, ns, nf, nj, NULL);
         memcpy(s, ns, sizeof s);
@@ -144,7 +172,7 @@ int poly_solve_sensor(const poly_system *sys, double lambda, const double outer[
         memcpy(j, nj, sizeof j);
         r = nr;
     }
-    if (!(r <= tol))
+    if (!(r <= tol) && !(r <= fit_level(sys)))
         return -1;
     int p = 0;
     residual(&sv, s, f, NULL, &p);

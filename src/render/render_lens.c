@@ -20,7 +20,59 @@ struct render_lens_ctx {
     double *cache_n; /* LAMBDA_CACHE x nsurf */
     /* poly: where the inputs and outputs are */
     int nin, nout, in_idx[5], out_idx[5];
+    /* an aperture of blades: a regular polygon inscribed in the stop's circle, tested at
+     * the ray's stop hit (exact: traced; poly: outputs ap_x ap_y); 0 blades: the circle */
+    int blades, ap_idx[2];
+    double blade_n[RENDER_MAX_BLADES][2], apothem;
 };
+
+/* The stop hit (x, y) inside the blades' polygon: within the apothem along every edge's
+ * normal. */
+static int in_blades(const render_lens_ctx *c, double x, double y)
+{
+    for (int k = 0; k < c->blades; k++)
+        if (x * c->blade_n[k][0] + y * c->blade_n[k][1] > c->apothem) return 0;
+    return 1;
+}
+
+/* Exact: the ray's stop hit (a trace to the stop) inside the blades. */
+static int exact_blades(const render_lens_ctx *c, const double *n, const double in[4])
+{
+    if (!c->blades) return 1;
+    double st[4];
+    trace_result t = trace_sample(c->lens, n, TRACE_TO_STOP, in, st);
+    return t.status == TRACE_PASSED && in_blades(c, st[0], st[1]);
+}
+
+static int poly_blades(const render_lens_ctx *c, const double *y)
+{
+    return !c->blades || in_blades(c, y[c->ap_idx[0]], y[c->ap_idx[1]]);
+}
+
+int render_lens_set_blades(render_lens_ctx *c, int blades, double rotation, lens_err *err)
+{
+    if (blades && (blades < 3 || blades > RENDER_MAX_BLADES)) {
+        lens_errf(err, c->lens->path, 0, "blades: %d is not in 3 .. %d", blades, RENDER_MAX_BLADES);
+        return -1;
+    }
+    if (blades && c->sys) {
+        c->ap_idx[0] = poly_output_index(c->sys, "ap_x");
+        c->ap_idx[1] = poly_output_index(c->sys, "ap_y");
+        if (c->ap_idx[0] < 0 || c->ap_idx[1] < 0) {
+            lens_errf(err, poly_lens_path(c->sys), 0, "blades need the system's stop hit "
+                      "(outputs ap_x ap_y)");
+            return -1;
+        }
+    }
+    c->blades = blades;
+    double R = c->lens->surf[c->lens->stop].semi_diameter;
+    c->apothem = R * cos(M_PI / (blades ? blades : 1));
+    for (int k = 0; k < blades; k++) {
+        double a = rotation + (k + 0.5) * 2 * M_PI / blades; /* edge k's normal */
+        c->blade_n[k][0] = cos(a), c->blade_n[k][1] = sin(a);
+    }
+    return 0;
+}
 
 static void fill_camera(render_camera *cam, render_lens_ctx *c, render_map_fn fn,
                         const lens_t *lens, double sw, double sh)
@@ -52,6 +104,7 @@ static int map_exact(void *ctx, const double in[5], double org[3], double dir[3]
     double scratch[c->nsurf];
     const double *n = indices(c, in[4], scratch);
     lens_ray r;
+    if (!exact_blades(c, n, in)) return 0;
     ray_from_sensor(c->lens, in, &r);
     trace_result res = trace_to_object(c->lens, n, &r, 0);
     if (res.status != TRACE_PASSED) return 0;
@@ -61,14 +114,19 @@ static int map_exact(void *ctx, const double in[5], double org[3], double dir[3]
     return 1;
 }
 
+/* Inputs and outputs a camera's system may have (a passage pair per surface that limits
+ * the beam: up to 8 of them, render_fit.c). */
+#define MAX_IN 16
+#define MAX_OUT 24
+
 static int map_poly(void *ctx, const double in[5], double org[3], double dir[3], double *eta)
 {
     const render_lens_ctx *c = ctx;
-    double x[16], y[16];
+    double x[MAX_IN], y[MAX_OUT];
     for (int i = 0; i < c->nin; i++) x[i] = 0;
     for (int k = 0; k < 5; k++)
         if (c->in_idx[k] >= 0) x[c->in_idx[k]] = in[k];
-    if (!poly_eval(c->sys, x, y)) return 0; /* P_a from the system's pass circles */
+    if (!poly_eval(c->sys, x, y) || !poly_blades(c, y)) return 0; /* P_a: pass circles, blades */
     double outer[4];
     for (int k = 0; k < 4; k++) outer[k] = y[c->out_idx[k]];
     *eta = c->out_idx[4] >= 0 ? y[c->out_idx[4]] : 1;
@@ -94,7 +152,7 @@ static void map_poly_batch(void *ctx, size_t n, const double *in, double *org, d
                            double *eta, unsigned char *pass)
 {
     const render_lens_ctx *c = ctx;
-    double x[POLY_CHUNK * 16], y[POLY_CHUNK * 16];
+    double x[POLY_CHUNK * MAX_IN], y[POLY_CHUNK * MAX_OUT];
     for (size_t r0 = 0; r0 < n; r0 += POLY_CHUNK) {
         size_t m = n - r0 < POLY_CHUNK ? n - r0 : POLY_CHUNK;
         for (size_t r = 0; r < m; r++) {
@@ -110,7 +168,7 @@ static void map_poly_batch(void *ctx, size_t n, const double *in, double *org, d
             double e = c->out_idx[4] >= 0 ? yr[c->out_idx[4]] : 1, outer[4];
             lens_ray ray;
             for (int k = 0; k < 4; k++) outer[k] = yr[c->out_idx[k]];
-            if (!pass[q] || !(e > 0) || ray_from_outer(c->lens, outer, &ray)) {
+            if (!pass[q] || !(e > 0) || !poly_blades(c, yr) || ray_from_outer(c->lens, outer, &ray)) {
                 pass[q] = 0;
                 continue;
             }
@@ -130,7 +188,7 @@ static int exact_outer(const render_lens_ctx *c, const double *n, const double i
 {
     trace_result r = trace_sample(c->lens, n, TRACE_TO_OUTER, in, o);
     *eta = r.transmittance;
-    return r.status == TRACE_PASSED;
+    return r.status == TRACE_PASSED && exact_blades(c, n, in);
 }
 
 static int outer_exact(void *ctx, const double in[5], double o[4], double jac[16], double *eta)
@@ -157,14 +215,14 @@ static int outer_exact(void *ctx, const double in[5], double o[4], double jac[16
 static int outer_poly(void *ctx, const double in[5], double o[4], double jac[16], double *eta)
 {
     const render_lens_ctx *c = ctx;
-    double x[16], y[16], J[16 * 16];
+    double x[MAX_IN], y[MAX_OUT], J[MAX_OUT * MAX_IN];
     for (int i = 0; i < c->nin; i++) x[i] = 0;
     for (int k = 0; k < 5; k++)
         if (c->in_idx[k] >= 0) x[c->in_idx[k]] = in[k];
     int pass = jac ? poly_eval_jacobian(c->sys, x, y, J) : poly_eval(c->sys, x, y);
     for (int k = 0; k < 4; k++) o[k] = y[c->out_idx[k]];
     *eta = c->out_idx[4] >= 0 ? y[c->out_idx[4]] : 1;
-    if (!pass || !(*eta > 0)) return 0;
+    if (!pass || !(*eta > 0) || !poly_blades(c, y)) return 0;
     if (*eta > 1) *eta = 1; /* as map_poly */
     if (jac)
         for (int k = 0; k < 4; k++)
@@ -178,7 +236,8 @@ static void outer_poly_batch(void *ctx, size_t n, const double *in, double *o, d
                              double *eta, unsigned char *pass)
 {
     const render_lens_ctx *c = ctx;
-    double x[POLY_CHUNK * 16], y[POLY_CHUNK * 16], *J = malloc(POLY_CHUNK * 256 * sizeof *J);
+    double x[POLY_CHUNK * MAX_IN], y[POLY_CHUNK * MAX_OUT];
+    double *J = malloc(POLY_CHUNK * MAX_OUT * MAX_IN * sizeof *J);
     if (!J) {
         for (size_t r = 0; r < n; r++)
             pass[r] = (unsigned char)outer_poly(ctx, in + 5 * r, o + 4 * r, jac + 16 * r, eta + r);
@@ -200,7 +259,7 @@ static void outer_poly_batch(void *ctx, size_t n, const double *in, double *o, d
             const double *yr = y + r * no, *Jr = J + r * (size_t)no * ni;
             for (int k = 0; k < 4; k++) o[4 * q + k] = yr[c->out_idx[k]];
             double e = c->out_idx[4] >= 0 ? yr[c->out_idx[4]] : 1;
-            if (!(e > 0)) pass[q] = 0;
+            if (!(e > 0) || !poly_blades(c, yr)) pass[q] = 0;
             eta[q] = e > 1 ? 1 : e; /* as map_poly */
             for (int k = 0; k < 4; k++)
                 for (int i = 0; i < 4; i++)
@@ -256,7 +315,7 @@ render_lens_ctx *render_lens_poly(const poly_system *sys, const lens_t *lens, do
     c->nsurf = (int)lens->nsurf;
     c->nin = poly_ninputs(sys);
     c->nout = poly_noutputs(sys);
-    if (c->nin > 16 || c->nout > 16) {
+    if (c->nin > MAX_IN || c->nout > MAX_OUT) {
         lens_errf(err, poly_lens_path(sys), 0, "system has too many inputs or outputs to render");
         free(c);
         return NULL;

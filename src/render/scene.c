@@ -355,6 +355,16 @@ static int statement(scene_t *s, line_ctx *c, int *have_camera)
         return effect(c, &s->vignetting);
     } else if (!strcmp(k, "dispersion")) {
         return effect(c, &s->dispersion);
+    } else if (!strcmp(k, "blades")) {
+        double n, rot = 0;
+        if (c->n < 2 || c->n > 3 || num(c, 1, &n) || (c->n == 3 && num(c, 2, &rot)) ||
+            n != floor(n) || n < 3 || n > 16) {
+            lens_errf(c->err, c->path, c->line, "blades takes a count from 3 to 16 and an optional "
+                      "rotation in degrees");
+            return -1;
+        }
+        s->blades = (int)n;
+        s->blade_rotation = rot;
     } else if (!strcmp(k, "filter")) {
         double r = 1;
         int tent = c->n >= 2 && !strcmp(c->tok[1], "tent");

@@ -4,7 +4,9 @@
  *    region within three standard errors, and its rays start on the front element;
  *  - the module lens_camera_emit writes, compiled by cc and loaded, renders the same
  *    uniform emitter through the same fitted system, with its own (coarser) line pupil:
- *    per region within three standard errors of the library's render. */
+ *    per region within three standard errors of the library's render;
+ *  - an aperture of blades: the light it passes near the axis, a hexagon's share of the
+ *    circle. */
 #include <dlfcn.h>
 #include <math.h>
 #include <setjmp.h>
@@ -186,11 +188,44 @@ static void test_module(void **state)
     lens_free(&lens);
 }
 
+/* An aperture of six blades passes the hexagon inscribed in the stop's circle: behind a
+ * uniform emitter, the pixels near the axis (where the stop is evenly filled) lose the
+ * share of the circle outside it, 1 - (6 / 2 pi) sin(2 pi / 6) = 17.3%. */
+static void test_blades(void **state)
+{
+    (void)state;
+    lens_t lens;
+    assert_int_equal(fixture_dgauss50(&lens), 0);
+    lens_err err = {{0}};
+    /* stopped down, so that the stop alone limits the beam near the axis */
+    assert_int_equal(render_lens_setup(&lens, NAN, 8, &err), 0);
+    render_camera cam;
+    render_lens_ctx *lc = render_lens_exact(&lens, SW, SH, &cam, &err);
+    render_sampler smp;
+    assert_int_equal(render_sampler_lens(&smp, &lens, GLASS_D_LINE, GLASS_D_LINE, hypot(18, 12), 0,
+                                         &err), 0);
+    double m0[W * H], v0[W * H], m6[W * H], v6[W * H];
+    rendered(&cam, &smp, samples(), m0, v0);
+    assert_int_equal(render_lens_set_blades(lc, 6, 0.3, &err), 0);
+    rendered(&cam, &smp, samples(), m6, v6);
+    int centre[4] = {W + 2, W + 3, 2 * W + 2, 2 * W + 3};
+    double a = 0, b = 0;
+    for (int k = 0; k < 4; k++) a += m6[centre[k]], b += m0[centre[k]];
+    double expect = 6 / (2 * M_PI) * sin(2 * M_PI / 6);
+    print_message("blades: %.4f of the round stop's light, hexagon/circle %.4f\n", a / b, expect);
+    assert_true(fabs(a / b - expect) < 0.015);
+    assert_int_equal(render_lens_set_blades(lc, 2, 0, &err), -1);
+    render_sampler_free(&smp);
+    render_lens_free(lc);
+    lens_free(&lens);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_api_exact),
         cmocka_unit_test(test_module),
+        cmocka_unit_test(test_blades),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,330 @@
+/* The monomial tables and evaluation plans of a system's parts (poly_impl.h): each
+ * monomial a slot built as the product of two earlier ones, and a plan that keeps the
+ * products several terms share and fuses the others into their one term. */
+#include "poly/poly_impl.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void poly_terms_free(poly_out_terms *t, int n)
+{
+    if (t)
+        for (int o = 0; o < n; o++) {
+            free(t[o].exps);
+            free(t[o].coef);
+            free(t[o].slot);
+        }
+    free(t);
+}
+
+void poly_mono_free(poly_mono *m)
+{
+    free(m->exps);
+    free(m->a);
+    free(m->b);
+    free(m->depth);
+    free(m->used_by);
+    index_hash_free(&m->index);
+}
+
+void poly_plan_free(poly_plan *pl)
+{
+    free(pl->prod);
+    free(pl->order);
+    free(pl->start);
+    free(pl->nsingle);
+    free(pl->coef);
+    free(pl->fa);
+    free(pl->fb);
+    free(pl->src);
+    free(pl->nquad);
+    free(pl->npair);
+    free(pl->vslot);
+    memset(pl, 0, sizeof *pl);
+}
+
+/* Appends a slot holding monomial e computed as slot a * slot b. */
+static int append_slot(poly_mono *m, int nin, const int *e, int a, int b)
+{
+    if (m->nslots + 1 > m->cap) {
+        int nc = m->cap ? m->cap * 2 : 32;
+        int *ne = realloc(m->exps, (size_t)nc * (size_t)nin * sizeof(int));
+        if (!ne)
+            return -1;
+        m->exps = ne;
+        int *na = realloc(m->a, (size_t)nc * sizeof(int));
+        if (!na)
+            return -1;
+        m->a = na;
+        int *nb = realloc(m->b, (size_t)nc * sizeof(int));
+        if (!nb)
+            return -1;
+        m->b = nb;
+        int *nd = realloc(m->depth, (size_t)nc * sizeof(int));
+        if (!nd)
+            return -1;
+        m->depth = nd;
+        uint64_t *nu = realloc(m->used_by, (size_t)nc * sizeof(uint64_t));
+        if (!nu)
+            return -1;
+        m->used_by = nu;
+        m->cap = nc;
+    }
+    if (index_hash_add(&m->index, index_hash_bytes(e, (size_t)nin * sizeof(int)), m->nslots) != 0)
+        return -1;
+    int k = m->nslots++;
+    memcpy(m->exps + (size_t)k * (size_t)nin, e, (size_t)nin * sizeof(int));
+    m->used_by[k] = 0;
+    m->a[k] = a;
+    m->b[k] = b;
+    m->depth[k] = a < 0 ? 0 : 1 + (m->depth[a] > m->depth[b] ? m->depth[a] : m->depth[b]);
+    return k;
+}
+
+/* Slot 0 the constant, slots 1..nin the scaled inputs. */
+int poly_mono_init(poly_mono *m, int nin)
+{
+    int *e = calloc((size_t)nin, sizeof(int));
+    if (!e)
+        return -1;
+    int ok = append_slot(m, nin, e, -1, -1) == 0;
+    for (int i = 0; ok && i < nin; i++) {
+        e[i] = 1;
+        ok = append_slot(m, nin, e, -1, -1) == 1 + i;
+        e[i] = 0;
+    }
+    free(e);
+    return ok ? 0 : -1;
+}
+
+struct slot_key {
+    const poly_mono *m;
+    int nin;
+    const int *e;
+};
+
+static int same_slot(const void *ctx, int k)
+{
+    const struct slot_key *q = ctx;
+    return memcmp(q->m->exps + (size_t)k * (size_t)q->nin, q->e, (size_t)q->nin * sizeof(int)) == 0;
+}
+
+int poly_mono_find(const poly_mono *m, int nin, const int *e)
+{
+    struct slot_key q = {m, nin, e};
+    return index_hash_find(&m->index, index_hash_bytes(e, (size_t)nin * sizeof(int)), same_slot, &q);
+}
+
+/* The slot holding monomial e, created (with the slots it is built from) if missing. */
+int poly_mono_ensure(poly_mono *m, int nin, const int *e)
+{
+    int k = poly_mono_find(m, nin, e);
+    if (k >= 0)
+        return k;
+    int last = -1, nz = 0;
+    for (int i = 0; i < nin; i++)
+        if (e[i]) {
+            last = i;
+            nz++;
+        }
+    int f[64];
+    int *g = nin <= 64 ? f : malloc((size_t)nin * sizeof(int));
+    if (!g)
+        return -1;
+    memcpy(g, e, (size_t)nin * sizeof(int));
+    int a, b;
+    if (nz == 1) { /* s_i^k = s_i^(k-1) * s_i; k >= 2 here since slots 1..nin hold s_i */
+        g[last] -= 1;
+        a = poly_mono_ensure(m, nin, g);
+        memset(g, 0, (size_t)nin * sizeof(int));
+        g[last] = 1;
+        b = poly_mono_ensure(m, nin, g);
+    } else { /* (e without its last factor) * s_last^e_last */
+        g[last] = 0;
+        a = poly_mono_ensure(m, nin, g);
+        memset(g, 0, (size_t)nin * sizeof(int));
+        g[last] = e[last];
+        b = poly_mono_ensure(m, nin, g);
+    }
+    if (g != f)
+        free(g);
+    if (a < 0 || b < 0)
+        return -1;
+    return append_slot(m, nin, e, a, b);
+}
+
+/* Appends a term (exponents e, or none for derivative sums) to a sum. */
+int poly_terms_push(poly_out_terms *ot, int nin, const int *e, double coef, int slot)
+{
+    if (ot->nterms + 1 > ot->cap) {
+        int nc = ot->cap ? ot->cap * 2 : 16;
+        if (e) {
+            int *ne = realloc(ot->exps, (size_t)nc * (size_t)nin * sizeof(int));
+            if (!ne)
+                return -1;
+            ot->exps = ne;
+        }
+        double *nco = realloc(ot->coef, (size_t)nc * sizeof(double));
+        if (!nco)
+            return -1;
+        ot->coef = nco;
+        int *ns = realloc(ot->slot, (size_t)nc * sizeof(int));
+        if (!ns)
+            return -1;
+        ot->slot = ns;
+        ot->cap = nc;
+    }
+    int t = ot->nterms++;
+    if (e)
+        memcpy(ot->exps + (size_t)t * (size_t)nin, e, (size_t)nin * sizeof(int));
+    ot->coef[t] = coef;
+    ot->slot[t] = slot;
+    return 0;
+}
+
+/* The plan of poly_impl.h for nout sums over table m: which products are kept (and their
+ * compact numbers), each output's single terms, then its fused ones. */
+int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
+                      const poly_out_terms *sums)
+{
+    const int ns = m->nslots;
+    int nt = 0;
+    for (int o = 0; o < nout; o++)
+        nt += sums[o].nterms;
+    poly_plan n = {0};
+    int *uses = calloc((size_t)ns, sizeof(int));   /* terms using the slot */
+    int *factor = calloc((size_t)ns, sizeof(int)); /* slots built from it */
+    int *cidx = malloc((size_t)ns * sizeof(int));  /* compact number, -1 if not kept */
+    n.prod = malloc(2 * (size_t)ns * sizeof(int));
+    n.order = malloc((size_t)ns * sizeof(int));
+    n.start = malloc((size_t)(nout + 1) * sizeof(int));
+    n.nsingle = malloc((size_t)nout * sizeof(int));
+    n.coef = malloc((size_t)(nt + 1) * sizeof(double));
+    n.fa = malloc((size_t)(nt + 1) * sizeof(int));
+    n.fb = malloc((size_t)(nt + 1) * sizeof(int));
+    n.src = malloc((size_t)(nt + 1) * sizeof(int));
+    n.nquad = malloc((size_t)(nout + 1) * sizeof(int));
+    n.npair = malloc((size_t)(nout + 1) * sizeof(int));
+    n.vslot = malloc((size_t)(ns + 1) * sizeof(int));
+    int *fz = malloc(4 * (size_t)(nt + 1) * sizeof(int)); /* fused terms: t, a, b; order */
+    int *cnt = calloc((size_t)ns + 1, sizeof(int));       /* per value: fused factors */
+    char *done = calloc((size_t)nt + 1, 1);                /* fused terms grouped */
+    if (!uses || !factor || !cidx || !n.prod || !n.order || !n.start || !n.nsingle ||
+        !n.coef || !n.fa || !n.fb || !n.src || !n.nquad || !n.npair || !n.vslot || !fz ||
+        !cnt || !done) {
+        free(uses);
+        free(factor);
+        free(cidx);
+        free(fz);
+        free(cnt);
+        free(done);
+        poly_plan_free(&n);
+        return -1;
+    }
+    int maxd = 0, no = 0;
+    for (int k = 1 + nin; k < ns; k++)
+        if (m->depth[k] > maxd)
+            maxd = m->depth[k];
+    for (int d = 1; d <= maxd; d++)
+        for (int k = 1 + nin; k < ns; k++)
+            if (m->depth[k] == d)
+                n.order[no++] = k;
+    for (int o = 0; o < nout; o++)
+        for (int t = 0; t < sums[o].nterms; t++)
+            uses[sums[o].slot[t]]++;
+    for (int k = 1 + nin; k < ns; k++) {
+        factor[m->a[k]]++;
+        factor[m->b[k]]++;
+    }
+    for (int k = 0; k <= nin && k < ns; k++)
+        cidx[k] = n.vslot[k] = k;
+    n.nvals = 1 + nin;
+    for (int j = 0; j < no; j++) {
+        int k = n.order[j];
+        cidx[k] = -1;
+        if (uses[k] == 1 && factor[k] == 0)
+            continue; /* fused into its one term */
+        /* factors come first in depth order, and factors are always kept */
+        n.prod[2 * n.nprod] = cidx[m->a[k]];
+        n.prod[2 * n.nprod + 1] = cidx[m->b[k]];
+        n.nprod++;
+        n.vslot[n.nvals] = k;
+        cidx[k] = n.nvals++;
+    }
+    n.nout = nout;
+    int q = 0;
+    for (int o = 0; o < nout; o++) {
+        const poly_out_terms *ot = &sums[o];
+        n.start[o] = q;
+        for (int t = 0; t < ot->nterms; t++)
+            if (cidx[ot->slot[t]] >= 0) {
+                n.coef[q] = ot->coef[t];
+                n.fa[q] = cidx[ot->slot[t]];
+                n.fb[q] = 0;
+                n.src[q++] = t;
+            }
+        n.nsingle[o] = q - n.start[o];
+        /* the fused terms and their factors; the shared factor: the one more of them
+         * have (the table's second factor on a tie) */
+        int nf = 0;
+        for (int t = 0; t < ot->nterms; t++)
+            if (cidx[ot->slot[t]] < 0) {
+                int k = ot->slot[t];
+                fz[3 * nf] = t;
+                fz[3 * nf + 1] = cidx[m->a[k]];
+                fz[3 * nf + 2] = cidx[m->b[k]];
+                cnt[fz[3 * nf + 1]]++;
+                cnt[fz[3 * nf + 2]]++;
+                nf++;
+            }
+        for (int f = 0; f < nf; f++)
+            if (cnt[fz[3 * f + 1]] > cnt[fz[3 * f + 2]]) {
+                int a = fz[3 * f + 1];
+                fz[3 * f + 1] = fz[3 * f + 2];
+                fz[3 * f + 2] = a;
+            }
+        for (int f = 0; f < nf; f++)
+            cnt[fz[3 * f + 1]] = cnt[fz[3 * f + 2]] = 0;
+        /* gr: the fused terms group by group (groups by first term, terms in add order) */
+        int *gr = fz + 3 * (nt + 1), ngr = 0;
+        for (int f = 0; f < nf; f++) {
+            if (done[f])
+                continue;
+            for (int g = f; g < nf; g++)
+                if (!done[g] && fz[3 * g + 2] == fz[3 * f + 2]) {
+                    gr[ngr++] = g;
+                    done[g] = 1;
+                }
+        }
+        memset(done, 0, (size_t)nf);
+        /* the quads of every group, then the pairs, then the lone terms */
+        n.nquad[o] = n.npair[o] = 0;
+        for (int pass = 4; pass >= 1; pass /= 2)
+            for (int i = 0, j; i < ngr; i = j) {
+                for (j = i; j < ngr && fz[3 * gr[j] + 2] == fz[3 * gr[i] + 2]; j++)
+                    ; /* gr[i .. j - 1]: one group */
+                const int nq = (j - i) / 4 * 4, np = (j - i - nq) / 2 * 2;
+                const int from = pass == 4 ? i : pass == 2 ? i + nq : i + nq + np;
+                const int to = pass == 4 ? i + nq : pass == 2 ? i + nq + np : j;
+                n.nquad[o] += pass == 4 ? nq / 4 : 0;
+                n.npair[o] += pass == 2 ? np / 2 : 0;
+                for (int g = from; g < to; g++) {
+                    const int f = gr[g], t = fz[3 * f];
+                    n.coef[q] = ot->coef[t];
+                    n.fa[q] = fz[3 * f + 1];
+                    n.fb[q] = fz[3 * f + 2];
+                    n.src[q++] = t;
+                }
+            }
+    }
+    n.start[nout] = q;
+    free(uses);
+    free(factor);
+    free(cidx);
+    free(fz);
+    free(cnt);
+    free(done);
+    poly_plan_free(pl);
+    *pl = n;
+    return 0;
+}
