@@ -2,11 +2,14 @@
  * time of this thread, on the rays a renderer would ask for: sensor points uniform over
  * fisheye-ii's sensor aimed at uniform points of its rear element, wavelengths uniform
  * over 0.4..0.7 um (lens-trace's rear sampling); some of them the lens blocks.
- *   bench_poly [RAYS [SYSTEM.poly [NOFRAME.poly]]]   (RAYS default 20000)
- * SYSTEM.poly: the system measured (inputs x y u v lambda, outputs out_x out_y out_u
- * out_v out_eta, one part); make bench passes the default fit of fisheye-ii (lens-fit
- * --terms 40 --degree 11: the meridional frame except out_u, out_v, and 1/lambda^2).
- * Without it, the 5 x 40 term fixture of tests/unit/poly_fixture.h laid out the same way.
+ *   bench_poly [RAYS [SYSTEM.poly [NOFRAME.poly [TAG]]]]   (RAYS default 20000)
+ * TAG names the figures (TAG_batch_ns_per_ray, ratio_TAG_...; default "poly").
+ * SYSTEM.poly: the system measured (inputs x y u v lambda, first outputs out_x out_y
+ * out_u out_v out_eta, one part); make bench passes the default fit of fisheye-ii
+ * (lens-fit --terms 40 --degree 11 on lens-trace's samples: 5 x 40 terms, the meridional
+ * frame except out_u, out_v, 1/lambda^2, and the passage: the hit points on the stop and
+ * the limiting rims as more outputs with pass circles, 129 small terms in all). Without
+ * it, the 5 x 40 term fixture of tests/unit/poly_fixture.h laid out the same way.
  * NOFRAME.poly: the same fit with --frame none --lambda-transform identity.
  *
  * Every method is timed once per round, the methods in turn, for ROUNDS rounds
@@ -23,7 +26,7 @@
  *   scalar            poly_eval, one ray at a time
  *   naive             each term's powers from scratch (the textbook baseline)
  *   jacobian, jacobian_batch  poly_eval_jacobian one ray at a time, and
- *                     poly_eval_jacobian_batch (the 25 derivatives)
+ *                     poly_eval_jacobian_batch (5 derivatives of every output)
  *   emitted_c, emitted_c_native  the C of poly_emit_c compiled now with $CC (or cc),
  *                     -O2 and -O3 -march=native, one call per ray
  *   emitted_c_batch, emitted_c_batch_native  its NAME_batch function on all rays
@@ -90,8 +93,8 @@ static emitted_fn load_emitted(const poly_system *s, const char *dir, const char
 }
 
 typedef struct {
-    int nterms[5];
-    int *exps; /* 5 x 40 x 5 */
+    int nout, *nterms;
+    int *exps; /* terms x 5 inputs */
     double *coef;
     double off[5], scale[5];
 } flat;
@@ -106,7 +109,7 @@ static void naive(const flat *F, size_t n, const double *in, double *out)
             s[i] = (in[r * 5 + i] - F->off[i]) / F->scale[i];
         const int *e = F->exps;
         const double *c = F->coef;
-        for (int o = 0; o < 5; o++) {
+        for (int o = 0; o < F->nout; o++) {
             double acc = 0;
             for (int t = 0; t < F->nterms[o]; t++, e += 5, c++) {
                 double m = *c;
@@ -115,7 +118,7 @@ static void naive(const flat *F, size_t n, const double *in, double *out)
                         m *= s[i];
                 acc += m;
             }
-            out[r * 5 + o] = acc;
+            out[r * (size_t)F->nout + o] = acc;
         }
     }
 }
@@ -123,12 +126,14 @@ static void naive(const flat *F, size_t n, const double *in, double *out)
 static void flatten(const poly_system *s, flat *F)
 {
     int total = 0;
-    for (int o = 0; o < 5; o++)
+    F->nout = poly_noutputs(s);
+    F->nterms = malloc((size_t)F->nout * sizeof(int));
+    for (int o = 0; o < F->nout; o++)
         total += poly_nterms(s, 0, o);
     F->exps = malloc((size_t)total * 5 * sizeof(int));
     F->coef = malloc((size_t)total * sizeof(double));
     int k = 0;
-    for (int o = 0; o < 5; o++) {
+    for (int o = 0; o < F->nout; o++) {
         F->nterms[o] = poly_nterms(s, 0, o);
         for (int t = 0; t < F->nterms[o]; t++, k++)
             poly_get_term(s, 0, o, t, F->exps + 5 * k, F->coef + k);
@@ -153,6 +158,7 @@ typedef struct {
     const flat *F;
     emitted_fn fn[2];
     emitted_batch_fn fnb[2];
+    size_t nout;
     double *out, *jac, *cold_out;
     unsigned char *pass, *cold_pass;
 } bench_ctx;
@@ -179,14 +185,14 @@ static double run(const bench_ctx *c, int m, size_t n, const double *in)
         break;
     case M_SCALAR:
         for (size_t r = 0; r < n; r++)
-            c->pass[r] = (unsigned char)poly_eval(c->s, in + r * 5, c->out + r * 5);
+            c->pass[r] = (unsigned char)poly_eval(c->s, in + r * 5, c->out + r * c->nout);
         break;
     case M_NAIVE:
         naive(c->F, n, in, c->out);
         break;
     case M_JAC:
         for (size_t r = 0; r < n; r++)
-            poly_eval_jacobian(c->s, in + r * 5, c->out + r * 5, c->jac + r * 25);
+            poly_eval_jacobian(c->s, in + r * 5, c->out + r * c->nout, c->jac + r * 5 * c->nout);
         break;
     case M_JAC_BATCH:
         poly_eval_jacobian_batch(c->s, n, in, c->jac);
@@ -194,7 +200,7 @@ static double run(const bench_ctx *c, int m, size_t n, const double *in)
     case M_EMIT:
     case M_EMIT_NATIVE:
         for (size_t r = 0; r < n; r++)
-            c->pass[r] = (unsigned char)c->fn[m == M_EMIT_NATIVE](in + r * 5, c->out + r * 5);
+            c->pass[r] = (unsigned char)c->fn[m == M_EMIT_NATIVE](in + r * 5, c->out + r * c->nout);
         break;
     default:
         c->fnb[m == M_EMIT_BATCH_NATIVE](n, in, c->out, c->pass);
@@ -247,8 +253,8 @@ static poly_system *read_system(const char *path)
     }
     for (int i = 0; i < 5; i++)
         if (poly_ninputs(s) != 5 || poly_input_index(s, fixture_inputs[i]) != i ||
-            poly_noutputs(s) != 5 || poly_nparts(s) != 1) {
-            fprintf(stderr, "bench_poly: %s: needs inputs x y u v lambda, 5 outputs, 1 part\n",
+            poly_noutputs(s) < 5 || poly_nparts(s) != 1) {
+            fprintf(stderr, "bench_poly: %s: needs inputs x y u v lambda, 1 part\n",
                     path);
             poly_free(s);
             return NULL;
@@ -259,6 +265,7 @@ static poly_system *read_system(const char *path)
 int main(int argc, char **argv)
 {
     size_t n = argc > 1 ? strtoul(argv[1], NULL, 10) : 20000;
+    const char *tag = argc > 4 ? argv[4] : "poly";
     if (n < 1000)
         n = 20000;
     poly_system *s = argc > 2 ? read_system(argv[2]) : fixture_default_layout(1);
@@ -272,11 +279,14 @@ int main(int argc, char **argv)
     }
     double *in = malloc(n * 5 * sizeof(double)), *pin = malloc(n * 5 * sizeof(double));
     bench_ctx c = {.lens = &lens, .s = s, .s0 = s0};
-    c.out = malloc(n * 5 * sizeof(double));
-    c.jac = malloc(n * 25 * sizeof(double));
+    c.nout = (size_t)poly_noutputs(s);
+    if (s0 && (size_t)poly_noutputs(s0) > c.nout)
+        c.nout = (size_t)poly_noutputs(s0);
+    c.out = malloc(n * c.nout * sizeof(double));
+    c.jac = malloc(n * 5 * c.nout * sizeof(double));
     c.pass = malloc(n);
     double *cold = malloc(COLD * n * 5 * sizeof(double));
-    c.cold_out = malloc(COLD * n * 5 * sizeof(double));
+    c.cold_out = malloc(COLD * n * c.nout * sizeof(double));
     c.cold_pass = malloc(COLD * n);
     if (!in || !pin || !c.out || !c.jac || !c.pass || !cold || !c.cold_out || !c.cold_pass ||
         make_rays(&lens, n, in) != 0)
@@ -331,20 +341,21 @@ int main(int argc, char **argv)
         qsort(t[m], ROUNDS, sizeof t[m][0], cmp);
         best[m] = t[m][0] / (double)nm[m] * 1e9;
         double med = t[m][ROUNDS / 2] / (double)nm[m] * 1e9;
-        printf("bench poly_%s_ns_per_ray %.2f ns\n", names[m], best[m]);
-        printf("bench poly_%s_median_ns_per_ray %.2f ns\n", names[m], med);
-        printf("bench poly_%s_spread %.0f %%\n", names[m], 100 * (med / best[m] - 1));
+        printf("bench %s_%s_ns_per_ray %.2f ns\n", tag, names[m], best[m]);
+        printf("bench %s_%s_median_ns_per_ray %.2f ns\n", tag, names[m], med);
+        printf("bench %s_%s_spread %.0f %%\n", tag, names[m], 100 * (med / best[m] - 1));
     }
-    printf("bench poly_rays %zu rays\n", n);
-    printf("bench poly_exact_pass_fraction %.3f fraction\n", (double)npass_exact / n);
-    printf("bench poly_system_pass_fraction %.3f fraction\n", (double)npass_poly / n);
+    printf("bench %s_rays %zu rays\n", tag, n);
+    printf("bench %s_outputs %d count\n", tag, poly_noutputs(s));
+    printf("bench %s_exact_pass_fraction %.3f fraction\n", tag, (double)npass_exact / n);
+    printf("bench %s_system_pass_fraction %.3f fraction\n", tag, (double)npass_poly / n);
     if (npass_exact) {
         /* both over the rays the lens passes: a system that lets blocked rays through
          * (system_pass_fraction above exact_pass_fraction) must not look cheaper for it */
         double te = best[M_TRACE] * n / npass_exact, tp = best[M_BATCH] * n / npass_exact;
-        printf("bench poly_trace_ns_per_passing_ray %.2f ns\n", te);
-        printf("bench poly_batch_ns_per_passing_ray %.2f ns\n", tp);
-        printf("bench ratio_trace_over_batch_per_passing_ray %.2f x\n", te / tp);
+        printf("bench %s_trace_ns_per_passing_ray %.2f ns\n", tag, te);
+        printf("bench %s_batch_ns_per_passing_ray %.2f ns\n", tag, tp);
+        printf("bench ratio_%s_trace_over_batch_per_passing_ray %.2f x\n", tag, te / tp);
     }
     /* how many times the second's time the first's is (> 1: the second is faster) */
     const int pairs[][2] = {{M_TRACE_PASSING, M_BATCH_PASSING}, {M_SCALAR, M_BATCH},
@@ -356,9 +367,9 @@ int main(int argc, char **argv)
     for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++) {
         int a = pairs[k][0], b = pairs[k][1];
         if (have[a] && have[b])
-            printf("bench ratio_%s_over_%s %.2f x\n", names[a], names[b], best[a] / best[b]);
+            printf("bench ratio_%s_%s_over_%s %.2f x\n", tag, names[a], names[b], best[a] / best[b]);
     }
-    printf("bench poly_monomials %d count\n", poly_nmonomials(s, 0));
+    printf("bench %s_monomials %d count\n", tag, poly_nmonomials(s, 0));
     for (int k = 0; k < 2; k++)
         if (handle[k])
             dlclose(handle[k]);
@@ -376,6 +387,7 @@ int main(int argc, char **argv)
     free(c.jac);
     free(c.pass);
     free(F.exps);
+    free(F.nterms);
     free(F.coef);
     poly_free(s);
     poly_free(s0);

@@ -9,6 +9,7 @@ export BIN=${BIN:-bin} BUILD=${BUILD:-build} SANITIZE=${SANITIZE:-}
 export TOP=$PWD
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/tests/lsan.supp:print_suppressions=0}
 passed=0 failed=0 failures=()
 log=$(mktemp -d)
 trap 'rm -rf "$log"' EXIT

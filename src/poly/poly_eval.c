@@ -176,6 +176,41 @@ __attribute__((target("avx512f"))) static inline void store_rows5(double *dst, c
     }
 }
 
+/* Any number of outputs: columns k0 .. k0 + ncol - 1 (ncol <= 8) of 8 lanes, transposed
+ * in registers (an 8 x 8 transpose, 24 shuffles), each lane's values stored with one
+ * masked store at its row: out + row[r] * nres + k0. A scatter per column cost the
+ * fisheye-ii system with its 19 outputs (the passage's hit points) 24 ns a ray. */
+__attribute__((target("avx512f"))) static inline void store_rows8(double *out, const size_t *row,
+                                                                  size_t nres, size_t k0,
+                                                                  const __m512d *col, int ncol)
+{
+    __m512d c[8], a[8], b[8];
+    for (int j = 0; j < 8; j++)
+        c[j] = j < ncol ? col[j] : _mm512_setzero_pd();
+    for (int j = 0; j < 4; j++) {
+        a[2 * j] = _mm512_unpacklo_pd(c[2 * j], c[2 * j + 1]);
+        a[2 * j + 1] = _mm512_unpackhi_pd(c[2 * j], c[2 * j + 1]);
+    }
+    /* a[0]: lanes 0 2 4 6 of columns 0, 1 in 128-bit pieces; a[1]: lanes 1 3 5 7 */
+    for (int h = 0; h < 2; h++) {
+        b[4 * h] = _mm512_shuffle_f64x2(a[h], a[2 + h], 0x88);
+        b[4 * h + 1] = _mm512_shuffle_f64x2(a[h], a[2 + h], 0xdd);
+        b[4 * h + 2] = _mm512_shuffle_f64x2(a[4 + h], a[6 + h], 0x88);
+        b[4 * h + 3] = _mm512_shuffle_f64x2(a[4 + h], a[6 + h], 0xdd);
+    }
+    const __mmask8 mk = (__mmask8)((1u << ncol) - 1);
+    for (int h = 0; h < 2; h++) { /* h = 0: even lanes, 1: odd lanes */
+        const __m512d r0 = _mm512_shuffle_f64x2(b[4 * h], b[4 * h + 2], 0x88);
+        const __m512d r4 = _mm512_shuffle_f64x2(b[4 * h], b[4 * h + 2], 0xdd);
+        const __m512d r2 = _mm512_shuffle_f64x2(b[4 * h + 1], b[4 * h + 3], 0x88);
+        const __m512d r6 = _mm512_shuffle_f64x2(b[4 * h + 1], b[4 * h + 3], 0xdd);
+        _mm512_mask_storeu_pd(out + row[h] * nres + k0, mk, r0);
+        _mm512_mask_storeu_pd(out + row[2 + h] * nres + k0, mk, r2);
+        _mm512_mask_storeu_pd(out + row[4 + h] * nres + k0, mk, r4);
+        _mm512_mask_storeu_pd(out + row[6 + h] * nres + k0, mk, r6);
+    }
+}
+
 /* The reverse for the inputs (x y u v lambda): 8 rows of 5 in 5 loads, to 5 columns.
  * Column i lane r is flat position p = 5 r + i, in load p / 8 at p % 8. */
 static const long long cols5_idx[3][5][8] = {
@@ -210,6 +245,8 @@ __attribute__((target("avx512f"))) static inline void load_cols5(const double *s
 #define KERNEL_SCATTER(base, at, x) _mm512_i64scatter_pd((base), (__m512i)(at), (__m512d)(x), 8)
 #define KERNEL_GATHER(base, at) ((vn)_mm512_i64gather_pd((__m512i)(at), (base), 8))
 #define KERNEL_STORE_ROWS5(dst, cols) store_rows5((dst), (const __m512d *)(cols))
+#define KERNEL_STORE_ROWS8(out, row, nres, k0, cols, ncol)                                   \
+    store_rows8((out), (row), (nres), (k0), (const __m512d *)(cols), (ncol))
 #define KERNEL_LOAD_COLS5(src, cols) load_cols5((src), (__m512d *)(cols))
 #define KERNEL_MASKBITS(ok) ((unsigned)_mm512_test_epi64_mask((__m512i)(ok), (__m512i)(ok)))
 #include "poly/poly_eval_kernel.h"
@@ -217,6 +254,7 @@ __attribute__((target("avx512f"))) static inline void load_cols5(const double *s
 #undef KERNEL_MASKBITS
 #undef KERNEL_GATHER
 #undef KERNEL_STORE_ROWS5
+#undef KERNEL_STORE_ROWS8
 #undef KERNEL_LOAD_COLS5
 #undef KERNEL_NAME
 #undef KERNEL_TARGET

@@ -246,6 +246,16 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
             }
         else
 #endif
+#ifdef KERNEL_STORE_ROWS8
+            for (int q = 0; q < NV; q++)
+                for (int k0 = 0; k0 < nres; k0 += 8) {
+                    vn cols[8];
+                    const int nc = nres - k0 < 8 ? nres - k0 : 8;
+                    for (int j = 0; j < nc; j++)
+                        cols[j] = res[(k0 + j) * NV + q];
+                    KERNEL_STORE_ROWS8(out, row + q * VW, (size_t)nres, (size_t)k0, cols, nc);
+                }
+#else
             for (int q = 0; q < NV; q++) {
                 vidx at;
                 for (int r = 0; r < VW; r++)
@@ -253,6 +263,7 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 for (int k = 0; k < nres; k++)
                     KERNEL_SCATTER(out + k, at, res[k * NV + q]);
             }
+#endif
 #else
         const double *rs = (const double *)res; /* output k of lane r at rs[k * KBLK + r] */
         for (int r = 0; r < m; r++) {

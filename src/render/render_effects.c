@@ -214,11 +214,13 @@ static uint64_t lens_hash(const lens_t *lens)
     return h;
 }
 
+/* The version in the key changes whenever render_fit's systems do (v3: the passage
+ * helper's faithful passage), so that a cache never serves a system of older code. */
 void render_effects_key(const lens_t *lens, const render_effects *e, char key[17])
 {
     uint64_t h = lens_hash(lens);
     char eff[160];
-    int n = snprintf(eff, sizeof eff, "v2 disp %d eta %d vig %d r %.6g tol %.6g D %.6g",
+    int n = snprintf(eff, sizeof eff, "v3 disp %d eta %d vig %d r %.6g tol %.6g D %.6g",
                      e->dispersion, e->transmittance, e->vignetting, e->domain_radius,
                      e->tolerance, e->focus);
     h = fnv(h, eff, (size_t)n);

@@ -78,20 +78,20 @@ static double colour_at(const scene_t *sc, const wave_set *w, int j, const doubl
 }
 
 /* The uniforms of sample k's direct-light estimate (drawn only where a path needs them). */
-static void light_uniforms(uint64_t key, long spp, long k, double u[5])
+static void light_uniforms(const ld_pixel *key, long spp, long k, double u[5])
 {
     double l2[2];
-    u[0] = ld_1d(key, DIM_SELECT, spp, k);
-    ld_2d(key, DIM_LIGHT, spp, k, l2);
+    u[0] = ld_1d_px(key, DIM_SELECT, spp, k);
+    ld_2d_px(key, DIM_LIGHT, spp, k, l2);
     u[1] = l2[0], u[2] = l2[1];
-    ld_2d(key, DIM_BSDF, spp, k, l2);
+    ld_2d_px(key, DIM_BSDF, spp, k, l2);
     u[3] = l2[0], u[4] = l2[1];
 }
 
 /* Radiance leaving the scene along the camera ray (o, d) (scene frame), at the
  * wavelengths j0 .. j1-1 of w, into L[j]; sample k of the pixel with key. */
 static void scene_radiance(const scene_t *sc, const wave_set *w, int j0, int j1,
-                           const scene_hit *h, const double d[3], uint64_t key, long spp,
+                           const scene_hit *h, const double d[3], const ld_pixel *key, long spp,
                            long k, double *L)
 {
     const scene_object *ob = &sc->obj[h->obj];
@@ -187,7 +187,7 @@ typedef struct {
     double rho;
 } camera_cull;
 
-static void render_block(const render_job *job, const camera_cull *cc, uint64_t key, int px,
+static void render_block(const render_job *job, const camera_cull *cc, const ld_pixel *key, int px,
                          int py, long k0, int m, block_buf *b, pixel_acc *acc)
 {
     const scene_t *sc = job->scene;
@@ -200,13 +200,13 @@ static void render_block(const render_job *job, const camera_cull *cc, uint64_t 
     for (int i = 0; i < m; i++) {
         long k = k0 + i;
         double q[2], p2[2];
-        ld_2d(key, DIM_PIXEL, spp, k, q);
+        ld_2d_px(key, DIM_PIXEL, spp, k, q);
         if (job->filter == RENDER_FILTER_TENT) q[0] = 0.5 + tent(q[0], rad), q[1] = 0.5 + tent(q[1], rad);
         double x = ((px + q[0]) / sc->width - 0.5) * cam->sensor_w;
         double y = ((py + q[1]) / sc->height - 0.5) * cam->sensor_h;
         wave_set *w = &b->waves[i];
-        waves_of(sc, sc->mode == SCENE_SPECTRAL ? ld_1d(key, DIM_LAMBDA, spp, k) : 0, w);
-        ld_2d(key, DIM_PUPIL, spp, k, p2);
+        waves_of(sc, sc->mode == SCENE_SPECTRAL ? ld_1d_px(key, DIM_LAMBDA, spp, k) : 0, w);
+        ld_2d_px(key, DIM_PUPIL, spp, k, p2);
         double uu, vv;
         b->pdf[i] = render_sampler_sample(job->sampler, x, y, p2[0], p2[1], &uu, &vv);
         nray = job->achromatic ? 1 : w->nwave;
@@ -304,12 +304,13 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
                     }
                     continue;
                 }
-                uint64_t key = ld_pixel_key(sc->seed, pix);
+                ld_pixel key;
+                ld_pixel_init(&key, ld_pixel_key(sc->seed, pix));
                 pixel_acc acc;
                 memset(&acc, 0, sizeof acc);
                 for (long k0 = 0; k0 < job->spp; k0 += BLOCK) {
                     int m = (int)(job->spp - k0 < BLOCK ? job->spp - k0 : BLOCK);
-                    render_block(job, &cc, key, px, py, k0, m, b, &acc);
+                    render_block(job, &cc, &key, px, py, k0, m, b, &acc);
                 }
                 passed_total += acc.passed;
                 full_total += acc.full;

@@ -236,7 +236,8 @@ static void outer_poly_batch(void *ctx, size_t n, const double *in, double *o, d
                              double *eta, unsigned char *pass)
 {
     const render_lens_ctx *c = ctx;
-    double x[POLY_CHUNK * 16], y[POLY_CHUNK * 16], *J = malloc(POLY_CHUNK * 256 * sizeof *J);
+    double x[POLY_CHUNK * MAX_IN], y[POLY_CHUNK * MAX_OUT];
+    double *J = malloc(POLY_CHUNK * MAX_OUT * MAX_IN * sizeof *J);
     if (!J) {
         for (size_t r = 0; r < n; r++)
             pass[r] = (unsigned char)outer_poly(ctx, in + 5 * r, o + 4 * r, jac + 16 * r, eta + r);

@@ -77,20 +77,51 @@ static uint32_t owen(uint32_t x, uint64_t key)
     return owen_reversed(reverse32(x), key);
 }
 
+static uint64_t key2(uint64_t key, int dim)
+{
+    return mix64(key ^ (0xD1B54A32D192ED03ull * (uint64_t)(dim + 1)));
+}
+
+static uint64_t key1(uint64_t key, int dim)
+{
+    return mix64(key ^ (0xA24BAED4963EE407ull * (uint64_t)(dim + 1)));
+}
+
+void ld_pixel_init(ld_pixel *p, uint64_t key)
+{
+    for (int d = 0; d < LD_DIMS; d++) {
+        uint64_t k2 = key2(key, d), k1 = key1(key, d);
+        p->perm2[d] = k2, p->scr_a[d] = mix64(k2 + 1), p->scr_b[d] = mix64(k2 + 2);
+        p->perm1[d] = k1, p->jit1[d] = k1 + 3;
+    }
+}
+
+void ld_2d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k, double out[2])
+{
+    uint32_t j = (uint32_t)permute(k, n, p->perm2[dim]);
+    /* van der Corput is j reversed: its scramble starts from j itself; 32 digits are
+     * finer than any use here needs */
+    uint32_t a = owen_reversed(j, p->scr_a[dim]), b = owen(sobol_dim2(j), p->scr_b[dim]);
+    out[0] = a * 0x1.0p-32;
+    out[1] = b * 0x1.0p-32;
+}
+
+double ld_1d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k)
+{
+    uint64_t j = permute(k, n, p->perm1[dim]);
+    return ((double)j + shift_of(mix64(p->jit1[dim] + j))) / (double)n;
+}
+
 void ld_2d(uint64_t key, int dim, uint64_t n, uint64_t k, double out[2])
 {
-    uint64_t kd = mix64(key ^ (0xD1B54A32D192ED03ull * (uint64_t)(dim + 1)));
-    uint32_t j = (uint32_t)permute(k, n, kd);
-    /* van der Corput is j reversed: its scramble starts from j itself */
-    uint32_t a = owen_reversed(j, mix64(kd + 1)), b = owen(sobol_dim2(j), mix64(kd + 2));
-    /* 32 digits, and a random point within the last interval */
-    out[0] = (a + (double)(mix64(kd + 3 + j) >> 11) * 0x1.0p-53) * 0x1.0p-32;
-    out[1] = (b + (double)(mix64(kd + 4 + j) >> 11) * 0x1.0p-53) * 0x1.0p-32;
+    ld_pixel p;
+    ld_pixel_init(&p, key);
+    ld_2d_px(&p, dim, n, k, out);
 }
 
 double ld_1d(uint64_t key, int dim, uint64_t n, uint64_t k)
 {
-    uint64_t kd = mix64(key ^ (0xA24BAED4963EE407ull * (uint64_t)(dim + 1)));
-    uint64_t j = permute(k, n, kd);
-    return ((double)j + shift_of(mix64(kd + 3 + j))) / (double)n;
+    ld_pixel p;
+    ld_pixel_init(&p, key);
+    return ld_1d_px(&p, dim, n, k);
 }

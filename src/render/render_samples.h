@@ -16,6 +16,17 @@
 
 /* A key per pixel from the scene's seed and the pixel index. */
 uint64_t ld_pixel_key(uint64_t seed, uint64_t pixel);
+
+/* The keys of a pixel's dimensions, derived once per pixel (LD_DIMS pairs and singles). */
+#define LD_DIMS 4
+typedef struct {
+    uint64_t perm2[LD_DIMS], scr_a[LD_DIMS], scr_b[LD_DIMS];
+    uint64_t perm1[LD_DIMS], jit1[LD_DIMS];
+} ld_pixel;
+void ld_pixel_init(ld_pixel *p, uint64_t key);
+/* As ld_2d and ld_1d, for dim < LD_DIMS, with the pixel's keys. */
+void ld_2d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k, double out[2]);
+double ld_1d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k);
 /* Sample k of n in dimension pair dim (its two coordinates in [0, 1)). */
 void ld_2d(uint64_t key, int dim, uint64_t n, uint64_t k, double out[2]);
 /* Sample k of n in the single dimension dim. */
