@@ -137,3 +137,21 @@ if [ -z "$SANITIZE" ]; then
   [ -z "$(ls -A "$O/threads")" ] && ok out_thread_failure_nothing_left ||
     fail out_thread_failure_nothing_left "left $(ls "$O/threads")"
 fi
+
+# ---- stdout: every command checks its writes and the final flush -----------------------
+full() { # full NAME CMD...: stdout to /dev/full must give one "write error" line and exit 1
+  local n=$1; shift
+  local err
+  err=$(run "$@" 2>&1 >/dev/full </dev/null | grep -v ': warning: ')
+  [ "$(run "$@" >/dev/full 2>/dev/null; echo $?)" != 0 ] && [ "$(grep -c 'write error: No space left on device' <<<"$err")" = 1 ] &&
+    [ "$(grep -c '' <<<"$err")" = 1 ] && ok "$n" || fail "$n" "stderr '$err'"
+}
+if [ -w /dev/full ]; then
+  full stdout_full_info "$BIN/lens-info" "$LENS"
+  full stdout_full_info_help "$BIN/lens-info" --help
+  full stdout_full_spot "$BIN/lens-spot" "$LENS" --rays 50
+  full stdout_full_distort "$BIN/lens-distort" "$LENS"
+  full stdout_full_trace "$BIN/lens-trace" "$LENS" -n 5
+  full stdout_full_fit "$BIN/lens-fit" --terms 3 --degree 2 "$T/s.txt"
+  full stdout_full_eval "$BIN/lens-eval" "$T/s.poly" "$T/s.txt"
+fi
