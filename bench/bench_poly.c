@@ -2,7 +2,8 @@
  * time of this thread, on the rays a renderer would ask for: sensor points uniform over
  * fisheye-ii's sensor aimed at uniform points of its rear element, wavelengths uniform
  * over 0.4..0.7 um (lens-trace's rear sampling); some of them the lens blocks.
- *   bench_poly [RAYS [SYSTEM.poly [NOFRAME.poly]]]   (RAYS default 20000)
+ *   bench_poly [RAYS [SYSTEM.poly [NOFRAME.poly [TAG]]]]   (RAYS default 20000)
+ * TAG names the figures (TAG_batch_ns_per_ray, ratio_TAG_...; default "poly").
  * SYSTEM.poly: the system measured (inputs x y u v lambda, first outputs out_x out_y
  * out_u out_v out_eta, one part); make bench passes the default fit of fisheye-ii
  * (lens-fit --terms 40 --degree 11 on lens-trace's samples: 5 x 40 terms, the meridional
@@ -264,6 +265,7 @@ static poly_system *read_system(const char *path)
 int main(int argc, char **argv)
 {
     size_t n = argc > 1 ? strtoul(argv[1], NULL, 10) : 20000;
+    const char *tag = argc > 4 ? argv[4] : "poly";
     if (n < 1000)
         n = 20000;
     poly_system *s = argc > 2 ? read_system(argv[2]) : fixture_default_layout(1);
@@ -339,20 +341,21 @@ int main(int argc, char **argv)
         qsort(t[m], ROUNDS, sizeof t[m][0], cmp);
         best[m] = t[m][0] / (double)nm[m] * 1e9;
         double med = t[m][ROUNDS / 2] / (double)nm[m] * 1e9;
-        printf("bench poly_%s_ns_per_ray %.2f ns\n", names[m], best[m]);
-        printf("bench poly_%s_median_ns_per_ray %.2f ns\n", names[m], med);
-        printf("bench poly_%s_spread %.0f %%\n", names[m], 100 * (med / best[m] - 1));
+        printf("bench %s_%s_ns_per_ray %.2f ns\n", tag, names[m], best[m]);
+        printf("bench %s_%s_median_ns_per_ray %.2f ns\n", tag, names[m], med);
+        printf("bench %s_%s_spread %.0f %%\n", tag, names[m], 100 * (med / best[m] - 1));
     }
-    printf("bench poly_rays %zu rays\n", n);
-    printf("bench poly_exact_pass_fraction %.3f fraction\n", (double)npass_exact / n);
-    printf("bench poly_system_pass_fraction %.3f fraction\n", (double)npass_poly / n);
+    printf("bench %s_rays %zu rays\n", tag, n);
+    printf("bench %s_outputs %d count\n", tag, poly_noutputs(s));
+    printf("bench %s_exact_pass_fraction %.3f fraction\n", tag, (double)npass_exact / n);
+    printf("bench %s_system_pass_fraction %.3f fraction\n", tag, (double)npass_poly / n);
     if (npass_exact) {
         /* both over the rays the lens passes: a system that lets blocked rays through
          * (system_pass_fraction above exact_pass_fraction) must not look cheaper for it */
         double te = best[M_TRACE] * n / npass_exact, tp = best[M_BATCH] * n / npass_exact;
-        printf("bench poly_trace_ns_per_passing_ray %.2f ns\n", te);
-        printf("bench poly_batch_ns_per_passing_ray %.2f ns\n", tp);
-        printf("bench ratio_trace_over_batch_per_passing_ray %.2f x\n", te / tp);
+        printf("bench %s_trace_ns_per_passing_ray %.2f ns\n", tag, te);
+        printf("bench %s_batch_ns_per_passing_ray %.2f ns\n", tag, tp);
+        printf("bench ratio_%s_trace_over_batch_per_passing_ray %.2f x\n", tag, te / tp);
     }
     /* how many times the second's time the first's is (> 1: the second is faster) */
     const int pairs[][2] = {{M_TRACE_PASSING, M_BATCH_PASSING}, {M_SCALAR, M_BATCH},
@@ -364,9 +367,9 @@ int main(int argc, char **argv)
     for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++) {
         int a = pairs[k][0], b = pairs[k][1];
         if (have[a] && have[b])
-            printf("bench ratio_%s_over_%s %.2f x\n", names[a], names[b], best[a] / best[b]);
+            printf("bench ratio_%s_%s_over_%s %.2f x\n", tag, names[a], names[b], best[a] / best[b]);
     }
-    printf("bench poly_monomials %d count\n", poly_nmonomials(s, 0));
+    printf("bench %s_monomials %d count\n", tag, poly_nmonomials(s, 0));
     for (int k = 0; k < 2; k++)
         if (handle[k])
             dlclose(handle[k]);

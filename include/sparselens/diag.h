@@ -21,4 +21,13 @@ void diag_print(const char *prog, const lens_err *err);
 void diag_die(const char *prog, const char *fmt, ...)
     __attribute__((format(printf, 2, 3), noreturn));
 
+/* Makes the exit of a command check its standard output: at exit, stdout is flushed
+ * and closed, and a failure (a full disk, /dev/full, a closed descriptor written to)
+ * prints "prog: write error: ..." and makes the exit status 1. Called once, early
+ * (opt_parse does it for every command). */
+void diag_guard_stdout(const char *prog);
+/* Tells the guard that a write error on stdout was already reported (outfile_commit),
+ * so that the exit prints no second line. */
+void diag_stdout_error_reported(void);
+
 #endif

@@ -223,6 +223,7 @@ int opt_parse(const opt_command *cmd, int argc, char **argv, void *opts,
               const char **operands, int max)
 {
     int n = 0, options_end = 0;
+    diag_guard_stdout(cmd->name);
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (!options_end && strcmp(a, "--") == 0) {

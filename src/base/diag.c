@@ -1,8 +1,11 @@
 #include "sparselens/diag.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
 
 void lens_errf(lens_err *err, const char *file, long line, const char *fmt, ...)
 {
@@ -35,4 +38,39 @@ void diag_die(const char *prog, const char *fmt, ...)
     va_end(ap);
     fputc('\n', stderr);
     exit(1);
+}
+
+static const char *guarded_prog;
+static int stdout_error_reported;
+
+void diag_stdout_error_reported(void)
+{
+    stdout_error_reported = 1;
+}
+
+static void close_stdout(void)
+{
+    errno = 0;
+    int bad = fflush(stdout) != 0 || ferror(stdout);
+    int code = errno;
+    /* A closed stdout nothing was written to is no error (lens-fit -o FILE >&-). */
+    if (fclose(stdout) != 0 && !bad && errno != EBADF) {
+        bad = 1;
+        code = errno;
+    }
+    if (bad && stdout_error_reported)
+        _exit(1);
+    if (bad) {
+        fprintf(stderr, "%s: write error: %s\n", guarded_prog,
+                code ? strerror(code) : "output lost");
+        _exit(1);
+    }
+}
+
+void diag_guard_stdout(const char *prog)
+{
+    if (guarded_prog)
+        return;
+    guarded_prog = prog;
+    atexit(close_stdout);
 }

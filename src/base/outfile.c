@@ -332,6 +332,7 @@ int outfile_commit(outfile *of, lens_err *err)
     if (of->is_stdout) {
         if (fflush(stdout) != 0 || ferror(stdout)) {
             lens_errf(err, "<stdout>", 0, "write error: %s", strerror(errno));
+            diag_stdout_error_reported();
             rc = -1;
         }
         outfile_free(of);

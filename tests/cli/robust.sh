@@ -126,14 +126,41 @@ err=$(cat "$T/fit-err")
 # Signals beyond INT/TERM/HUP, and a thread library that exits, leave no temporary file.
 for sig in XCPU PIPE QUIT; do
   mkdir -p "$O/$sig"
-  "$BIN/lens-trace" "$LENS" -n 1e8 --seed 3 -o "$O/$sig/big.txt" 2>/dev/null & pid=$!
+  # A background job of a script starts with SIGQUIT (and SIGINT) ignored, and an ignored
+  # signal is left ignored by the command (as nohup expects): restore the default so the
+  # signal really arrives, and never wait unbounded for a command that did not die.
+  env --default-signal="$sig" "$BIN/lens-trace" "$LENS" -n 1e8 --seed 3 -o "$O/$sig/big.txt" 2>/dev/null & pid=$!
   for _ in $(seq 50); do [ -n "$(ls -A "$O/$sig")" ] && break; sleep 0.1; done
-  kill -$sig $pid 2>/dev/null; wait $pid 2>/dev/null
-  [ -z "$(ls -A "$O/$sig")" ] && ok "out_signal_$sig" || fail "out_signal_$sig" "left $(ls "$O/$sig")"
+  kill -$sig $pid 2>/dev/null
+  for _ in $(seq 100); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+  if kill -0 $pid 2>/dev/null; then
+    kill -KILL $pid 2>/dev/null; wait $pid 2>/dev/null; fail "out_signal_$sig" "still running 10 s after SIG$sig"
+  else
+    wait $pid 2>/dev/null
+    [ -z "$(ls -A "$O/$sig")" ] && ok "out_signal_$sig" || fail "out_signal_$sig" "left $(ls "$O/$sig")"
+  fi
 done
 if [ -z "$SANITIZE" ]; then
   mkdir -p "$O/threads"
   (ulimit -v 400000; run "$BIN/lens-trace" "$LENS" -n 100000 --threads 1024 -o "$O/threads/x.txt" 2>/dev/null)
   [ -z "$(ls -A "$O/threads")" ] && ok out_thread_failure_nothing_left ||
     fail out_thread_failure_nothing_left "left $(ls "$O/threads")"
+fi
+
+# ---- stdout: every command checks its writes and the final flush -----------------------
+full() { # full NAME CMD...: stdout to /dev/full must give one "write error" line and exit 1
+  local n=$1; shift
+  local err
+  err=$(run "$@" 2>&1 >/dev/full </dev/null | grep -v ': warning: ')
+  [ "$(run "$@" >/dev/full 2>/dev/null; echo $?)" != 0 ] && [ "$(grep -c 'write error: No space left on device' <<<"$err")" = 1 ] &&
+    [ "$(grep -c '' <<<"$err")" = 1 ] && ok "$n" || fail "$n" "stderr '$err'"
+}
+if [ -w /dev/full ]; then
+  full stdout_full_info "$BIN/lens-info" "$LENS"
+  full stdout_full_info_help "$BIN/lens-info" --help
+  full stdout_full_spot "$BIN/lens-spot" "$LENS" --rays 50
+  full stdout_full_distort "$BIN/lens-distort" "$LENS"
+  full stdout_full_trace "$BIN/lens-trace" "$LENS" -n 5
+  full stdout_full_fit "$BIN/lens-fit" --terms 3 --degree 2 "$T/s.txt"
+  full stdout_full_eval "$BIN/lens-eval" "$T/s.poly" "$T/s.txt"
 fi
