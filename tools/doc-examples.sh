@@ -16,7 +16,7 @@
 # own directory DIR/<file name>, which the caller prepares (README: a plain clone; man
 # pages: an empty directory). A block fails when one of its commands exits non-zero (a
 # writer killed by SIGPIPE because the reader stopped early, `| head`, is not a failure).
-# Output: "ok docs FILE (N examples)" or "FAIL docs FILE:LINE: <the command>" and the tail
+# Output: "ok docs FILE (N examples, S s)" or "FAIL docs FILE:LINE: <the command>" and the tail
 # of its stderr; exit 1 if any block failed. The caller sets PATH, XDG_CACHE_HOME, ...
 set -u
 
@@ -61,7 +61,8 @@ script_for() { # FILE LOGDIR
     # the block ends in ':' so that only its commands, never the block, trip the trap
     printf 'K=%d F=%q L0=%d B0=%d\n{\n%s\n:\n} < /dev/null > %q 2> %q\n' "$n" "${loc%:*}" "${loc##*:}" \
       $((at + 3)) "$body" "$logs/$n.out" "$logs/$n.err"
-    at=$((at + 4 + $(printf '%s\n' "$body" | wc -l)))
+    printf 'echo "$SECONDS" > %q\n' "$logs/$n.end"
+    at=$((at + 5 + $(printf '%s\n' "$body" | wc -l)))
     printf '%s\n' "$body" > "$logs/$n.cmd"
   }
   while IFS= read -r line; do
@@ -81,7 +82,7 @@ case ${1:-} in
     for f in "$@"; do
       name=$(basename "$f")
       logs=$dir/.logs/$name
-      mkdir -p "$logs" "$dir/$name"
+      rm -rf "$logs"; mkdir -p "$logs" "$dir/$name"
       script_for "$f" "$logs" > "$logs/script.sh"
       count=$(ls "$logs" | grep -c '\.cmd$')
       ( cd "$dir/$name" && timeout 900 bash "$logs/script.sh" ); rc=$?
@@ -93,7 +94,7 @@ case ${1:-} in
           tail -n 4 "$logs/$k.err" 2>/dev/null | sed 's/^/    /'
         done < "$logs/fails"
       elif [ "$count" -gt 0 ]; then
-        echo "ok docs $f ($count examples)"
+        echo "ok docs $f ($count examples, $(cat "$logs/$count.end" 2>/dev/null) s)"
       fi
     done
     exit $status ;;

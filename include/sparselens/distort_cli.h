@@ -21,4 +21,11 @@ extern const opt_command distort_command;
 
 void distort_cli_default(distort_cli *o);
 
+/* The whole of lens-distort (src/app/distort_job.c): the report (text or JSON) to out, the
+ * map and the grid picture to their files; a file that cannot be written and a field a
+ * model cannot image are reported on log as "prog: ..." lines. Returns 0; 1 when a file
+ * could not be written; 2 when a field was not imaged; -1 with err set when nothing could
+ * be computed (nothing written). */
+int distort_cli_run(distort_cli *o, FILE *out, FILE *log, const char *prog, lens_err *err);
+
 #endif

@@ -36,9 +36,13 @@ void imaging_cli_default(imaging_cli *a, const char *wavelengths);
  * parsed and checked. */
 void imaging_cli_finish(const char *prog, imaging_cli *a, const char *const *operands, int n);
 
-/* Loads the input (and --compare, --lens) into models, sets up im[] and names[] for the
- * object distance, and returns the number of models; fatal on a load error. Frees the
- * lens-loading options, which are not needed after. */
+/* Loads the input (and --compare, --lens) into models, stops the lens down (--fnumber),
+ * sets up im[] and names[] for the object distance, and returns the number of models, or
+ * -1 with err set (models then freed). Frees the lens-loading options, which are not
+ * needed after. */
+int imaging_cli_models(imaging_cli *a, imaging_models *models, imaging im[2],
+                       const char *names[2], lens_err *err);
+/* The same for commands: fatal on a load error. */
 int imaging_cli_load(const char *prog, imaging_cli *a, imaging_models *models, imaging im[2],
                      const char *names[2]);
 

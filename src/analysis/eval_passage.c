@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Rings with less lens light than this many rays' worth are too noisy for the worst
- * ring (their rows are still written). */
+/* Rings where the lens passes fewer rays than this are too noisy for the worst ring
+ * (their rows are still written). */
 #define MIN_RING_RAYS 200
 
 int eval_passage_init(eval_passage *p, const poly_system *s)
@@ -37,10 +37,13 @@ static int grow(eval_passage *p, size_t ring)
     size_t *r = realloc(p->rays, cap * sizeof *r);
     if (r)
         p->rays = r;
-    if (!l || !a || !b || !r)
+    size_t *q = realloc(p->passing, cap * sizeof *q);
+    if (q)
+        p->passing = q;
+    if (!l || !a || !b || !r || !q)
         return -1;
     for (size_t k = p->cap; k < cap; k++)
-        p->light[k] = p->fpass[k] = p->fblock[k] = 0, p->rays[k] = 0;
+        p->light[k] = p->fpass[k] = p->fblock[k] = 0, p->rays[k] = p->passing[k] = 0;
     p->cap = cap;
     return 0;
 }
@@ -61,6 +64,7 @@ int eval_passage_add(eval_passage *p, const double *in, const double *pred, int 
     if (ring >= p->nring)
         p->nring = ring + 1;
     p->rays[ring]++;
+    p->passing[ring] += lens_pass != 0;
     p->lens_blocked += !lens_pass;
     if (lens_pass)
         p->light[ring] += w;
@@ -96,7 +100,7 @@ void eval_passage_write(table_out *t, const eval_passage *p)
     for (size_t k = 0; k < p->nring; k++) {
         light += p->light[k], fp += p->fpass[k], fb += p->fblock[k];
         double d = p->light[k] > 0 ? (p->fpass[k] + p->fblock[k]) / p->light[k] : 0;
-        if (p->rays[k] >= MIN_RING_RAYS && d > worst)
+        if (p->passing[k] >= MIN_RING_RAYS && d > worst)
             worst = d, wk = k;
     }
     double L = light > 0 ? light : 1;
@@ -130,5 +134,6 @@ void eval_passage_free(eval_passage *p)
     free(p->fpass);
     free(p->fblock);
     free(p->rays);
+    free(p->passing);
     memset(p, 0, sizeof *p);
 }

@@ -17,7 +17,7 @@ typedef struct {
     int ix, iy, iu, iv, ieta;    /* inputs x y u v, output out_eta; -1 if absent */
     size_t nring, cap;           /* rings [k, k + 1) mm of sensor radius */
     double *light, *fpass, *fblock;
-    size_t *rays;
+    size_t *rays, *passing;      /* per ring: rays, and those the lens passes */
     size_t lens_blocked;         /* rays the lens blocks */
 } eval_passage;
 

@@ -84,7 +84,7 @@ int field_write_png(const field_figure *fig, const char *path, lens_err *err)
     for (int f = 0; f < fig->nfields; f++)
         ftop = fmax(ftop, fig->field[f]);
     const char *unit = fig->finite ? "field mm" : "field deg";
-    const char *titles[3] = {"field curves, mm", "distortion, %", "lateral colour, um"};
+    const char *titles[3] = {"field curves, mm", "distortion, %", "lateral colour, µm"};
     for (int k = 0; k < 3; k++) {
         plot_panel p = {c, left + k * (PW + gap), top, PW, PH, 0, 1, 0, ftop > 0 ? ftop : 1};
         int q0 = k == 0 ? Q_TAN : k == 1 ? Q_DIST : Q_LAT, q1 = k == 0 ? Q_SAG : q0;
@@ -115,7 +115,7 @@ int field_shift_write_png(const field_shift_figure *fig, const char *path, lens_
         um[i] = 1e3 * fig->shift[i];
     plot_panel p = {c, left, top, PW, PH, fig->lambda[0], fig->lambda[fig->n - 1], 0, 0};
     plot_range(um, fig->nmodels * fig->n, 0, &p.ymin, &p.ymax);
-    plot_axes(&p, "chromatic focal shift, um", "wavelength, um", "um");
+    plot_axes(&p, "chromatic focal shift, µm", "wavelength, µm", "µm");
     const double blue[3] = {0, 0.35, 0.75}, red[3] = {0.8, 0.1, 0.1};
     plot_line(&p, fig->lambda, um, fig->n, blue, 2);
     if (fig->nmodels > 1)

@@ -112,12 +112,13 @@ void plot_axes(const plot_panel *p, const char *title, const char *xlabel, const
     if (p->ymin < 0 && p->ymax > 0)
         img_line(p->c, p->x0, plot_py(p, 0), p->x0 + p->w, plot_py(p, 0), axis, 1);
     img_rect(p->c, p->x0, p->y0, p->x0 + p->w, p->y0 + p->h, black, 1);
-    if (title)
-        plot_title(p->c, p->x0, p->y0 - 8, p->w, title, 12, black);
+    if (title) /* beside the y label, if any */
+        plot_title(p->c, p->x0, p->y0 - 8, p->w - (ylabel ? img_text_width(ylabel, 10) + 12 : 0),
+                   title, 12, black);
     if (xlabel)
         img_text(p->c, p->x0 + p->w - img_text_width(xlabel, 10), p->y0 + p->h + 30, xlabel, 10, black);
-    if (ylabel)
-        img_text(p->c, p->x0 + 4, p->y0 + 14, ylabel, 10, axis);
+    if (ylabel) /* above the frame at its right end: inside it overprinted the curves */
+        img_text(p->c, p->x0 + p->w - img_text_width(ylabel, 10), p->y0 - 8, ylabel, 10, axis);
 }
 
 /* Liang-Barsky clipping of a segment to the panel's rectangle. */

@@ -53,7 +53,7 @@ int ray_fan_write_png(const ray_fan_figure *fig, const char *path, lens_err *err
             char t[128];
             snprintf(t, sizeof t, "%s  field %g %s", side ? "sagittal ex" : "tangential ey",
                      fig->field[f], fig->finite ? "mm" : "deg");
-            plot_axes(&p, t, side ? "px" : "py", "um");
+            plot_axes(&p, t, side ? "px" : "py", "µm");
             for (int m = 0; m < fig->nmodels; m++)
                 for (int l = 0; l < fig->nl; l++) {
                     const ray_fan *fn = &fig->fans[((size_t)m * fig->nfields + f) * fig->nl + l];

@@ -72,21 +72,31 @@ void imaging_cli_finish(const char *prog, imaging_cli *a, const char *const *ope
         diag_die(prog, "--focus: '%s' is not file, paraxial or best", a->focus);
 }
 
+int imaging_cli_models(imaging_cli *a, imaging_models *models, imaging im[2],
+                       const char *names[2], lens_err *err)
+{
+    int rc = imaging_models_load(a->input, a->compare, a->lens, lens_cli_options_get(&a->lopt),
+                                 models, err);
+    lens_cli_options_free(&a->lopt);
+    if (rc == 0 && !isnan(a->fnumber))
+        rc = lens_set_fnumber(&models->lens, a->fnumber, err);
+    if (rc != 0) {
+        imaging_models_free(models);
+        return -1;
+    }
+    return imaging_models_setup(models, a->object_distance, im, names);
+}
+
 int imaging_cli_load(const char *prog, imaging_cli *a, imaging_models *models, imaging im[2],
                      const char *names[2])
 {
     lens_err err;
-    int rc = imaging_models_load(a->input, a->compare, a->lens, lens_cli_options_get(&a->lopt),
-                                 models, &err);
-    lens_cli_options_free(&a->lopt);
-    if (rc == 0 && !isnan(a->fnumber))
-        rc = lens_set_fnumber(&models->lens, a->fnumber, &err);
-    if (rc != 0) {
+    int n = imaging_cli_models(a, models, im, names, &err);
+    if (n < 0) {
         diag_print(prog, &err);
-        imaging_models_free(models);
         exit(1);
     }
-    return imaging_models_setup(models, a->object_distance, im, names);
+    return n;
 }
 
 const char *imaging_cli_basename(const imaging_cli *a)

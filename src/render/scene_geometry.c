@@ -108,8 +108,11 @@ int scene_visible(const scene_t *s, const double a[3], const double b[3])
     double len = sqrt(dot3(d, d));
     if (!(len > 0)) return 1;
     for (int k = 0; k < 3; k++) d[k] /= len;
-    scene_hit h;
-    return !scene_intersect(s, a, d, EPS_T, len * (1 - 1e-9) - EPS_T, &h);
+    /* any blocker will do: the first one found ends the search */
+    double tmax = len * (1 - 1e-9) - EPS_T;
+    for (size_t i = 0; i < s->nobj; i++)
+        if (hit_object(&s->obj[i], a, d, EPS_T) < tmax) return 0;
+    return 1;
 }
 
 /* Tangent frame of a plane, chosen so that a plane facing the camera (normal -z) has

@@ -126,10 +126,19 @@ err=$(cat "$T/fit-err")
 # Signals beyond INT/TERM/HUP, and a thread library that exits, leave no temporary file.
 for sig in XCPU PIPE QUIT; do
   mkdir -p "$O/$sig"
-  "$BIN/lens-trace" "$LENS" -n 1e8 --seed 3 -o "$O/$sig/big.txt" 2>/dev/null & pid=$!
+  # A background job of a script starts with SIGQUIT (and SIGINT) ignored, and an ignored
+  # signal is left ignored by the command (as nohup expects): restore the default so the
+  # signal really arrives, and never wait unbounded for a command that did not die.
+  env --default-signal="$sig" "$BIN/lens-trace" "$LENS" -n 1e8 --seed 3 -o "$O/$sig/big.txt" 2>/dev/null & pid=$!
   for _ in $(seq 50); do [ -n "$(ls -A "$O/$sig")" ] && break; sleep 0.1; done
-  kill -$sig $pid 2>/dev/null; wait $pid 2>/dev/null
-  [ -z "$(ls -A "$O/$sig")" ] && ok "out_signal_$sig" || fail "out_signal_$sig" "left $(ls "$O/$sig")"
+  kill -$sig $pid 2>/dev/null
+  for _ in $(seq 100); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+  if kill -0 $pid 2>/dev/null; then
+    kill -KILL $pid 2>/dev/null; wait $pid 2>/dev/null; fail "out_signal_$sig" "still running 10 s after SIG$sig"
+  else
+    wait $pid 2>/dev/null
+    [ -z "$(ls -A "$O/$sig")" ] && ok "out_signal_$sig" || fail "out_signal_$sig" "left $(ls "$O/$sig")"
+  fi
 done
 if [ -z "$SANITIZE" ]; then
   mkdir -p "$O/threads"
