@@ -192,3 +192,13 @@ run "$BIN/lens-render" "$S/tiny.scene" --exact --cache "$S/c" -o "$S/tiny.exr" 2
 { printf '\xef\xbb\xbf'; cat "$S/n1.scene"; } >"$S/bom.scene"
 run "$BIN/lens-render" "$S/bom.scene" --exact --cache "$S/c" -o "$S/bom.exr" 2>/dev/null && cmp -s "$S/n1.exr" "$S/bom.exr" &&
   ok bom_scene || fail bom_scene "BOM scene not read as the plain one"
+
+# Subnormal numbers are finite numbers (they were refused as "not finite").
+printf 'inf 1 air 10\ninf 1e-310 stop 10\ninf 50 air 10\n' >"$T/sub.lens"
+run "$BIN/lens-info" --format lens "$T/sub.lens" 2>/dev/null | grep -q '1e-310' &&
+  ok subnormal_accepted || fail subnormal_accepted "1e-310 not read"
+
+# lens-fit names the file and line of a wavelength of 0 (was "sample 2: input lambda is
+# not finite", from its 1/lambda^2).
+printf '# columns: x y u v lambda out_x out_y out_u out_v out_eta\n0 0 0 0 0.5 0 0 0 0 1\n1 0 0 0 0 0 0 0 0 1\n' >"$T/lam0.txt"
+err_has fit_lambda_zero_named 'lam0.txt:3: lambda 0: a wavelength must be > 0 um' "$BIN/lens-fit" "$T/lam0.txt"
