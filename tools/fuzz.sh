@@ -21,7 +21,7 @@ cd "$(dirname "$0")/.."
 mode=${1:-60}
 OUT=${FUZZ_BUILD:-build-fuzz}
 CLANG=${CLANG:-clang}
-SAN="-fsanitize=address,undefined -fno-sanitize-recover=undefined"
+SAN="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=undefined,float-cast-overflow"
 # The library flags come from the Makefile (pkg-config and its fallbacks, the x86-64
 # baseline only on x86-64); the outer make's job server is not passed on.
 makevar() { env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL "${MAKE:-make}" -s --no-print-directory "print-$1"; }

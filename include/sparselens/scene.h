@@ -125,4 +125,10 @@ typedef struct {
 void scene_direct_mis(const scene_t *s, const scene_hit *h, const double u[5],
                       scene_light_terms *t);
 
+/* Bounds a scene file shares with the command line (man 5 lens-scene): samples per
+ * pixel (as --spp), and colour values (albedo, emit), which the 32-bit float image
+ * must hold after summing. */
+#define SCENE_MAX_SPP 1073741824L
+#define SCENE_MAX_VALUE 1e30
+
 #endif

@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Rings with less lens light than this many rays' worth are too noisy for the worst
- * ring (their rows are still written). */
+/* Rings where the lens passes fewer rays than this are too noisy for the worst ring
+ * (their rows are still written). */
 #define MIN_RING_RAYS 200
 
 int eval_passage_init(eval_passage *p, const poly_system *s)
@@ -25,22 +25,11 @@ static int grow(eval_passage *p, size_t ring)
     if (ring < p->cap)
         return 0;
     size_t cap = ring + 16;
-    double *l = realloc(p->light, cap * sizeof *l);
-    if (l)
-        p->light = l;
-    double *a = realloc(p->fpass, cap * sizeof *a);
-    if (a)
-        p->fpass = a;
-    double *b = realloc(p->fblock, cap * sizeof *b);
-    if (b)
-        p->fblock = b;
-    size_t *r = realloc(p->rays, cap * sizeof *r);
-    if (r)
-        p->rays = r;
-    if (!l || !a || !b || !r)
+    eval_ring *r = realloc(p->ring, cap * sizeof *r);
+    if (!r)
         return -1;
-    for (size_t k = p->cap; k < cap; k++)
-        p->light[k] = p->fpass[k] = p->fblock[k] = 0, p->rays[k] = 0;
+    memset(r + p->cap, 0, (cap - p->cap) * sizeof *r);
+    p->ring = r;
     p->cap = cap;
     return 0;
 }
@@ -60,14 +49,16 @@ int eval_passage_add(eval_passage *p, const double *in, const double *pred, int 
         return -1;
     if (ring >= p->nring)
         p->nring = ring + 1;
-    p->rays[ring]++;
+    eval_ring *g = p->ring + ring;
+    g->rays++;
+    g->passing += lens_pass != 0;
     p->lens_blocked += !lens_pass;
     if (lens_pass)
-        p->light[ring] += w;
+        g->light += w;
     if (sys_pass && !lens_pass)
-        p->fpass[ring] += w;
+        g->fpass += w;
     if (!sys_pass && lens_pass)
-        p->fblock[ring] += w;
+        g->fblock += w;
     return 0;
 }
 
@@ -87,16 +78,17 @@ void eval_passage_write(table_out *t, const eval_passage *p)
         table_out_int(t, 0);
         table_out_row_end(t);
         if (!t->json)
-            fputs("# (the test set holds no ray the lens blocks: trace it without "
-                  "--passing-only, best with --sampling full)\n", t->f);
+            fputs("# passage not measured: the test set holds no ray the lens blocks (trace "
+                  "it without --passing-only, best with --sampling full)\n", t->f);
         return;
     }
     double light = 0, fp = 0, fb = 0, worst = 0;
     size_t wk = 0;
     for (size_t k = 0; k < p->nring; k++) {
-        light += p->light[k], fp += p->fpass[k], fb += p->fblock[k];
-        double d = p->light[k] > 0 ? (p->fpass[k] + p->fblock[k]) / p->light[k] : 0;
-        if (p->rays[k] >= MIN_RING_RAYS && d > worst)
+        const eval_ring *g = p->ring + k;
+        light += g->light, fp += g->fpass, fb += g->fblock;
+        double d = g->light > 0 ? (g->fpass + g->fblock) / g->light : 0;
+        if (g->passing >= MIN_RING_RAYS && d > worst)
             worst = d, wk = k;
     }
     double L = light > 0 ? light : 1;
@@ -113,22 +105,20 @@ void eval_passage_write(table_out *t, const eval_passage *p)
                     "passage by 1 mm ring of sensor radius: shares of the light the lens passes\n"
                     "there (rays weighted by cos^4 theta times the transmittance)", cols, 6);
     for (size_t k = 0; k < p->nring; k++) {
-        double l = p->light[k] > 0 ? p->light[k] : 1;
+        const eval_ring *g = p->ring + k;
+        double l = g->light > 0 ? g->light : 1;
         table_out_int(t, (long long)k);
         table_out_int(t, (long long)k + 1);
-        table_out_int(t, (long long)p->rays[k]);
-        table_out_num(t, p->fpass[k] / l, 0);
-        table_out_num(t, p->fblock[k] / l, 0);
-        table_out_num(t, (p->fpass[k] + p->fblock[k]) / l, 0);
+        table_out_int(t, (long long)g->rays);
+        table_out_num(t, g->fpass / l, 0);
+        table_out_num(t, g->fblock / l, 0);
+        table_out_num(t, (g->fpass + g->fblock) / l, 0);
         table_out_row_end(t);
     }
 }
 
 void eval_passage_free(eval_passage *p)
 {
-    free(p->light);
-    free(p->fpass);
-    free(p->fblock);
-    free(p->rays);
+    free(p->ring);
     memset(p, 0, sizeof *p);
 }

@@ -14,10 +14,14 @@
 #include "sparselens/table_out.h"
 
 typedef struct {
+    double light, fpass, fblock; /* the lens's light, false passes, false blocks */
+    size_t rays, passing;        /* rays, and those the lens passes */
+} eval_ring;
+
+typedef struct {
     int ix, iy, iu, iv, ieta;    /* inputs x y u v, output out_eta; -1 if absent */
     size_t nring, cap;           /* rings [k, k + 1) mm of sensor radius */
-    double *light, *fpass, *fblock;
-    size_t *rays;
+    eval_ring *ring;
     size_t lens_blocked;         /* rays the lens blocks */
 } eval_passage;
 

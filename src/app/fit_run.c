@@ -283,6 +283,13 @@ static int take_row(fit_job *j, const samples_reader *r, long *lam_line, lens_er
                       "input %s is %g (inputs must be finite)", j->in_names[i], x);
             return -1;
         }
+        /* Checked here, with the file and line: 1/lambda^2 of 0 is inf, which the
+         * fitter could only call "not finite" with a sample number. */
+        if (!(x > 0) && strcmp(j->in_names[i], "lambda") == 0) {
+            lens_errf(err, samples_path(r), samples_line(r),
+                      "lambda %g: a wavelength must be > 0 um", x);
+            return -1;
+        }
         j->in[j->count * j->nin + i] = x;
     }
     int pass = j->ceta < 0 || vals[j->ceta] > 0;

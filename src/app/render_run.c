@@ -60,6 +60,15 @@ int render_write_png(const char *path, int w, int h, const float *rgb, lens_err 
 static int write_exr(const char *path, int w, int h, const float *rgb, lens_err *err)
 {
     size_t n = (size_t)w * h;
+    /* inf or nan never reaches the file unannounced (the scene's bounds keep them out;
+     * this says so if something else lets one through) */
+    for (size_t i = 0; i < 3 * n; i++)
+        if (!isfinite(rgb[i])) {
+            lens_errf(err, path, 0, "pixel (%zu, %zu) is not finite (%g): radiance beyond "
+                      "what a 32-bit float image holds", i / 3 % (size_t)w, i / 3 / (size_t)w,
+                      rgb[i]);
+            return -1;
+        }
     float *pl = malloc(3 * n * sizeof *pl);
     if (!pl) {
         lens_errf(err, path, 0, "out of memory");

@@ -8,6 +8,7 @@
 
 #include "sparselens/sampling.h"
 #include "sparselens/trace.h"
+#include "sparselens/clip_pilot.h"
 #include "sparselens/trace_clip.h"
 
 static const char *const base_columns[] = {"x", "y", "u", "v", "lambda",

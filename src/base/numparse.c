@@ -12,7 +12,9 @@ int parse_double(const char *s, double *out)
     char *end;
     errno = 0;
     double v = strtod(s, &end);
-    if (*end != '\0' || errno == ERANGE || !isfinite(v))
+    /* strtod flags underflow with ERANGE too: a subnormal (or one that rounds to 0)
+     * is a finite number, read as the nearest double; only overflow is refused. */
+    if (*end != '\0' || end == s || !isfinite(v) || (errno == ERANGE && fabs(v) > 1))
         return -1;
     *out = v;
     return 0;

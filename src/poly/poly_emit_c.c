@@ -419,10 +419,10 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
     fprintf(f,
             "\n * Returns 1 if the ray passes the lens, 0 if not (out[] is filled either way).\n"
             " * %s_batch does the same for many rays, in blocks of 8 that compilers vectorise.\n"
-            " * Measured on the 5 x 40 term fisheye-ii system of lens-fit's defaults (GCC 12,\n"
-            " * one thread of a 2.5 GHz Xeon with AVX-512, make bench): one call 72 ns a ray at\n"
-            " * -O2, 92 at -O3 -march=native; the batch function 25 and 24 ns a ray, about\n"
-            " * liblens's own batch kernel (27 ns).\n"
+            " * Measured on a 5 x 40 term fisheye-ii system (lens-fit --outputs\n"
+            " * out_x,out_y,out_u,out_v,out_eta; GCC 12, one thread of a 2.5 GHz Xeon with\n"
+            " * AVX-512, make bench): one call 76 ns a ray at -O2, 82 at -O3 -march=native;\n"
+            " * the batch function 24 and 21 ns a ray, liblens's own batch kernel 26 ns.\n"
             " * Compile without floating-point contraction (-ffp-contract=off, the default\n"
             " * with -std=c99 or -std=c11) to get exactly the values of lens-eval. */\n"
             "#include <math.h>\n#include <stddef.h>\n\n",

@@ -126,13 +126,18 @@ static int run_one(const poly_system *s, const poly_plan *pl, const double *in, 
     return 0;
 }
 
-int poly_eval_part_core(const poly_system *s, int part, const double *in, double *out)
+int poly_eval_values_core(const poly_system *s, int part, const double *in, double *out)
 {
     if (part < 0 || part >= s->nparts || run_one(s, &s->parts[part].plan, in, out) != 0) {
         fill_nan(out, s->nout);
-        return 0;
+        return -1;
     }
-    return poly_passes(s, out);
+    return 0;
+}
+
+int poly_eval_part_core(const poly_system *s, int part, const double *in, double *out)
+{
+    return poly_eval_values_core(s, part, in, out) == 0 && poly_passes(s, out);
 }
 
 /* What a batch run computes: the outputs with the frame, transforms and passage test;

@@ -302,10 +302,11 @@ int poly_eval_part(const poly_system *s, int part, const double *in, double *out
     }
     double *tp = t + nin, *op = tp + nin;
     poly_frame_in(s, in, t, cs);
-    poly_eval_part_core(s->vframe ? s->vframe : s, part, t, out);
+    /* the views' values only: the pass test is made once, on the final outputs */
+    poly_eval_values_core(s->vframe ? s->vframe : s, part, t, out);
     if (np) {
         plain_in(s, in, tp);
-        poly_eval_part_core(s->vplain ? s->vplain : s, part, tp, op);
+        poly_eval_values_core(s->vplain ? s->vplain : s, part, tp, op);
         take_plain(s, op, out);
     }
     poly_frame_out(s, cs, out);

@@ -150,6 +150,8 @@ int poly_select_part(const poly_system *sys, const double *in);
  * kernel applies the frame and transforms of sys itself (per block, in vector
  * registers), so poly_eval_batch is that function alone. */
 int poly_eval_part_core(const poly_system *sys, int part, const double *in, double *out);
+/* Its values alone, without the pass test (nan and -1 for a missing part or no memory). */
+int poly_eval_values_core(const poly_system *sys, int part, const double *in, double *out);
 void poly_eval_batch_core(const poly_system *sys, size_t count, const double *in, double *out,
                           unsigned char *pass);
 int poly_eval_jacobian_core(const poly_system *sys, const double *in, double *out, double *jac);

@@ -24,6 +24,7 @@
 #include "sparselens/render_lens.h"
 #include "sparselens/sampling.h"
 #include "sparselens/trace.h"
+#include "sparselens/clip_pilot.h"
 #include "sparselens/trace_clip.h"
 
 #define TRAIN_RAYS 12000 /* the supplement fits with 4000; passage and the axis want more (tests/unit/render) */

@@ -92,6 +92,13 @@ static int read_colour(line_ctx *c, int *i, const char *what, double rgb[3], int
             lens_errf(c->err, c->path, c->line, "'%s' must not be negative", what);
             return -1;
         }
+        /* The image is stored as 32-bit floats: a value near their limit (3.4e38)
+         * sums to inf over a pixel's samples. */
+        if (fabs(rgb[j]) > SCENE_MAX_VALUE) {
+            lens_errf(c->err, c->path, c->line, "'%s' %g is above %g", what, rgb[j],
+                      SCENE_MAX_VALUE);
+            return -1;
+        }
     }
     return 0;
 }
@@ -218,11 +225,15 @@ static int read_modifiers(line_ctx *c, int i, scene_object *o)
 
 static int unit_normal(line_ctx *c, double n[3])
 {
-    double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (!(l > 0)) {
+    /* Scaled by the largest component first: the squares of (0, 0, -1e200) overflow,
+     * and those of (0, 0, 1e-200) vanish. */
+    double m = fmax(fabs(n[0]), fmax(fabs(n[1]), fabs(n[2])));
+    if (!(m > 0)) {
         lens_errf(c->err, c->path, c->line, "the normal must not be zero");
         return -1;
     }
+    for (int k = 0; k < 3; k++) n[k] /= m;
+    double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     for (int k = 0; k < 3; k++) n[k] /= l;
     return 0;
 }
@@ -342,9 +353,11 @@ static int statement(scene_t *s, line_ctx *c, int *have_camera)
         }
     } else if (!strcmp(k, "spp") || !strcmp(k, "seed")) {
         long v;
-        if (c->n != 2 || parse_long(c->tok[1], &v) || v < (k[1] == 'p' ? 1 : 0)) {
-            lens_errf(c->err, c->path, c->line, "'%s' takes a whole number%s", k,
-                      k[1] == 'p' ? " >= 1" : " >= 0");
+        /* spp: the bound of --spp. */
+        if (c->n != 2 || parse_long(c->tok[1], &v) || v < (k[1] == 'p' ? 1 : 0) ||
+            (k[1] == 'p' && v > SCENE_MAX_SPP)) {
+            lens_errf(c->err, c->path, c->line, "'%s' takes a whole number %s", k,
+                      k[1] == 'p' ? ">= 1 (at most 1073741824, as --spp)" : ">= 0");
             return -1;
         }
         if (k[1] == 'p') s->spp = v;
@@ -401,7 +414,7 @@ int scene_parse(const char *text, const char *path, scene_t *s, lens_err *err)
         size_t len = e ? (size_t)(e - p) : strlen(p);
         c.line++;
         if (len >= sizeof buf) {
-            lens_errf(err, path, c.line, "line too long");
+            lens_errf(err, path, c.line, "line longer than %zu bytes", sizeof buf - 1);
             goto fail;
         }
         memcpy(buf, p, len);
@@ -464,18 +477,30 @@ int scene_load(const char *path, scene_t *s, lens_err *err)
             cap *= 2;
         }
     }
+    int read_error = ferror(f), code = errno;
     if (f != stdin) fclose(f);
     if (!text) {
         lens_errf(err, path, 0, "out of memory or file too large");
         return -1;
     }
-    text[len] = 0;
-    if (memchr(text, 0, len)) {
+    if (read_error) {
         free(text);
-        lens_errf(err, path, 0, "not a text file");
+        lens_errf(err, path, 0, "read error: %s", strerror(code));
         return -1;
     }
-    int rc = scene_parse(text, path, s, err);
+    text[len] = 0;
+    const char *nul = memchr(text, 0, len);
+    if (nul) {
+        long line = 1;
+        for (const char *q = text; q < nul; q++)
+            line += *q == '\n';
+        free(text);
+        lens_errf(err, path, line, "NUL byte (not a text file?)");
+        return -1;
+    }
+    /* A UTF-8 byte-order mark (some editors write one) is not part of the text. */
+    size_t bom = len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+    int rc = scene_parse(text + bom, path, s, err);
     free(text);
     return rc;
 }

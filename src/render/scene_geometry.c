@@ -108,8 +108,11 @@ int scene_visible(const scene_t *s, const double a[3], const double b[3])
     double len = sqrt(dot3(d, d));
     if (!(len > 0)) return 1;
     for (int k = 0; k < 3; k++) d[k] /= len;
-    scene_hit h;
-    return !scene_intersect(s, a, d, EPS_T, len * (1 - 1e-9) - EPS_T, &h);
+    /* any blocker will do: the first one found ends the search */
+    double tmax = len * (1 - 1e-9) - EPS_T;
+    for (size_t i = 0; i < s->nobj; i++)
+        if (hit_object(&s->obj[i], a, d, EPS_T) < tmax) return 0;
+    return 1;
 }
 
 /* Tangent frame of a plane, chosen so that a plane facing the camera (normal -z) has
@@ -138,9 +141,12 @@ double scene_albedo(const scene_t *s, int obj, const double p[3], int c)
         return t->a[c];
     case TEX_CHECKER: {
         /* a solid checker: the same pattern on planes and spheres */
-        long k = (long)floor(p[0] / t->size) + (long)floor(p[1] / t->size) +
-                 (long)floor(p[2] / t->size);
-        return (k & 1) ? t->b[c] : t->a[c];
+        /* The parity of each cell index from fmod, not a cast to long: a tiny square or
+         * a far hit gives indices past LONG_MAX (undefined behaviour when cast). */
+        double k = 0;
+        for (int j = 0; j < 3; j++)
+            k += fabs(fmod(floor(p[j] / t->size), 2.0));
+        return fmod(k, 2.0) == 1.0 ? t->b[c] : t->a[c];
     }
     case TEX_IMAGE: {
         double u, v; /* [0, 1) across the picture, v = 0 at its top */

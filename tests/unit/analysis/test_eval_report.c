@@ -232,6 +232,66 @@ static void test_part_jump(void **st)
     poly_free(s);
 }
 
+
+/* The value of key in a report (NAN if absent). */
+static double report_value(const eval_report *r, const char *key)
+{
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    assert_int_equal(eval_report_write(f, r), 0);
+    fclose(f);
+    double v = NAN;
+    size_t n = strlen(key);
+    for (char *line = strtok(buf, "\n"); line; line = strtok(NULL, "\n"))
+        if (!strncmp(line, key, n) && line[n] == ' ')
+            v = atof(line + n + 1);
+    free(buf);
+    return v;
+}
+
+/* Passage as a share of the light: a system whose pass circle (radius 0.1 on out_x =
+ * u, out_y = v) is narrower than the lens's (0.12), on a fine grid of directions at the
+ * sensor centre: it blocks the light between the two, which is, with each direction
+ * weighted by cos^4 theta = 1 / (1 + rho^2)^2, (1/1.01 - 1/1.0144) / (1 - 1/1.0144) of
+ * the lens's (the integral of 2 pi rho / (1 + rho^2)^2 is pi (1 - 1 / (1 + rho^2))).
+ * A test set without blocked rays measures nothing, and says so. */
+static void test_light_share(void **state)
+{
+    (void)state;
+    const char *in[] = {"x", "y", "u", "v"}, *out[] = {"out_x", "out_y"};
+    poly_system *s = poly_new("t", 4, in, 2, out);
+    poly_add_part(s, 0, INFINITY);
+    int eu[4] = {0, 0, 1, 0}, ev[4] = {0, 0, 0, 1};
+    poly_add_term(s, 0, 0, eu, 1);
+    poly_add_term(s, 0, 1, ev, 1);
+    poly_add_pass_circle(s, 0, 1, 0.1);
+    eval_report *r = eval_report_new(s, NULL), *none = eval_report_new(s, NULL);
+    const double h = 0.0005;
+    for (double u = -0.15 + h / 2; u < 0.15; u += h)
+        for (double v = -0.15 + h / 2; v < 0.15; v += h) {
+            double x[4] = {0, 0, u, v}, pred[2], ref[2] = {u, v};
+            int lens = u * u + v * v <= 0.12 * 0.12;
+            if (!lens)
+                ref[0] = ref[1] = NAN;
+            int sys = poly_eval(s, x, pred);
+            eval_report_add(r, x, pred, sys, ref, lens);
+            if (lens)
+                eval_report_add(none, x, pred, sys, ref, lens);
+        }
+    double want = (1 / 1.01 - 1 / 1.0144) / (1 - 1 / 1.0144);
+    double got = report_value(r, "light_false_block");
+    print_message("light_false_block %.5f, closed form %.5f\n", got, want);
+    assert_true(fabs(got / want - 1) < 0.01);
+    assert_true(report_value(r, "light_false_pass") == 0);
+    assert_true(fabs(report_value(r, "worst_ring_disagree") / want - 1) < 0.01);
+    assert_true(isnan(report_value(none, "false_pass")));
+    assert_true(isnan(report_value(none, "light_disagree")));
+    eval_report_free(r);
+    eval_report_free(none);
+    poly_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -240,6 +300,7 @@ int main(void)
         cmocka_unit_test(test_slope_directions),
         cmocka_unit_test(test_p99_rank),
         cmocka_unit_test(test_part_jump),
+        cmocka_unit_test(test_light_share),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
