@@ -53,11 +53,12 @@ void mtf_otf_at(const wavefront *wf, const double *otf, int m, int dir, double n
 {
     /* shift in cells for this frequency */
     double s = fabs(nu) * wf->lambda * 1e-3 * wf->n / (2 * fabs(wf->scale[dir]));
-    int k = (int)floor(s);
-    double f = s - k;
     z[0] = z[1] = 0;
+    /* tested before the cast: a shift of nan (no pupil scale) must not reach (int) */
     if (!(s < m / 2 - 1))
         return;
+    int k = (int)floor(s);
+    double f = s - k;
     /* modulus and phase interpolated apart: a wavefront tilted by lateral colour turns
      * the OTF's phase quickly, and a chord between complex values would cut the modulus */
     size_t a = dir == 0 ? (size_t)k : (size_t)k * (size_t)m, b = dir == 0 ? a + 1 : a + (size_t)m;

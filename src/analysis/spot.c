@@ -240,8 +240,10 @@ int spot_pool(const spot *sp, size_t n, size_t primary, spot *total)
         return -1;
     }
     for (size_t k = 0; k < n; k++) {
-        memcpy(total->ray + 4 * total->passed, sp[k].ray, sizeof(double) * 4 * sp[k].passed);
-        memcpy(total->eta + total->passed, sp[k].eta, sizeof(double) * sp[k].passed);
+        if (sp[k].passed > 0) { /* a field with no ray has no arrays to copy from */
+            memcpy(total->ray + 4 * total->passed, sp[k].ray, sizeof(double) * 4 * sp[k].passed);
+            memcpy(total->eta + total->passed, sp[k].eta, sizeof(double) * sp[k].passed);
+        }
         total->passed += sp[k].passed;
         total->rays += sp[k].rays;
     }
