@@ -98,13 +98,8 @@ int distort_cli_run(distort_cli *o, FILE *out, FILE *log, const char *prog, lens
     }
     /* a field a model cannot image: the table is whole (nan rows), the status says so */
     report_warning w[2 * IMAGING_MAX_FIELDS];
-    const char *wp[2 * IMAGING_MAX_FIELDS];
     int nw = distort_report_warnings(&rq, &rep, w, 2 * IMAGING_MAX_FIELDS);
-    for (int k = 0; k < nw; k++) {
-        fprintf(log, "%s: warning: %s\n", prog, w[k]);
-        wp[k] = w[k];
-    }
-    table_out_end(&t, wp, nw);
+    imaging_cli_end_table(&t, log, prog, w, nw);
     if (rc == 0 && rep.not_imaged)
         rc = 2;
     distort_report_free(&rep);

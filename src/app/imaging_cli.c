@@ -2,6 +2,7 @@
 #include "sparselens/imaging_cli.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -148,4 +149,17 @@ void imaging_setup_print(table_out *t, const imaging_setup *s, const imaging_mod
     table_out_str(t, "description");
     table_out_str(t, s->text);
     table_out_row_end(t);
+}
+
+void imaging_cli_end_table(table_out *t, FILE *log, const char *prog,
+                           report_warning *warnings, int nwarnings)
+{
+    const char *list[2 * IMAGING_MAX_FIELDS];
+    if (nwarnings > 2 * IMAGING_MAX_FIELDS)
+        nwarnings = 2 * IMAGING_MAX_FIELDS;
+    for (int k = 0; k < nwarnings; k++) {
+        fprintf(log, "%s: warning: %s\n", prog, warnings[k]);
+        list[k] = warnings[k];
+    }
+    table_out_end(t, list, nwarnings);
 }
