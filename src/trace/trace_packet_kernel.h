@@ -70,7 +70,7 @@ KATTR static void KNAME(const lens_t *lens, const double *const *n, int count, l
         surface[l] = alive[l] ? -1 : (int)lens->nsurf - 1;
     }
     const vd one = K(vsplat)(1.0), zero = K(vsplat)(0.0);
-    vd fx = zero, fz = zero, gx = zero, gy = zero, gz = zero; /* outer frame */
+    vd fx = zero, fy = zero, fz = zero, gx = zero, gy = zero, gz = zero; /* outer frame */
     /* The lanes' indices, surface by surface, as vectors (transposed once). */
     vd nv[lens->nsurf];
     for (size_t i = 0; i < lens->nsurf; i++)
@@ -141,10 +141,10 @@ KATTR static void KNAME(const lens_t *lens, const double *const *n, int count, l
         int refr = i > last || last == 0;
         if (i == 0 && outer) {
             /* The outer-pupil frame of trace.h from the front normal at the hit. */
-            vd il = one / K(vsqrt)(nz * nz + nx * nx);
-            vd exx = -nz * il, exz = nx * il;
-            vd eyx = -exz * ny, eyy = exz * nx - exx * nz, eyz = exx * ny;
-            fx = exx, fz = exz, gx = eyx, gy = eyy, gz = eyz; /* applied after refraction */
+            vd k = one / (one - nz);
+            vd exy = -k * nx * ny;
+            fx = one - k * nx * nx, fy = exy, fz = nx; /* applied after refraction */
+            gx = exy, gy = one - k * ny * ny, gz = ny;
         }
         if (refr) {
             if (K(vany)(n1 != n2)) {
@@ -182,7 +182,7 @@ KATTR static void KNAME(const lens_t *lens, const double *const *n, int count, l
         }
     }
     if (outer && last == 0) {
-        vd u = dx * fx + dz * fz, v = dx * gx + dy * gy + dz * gz;
+        vd u = dx * fx + dy * fy + dz * fz, v = dx * gx + dy * gy + dz * gz;
         for (int l = 0; l < count; l++) { /* only passed rays have a defined frame */
             int p = status[l] == TRACE_PASSED;
             outer[4 * l] = p ? ox[l] : NAN, outer[4 * l + 1] = p ? oy[l] : NAN;
