@@ -74,8 +74,9 @@ LIB      := $(BUILD)/liblens.a
 .PHONY: all deps test check demo bench reports install fuzz clean man
 all: $(CMDS) $(TESTS) $(BENCHES) man
 
-# The OPTIONS section of each command's man page is generated from its option table
-# (lens-x --help-man, spliced in by tools/man-options.sh): rebuilt with the command.
+# The SYNOPSIS and OPTIONS sections of each command's man page are generated from its
+# option table (lens-x --help-man, spliced in by tools/man-options.sh): rebuilt with the
+# command.
 MAN_STAMPS := $(patsubst $(BIN)/%,$(BUILD)/man/%.stamp,$(CMDS))
 man: $(MAN_STAMPS)
 $(BUILD)/man/%.stamp: $(BIN)/% man/%.1 tools/man-options.sh

@@ -2,7 +2,8 @@
 #define SPARSELENS_DESIGN_CLI_H
 /* The options of the designer commands (lens-fan, lens-field, lens-mtf, lens-layout):
  * their option tables (options.h) and the structs they fill. Each shares the flags of
- * imaging_cli.h and --fields, --wavelengths, --png through design_cli_table. */
+ * imaging_cli.h (with --fields and --wavelengths as lens-spot has them) and --png through
+ * design_cli_table. */
 #include "sparselens/imaging_cli.h"
 #include "sparselens/options.h"
 #include "sparselens/output_cli.h"

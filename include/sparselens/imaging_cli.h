@@ -4,9 +4,9 @@
  *   --object-distance MM  --focus file|paraxial|best  --compare SYSTEM.poly  --lens LENS
  *   --png FILE
  * and the lens-loading flags of lens_cli_options.h, as one option table (imaging_cli_table,
- * a group in each command's table; --fields and --wavelengths, whose defaults differ, are
- * in the commands' own tables); then the models loaded and set up. Errors print
- * "prog: ..." and exit 1. */
+ * a group in each command's table); --fields and --wavelengths as lens-spot and the
+ * designer commands take them (imaging_cli_field_table; lens-distort has its own); then
+ * the models loaded and set up. Errors print "prog: ..." and exit 1. */
 #include "sparselens/imaging.h"
 #include "sparselens/lens_cli_options.h"
 #include "sparselens/options.h"
@@ -27,7 +27,7 @@ typedef struct {
     lens_cli_options lopt;
 } imaging_cli;
 
-extern const opt_spec imaging_cli_table[];
+extern const opt_spec imaging_cli_table[], imaging_cli_field_table[];
 
 /* The defaults, with the command's default wavelengths. */
 void imaging_cli_default(imaging_cli *a, const char *wavelengths);

@@ -4,9 +4,9 @@
  * table is the only source of
  *   - the parsing of argv (opt_parse),
  *   - the --help text,
- *   - the OPTIONS section of the command's man page (`lens-x --help-man` prints it;
- *     `make man` splices it into man/lens-x.1, and tests/cli/man_options.sh fails when
- *     the page and the table differ).
+ *   - the SYNOPSIS and OPTIONS sections of the command's man page (`lens-x --help-man`
+ *     prints them; `make man` splices them into man/lens-x.1, and
+ *     tests/cli/man_options.sh fails when the page and the table differ).
  * Values go through offsets into the command's options struct, so a table is plain data:
  *
  *   static const opt_spec trace_table[] = {
@@ -74,7 +74,9 @@ struct opt_spec {
 typedef struct {
     const char *name;     /* "lens-eval" */
     const char *synopsis; /* after the name: "SYSTEM.poly [FILE|-] [options]"; lines
-                             separated by \n are alternative forms */
+                             separated by \n are alternative forms. In the man page's
+                             SYNOPSIS, "[options]" becomes the table's options that the
+                             form does not name itself. */
     const char *about;    /* for --help: what the command does (plain text, wrapped) */
     const opt_spec *table;
 } opt_command;
@@ -86,7 +88,8 @@ typedef struct {
 int opt_parse(const opt_command *cmd, int argc, char **argv, void *opts,
               const char **operands, int max);
 
-/* The --help text, and the man page's OPTIONS section body (roff, without .SH). */
+/* The --help text; the man page's SYNOPSIS and OPTIONS sections (roff, each from its .SH
+ * line). */
 void opt_print_help(FILE *f, const opt_command *cmd);
 void opt_print_man(FILE *f, const opt_command *cmd);
 

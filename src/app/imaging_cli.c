@@ -9,6 +9,23 @@
 #include "sparselens/cli.h"
 #include "sparselens/paraxial.h"
 
+/* --fields and --wavelengths as lens-spot and the designer commands have them (lens-distort
+ * spaces its fields otherwise and has its own). */
+const opt_spec imaging_cli_field_table[] = {
+    {0, "fields", "LIST", OPT_STRING, OPT_AT(imaging_cli, fields),
+     .help = "field angles in degrees (object at infinity) or object heights in mm "
+             "(--object-distance)",
+     .def = "0, 0.7 and 1 times the largest",
+     .man =
+     "The largest field is the half field of view of the sensor diagonal named in the lens\n"
+     "header, or, without one, the largest field whose chief ray still reaches the sensor.\n"},
+    {0, "wavelengths", "LIST", OPT_STRING, OPT_AT(imaging_cli, wavelengths),
+     .help = "um values or Fraunhofer names; the middle one is the primary", .def = "F,d,C",
+     .man =
+     "Wavelengths are 0.2 to 2.5 um; the line names are i h g F' F e d D C' C r A' s t\n"
+     "(F = 0.4861327, d = 0.5875618, C = 0.6562725).\n"},
+    {0}};
+
 const opt_spec imaging_cli_table[] = {
     {0, "object-distance", "MM", OPT_POSITIVE, OPT_AT(imaging_cli, object_distance),
      .help = "a finite object, MM in front of the first vertex", .def = "infinity"},

@@ -1,5 +1,5 @@
-/* Option tables: parsing, --help and the man page's OPTIONS section from one table
- * (see options.h). */
+/* Option tables: parsing and --help from one table (see options.h; the man page's
+ * sections: options_man.c). */
 #include "sparselens/options.h"
 
 #include <math.h>
@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "app/options_builtin.h"
 #include "sparselens/diag.h"
 #include "sparselens/numparse.h"
 
@@ -19,7 +20,7 @@ enum { HELP_COLUMN = 24, HELP_WIDTH = 79 };
 
 /* The options every command has; handled before the command's table. */
 enum { BUILTIN_HELP = 1, BUILTIN_VERSION, BUILTIN_MAN };
-static const opt_spec builtin_table[] = {
+const opt_spec opt_builtin_table[] = {
     {'h', "help", NULL, OPT_FLAG, BUILTIN_HELP, 0, .help = "print this help and exit"},
     {0, "version", NULL, OPT_FLAG, BUILTIN_VERSION, 0,
      .help = "print the version of sparselens and exit"},
@@ -161,7 +162,8 @@ static void builtin(const opt_command *cmd, int which)
 static void apply(const opt_command *cmd, const opt_spec *s, size_t offset, const char *value,
                   void *opts)
 {
-    if (s >= builtin_table && s < builtin_table + sizeof builtin_table / sizeof *builtin_table)
+    size_t nbuiltin = sizeof opt_builtin_table / sizeof *opt_builtin_table;
+    if (s >= opt_builtin_table && s < opt_builtin_table + nbuiltin)
         builtin(cmd, (int)s->offset);
     opt_spec at = *s;
     at.offset += offset;
@@ -175,7 +177,7 @@ static void parse_long_option(const opt_command *cmd, int argc, char **argv, int
     size_t len = eq ? (size_t)(eq - a) : strlen(a), offset = 0;
     if (!eq && strcmp(a, "help-man") == 0)
         builtin(cmd, BUILTIN_MAN);
-    const opt_spec *s = find(builtin_table, a, len, 0, &offset);
+    const opt_spec *s = find(opt_builtin_table, a, len, 0, &offset);
     if (!s)
         s = find(cmd->table, a, len, 0, &offset);
     if (!s)
@@ -199,7 +201,7 @@ static void parse_short_options(const opt_command *cmd, int argc, char **argv, i
 {
     for (const char *p = argv[*i] + 1; *p; p++) {
         size_t offset = 0;
-        const opt_spec *s = find(builtin_table, NULL, 0, *p, &offset);
+        const opt_spec *s = find(opt_builtin_table, NULL, 0, *p, &offset);
         if (!s)
             s = find(cmd->table, NULL, 0, *p, &offset);
         if (!s) {
@@ -331,78 +333,6 @@ void opt_print_help(FILE *f, const opt_command *cmd)
         wrap(f, cmd->about, 0, 0);
     fputs("Options:\n", f);
     help_table(f, cmd->table);
-    help_table(f, builtin_table);
+    help_table(f, opt_builtin_table);
     fprintf(f, "See %s(1).\n", cmd->name);
-}
-
-/* ---- the man page's OPTIONS ---------------------------------------------------------- */
-
-/* Plain text as roff: backslashes escaped, every '-' of a word that starts with one (an
- * option name, which must copy and paste as ASCII) as \-, and a line that would start
- * with '.' or '\'' protected. */
-static void roff_text(FILE *f, const char *s)
-{
-    if (*s == '.' || *s == '\'')
-        fputs("\\&", f);
-    int option_word = 0;
-    for (const char *p = s; *p; p++) {
-        if (p == s || strchr(" ('/", p[-1]))
-            option_word = *p == '-';
-        if (*p == '\\')
-            fputs("\\e", f);
-        else if (*p == '-' && option_word)
-            fputs("\\-", f);
-        else
-            fputc(*p, f);
-    }
-}
-
-static void man_entry(FILE *f, const opt_spec *s)
-{
-    fputs(".TP\n", f);
-    if (s->short_name)
-        fprintf(f, "\\fB\\-%c\\fR%s", s->short_name, s->long_name ? ", " : "");
-    if (s->long_name) {
-        char name[64];
-        fputs("\\fB", f);
-        roff_text(f, opt_name(s, name));
-        fputs("\\fR", f);
-    }
-    if (s->arg) {
-        fputs(" \\fI", f);
-        roff_text(f, s->arg);
-        fputs("\\fR", f);
-    } else if (s->type == OPT_CHOICE) {
-        fputc(' ', f);
-        for (const opt_choice *c = s->choices; c->name; c++)
-            fprintf(f, "%s\\fB%s\\fR", c == s->choices ? "" : "|", c->name);
-    }
-    fputc('\n', f);
-    roff_text(f, s->help ? s->help : "");
-    if (s->def) {
-        fputs(" (default: ", f);
-        roff_text(f, s->def);
-        fputc(')', f);
-    }
-    fputs(".\n", f);
-    if (s->man)
-        fprintf(f, "%s%s", s->man, s->man[strlen(s->man) - 1] == '\n' ? "" : "\n");
-}
-
-static void man_table(FILE *f, const opt_spec *table)
-{
-    for (const opt_spec *s = table; s->type != OPT_END; s++) {
-        if (s->type == OPT_GROUP)
-            man_table(f, s->group);
-        else
-            man_entry(f, s);
-    }
-}
-
-void opt_print_man(FILE *f, const opt_command *cmd)
-{
-    fprintf(f, ".\\\" Generated from the option table of %s (src/app/): edit it there, then\n"
-               ".\\\" run make man.\n", cmd->name);
-    man_table(f, cmd->table);
-    man_table(f, builtin_table);
 }

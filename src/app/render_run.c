@@ -151,160 +151,211 @@ static int emit_camera(const render_options *o, const lens_t *lens, const poly_s
     return 0;
 }
 
-int render_run(const render_options *o, render_stats *st, lens_err *err)
-{
+/* Everything render_run holds between its steps, freed by setup_free. */
+typedef struct {
     scene_t sc;
     lens_t lens;
-    poly_system *sys = NULL;
-    render_lens_ctx *lc = NULL;
-    render_sampler smp = {0};
-    float *img = NULL;
-    int rc = -1;
-    lens_init(&lens);
-    if (scene_load(o->scene, &sc, err)) return -1;
-    if (o->spp > 0) sc.spp = o->spp;
-    if (o->seed) sc.seed = o->seed;
-
-    /* the lens: the scene's lens file, or the lens a given system was fitted to */
-    const char *lens_path = sc.camera;
-    char lens_buf[1024];
-    if (sc.camera_is_poly) {
-        if (poly_read(sc.camera, &sys, err)) goto done;
-        if (poly_find_lens_file(sys, sc.camera, lens_buf, sizeof lens_buf, err)) goto done;
-        lens_path = lens_buf;
-    }
-    if (lens_load(lens_path, o->load, &lens, err)) goto done;
-    if (o->log) lens_cli_warn_notes("lens-render", &lens); /* what an importer skipped */
-    if (sys) {
-        /* a fitted system has its focus and aperture baked in */
-        if (!isnan(sc.focus) || !isnan(sc.fstop)) {
-            lens_errf(err, sc.path, 0, "focus and fstop cannot change a fitted .poly camera; "
-                      "give the lens file instead");
-            goto done;
-        }
-    } else if (render_lens_setup(&lens, sc.focus, sc.fstop, err)) {
-        goto done;
-    }
-    double sw = isnan(sc.sensor_w) ? lens.sensor_w : sc.sensor_w;
-    double sh = isnan(sc.sensor_h) ? lens.sensor_h : sc.sensor_h;
-    if (!(sw > 0 && sh > 0)) {
-        lens_errf(err, sc.path, 0, "no sensor size: add 'sensor W H' (the lens file has none)");
-        goto done;
-    }
-    if (sc.mode != SCENE_GREY) {
-        /* every glass must cover the wavelengths the scene will use */
-        double tmp[lens.nsurf];
-        if (lens_indices(&lens, RENDER_LAMBDA_MIN, tmp, err) ||
-            lens_indices(&lens, RENDER_LAMBDA_MAX, tmp, err))
-            goto done;
-    }
-
-    int use_eta = 1, achromatic = sc.mode == SCENE_GREY || !render_lens_disperses(&lens);
-    double eta_const = 1;
-    int stop_only = 0; /* vignetting off: directions from the stop's line pupil */
+    poly_system *sys;      /* the camera's system; NULL when tracing exactly */
+    render_lens_ctx *lc;
+    render_sampler smp;
     render_camera cam;
-    if (o->exact) {
-        lc = render_lens_exact(&lens, sw, sh, &cam, err);
-        if (o->log) fprintf(o->log, "lens: exact tracing through %s (%zu surfaces)\n", lens_path,
-                            lens.nsurf);
-        use_eta = sc.transmittance != EFFECT_OFF;
-    } else {
-        if (!sys) {
-            render_effects e;
-            if (render_effects_decide(&sc, &lens, sw, sh, &e, err)) goto done;
-            render_effects_print(o->log, &e);
-            char dir[1024];
-            if (o->cache_dir) snprintf(dir, sizeof dir, "%s", o->cache_dir);
-            else render_default_cache_dir(dir, sizeof dir);
-            sys = render_effects_system(&lens, &e, dir, o->threads, o->log, err);
-            if (!sys) goto done;
-            use_eta = e.transmittance;
-            eta_const = e.eta_centre;
-            achromatic = !e.dispersion;
-            stop_only = !e.vignetting;
-        } else {
-            if (o->log) fprintf(o->log, "lens: polynomial system %s\n", sc.camera);
-            if (poly_input_index(sys, "lambda") < 0) {
-                if (sc.mode != SCENE_GREY && !achromatic && o->log)
-                    fprintf(o->log, "note: the system has no lambda input: no dispersion\n");
-                achromatic = 1;
-            }
-            use_eta = sc.transmittance != EFFECT_OFF;
-        }
-        lc = render_lens_poly(sys, &lens, sw, sh, &cam, err);
-    }
-    if (!lc) goto done;
-    if (sc.blades && render_lens_set_blades(lc, sc.blades, sc.blade_rotation * M_PI / 180, err))
-        goto done;
-    if (o->emit_camera) {
-        if (sc.blades) {
-            lens_errf(err, sc.path, 0, "--emit-camera: the module has a round stop (no blades)");
-            goto done;
-        }
-        rc = emit_camera(o, &lens, sys, sw, sh, err);
-        goto done;
-    }
+    char lens_path[1024];  /* the lens file, named in the log */
+    double sw, sh;         /* sensor, mm */
+    int use_eta, achromatic, stop_only; /* stop_only: vignetting off, the stop's line pupil */
+    double eta_const;
+} render_setup;
 
-    double rmax = 0.5 * hypot(sw, sh);
-    if (o->rear_sampling) {
-        render_sampler_rear(&smp, &cam);
-    } else {
-        double l0 = sc.mode == SCENE_GREY ? GLASS_D_LINE : RENDER_LAMBDA_MIN,
-               l1 = sc.mode == SCENE_GREY ? GLASS_D_LINE : RENDER_LAMBDA_MAX;
+static void cache_dir(const render_options *o, char *dir, size_t len)
+{
+    if (o->cache_dir) snprintf(dir, len, "%s", o->cache_dir);
+    else render_default_cache_dir(dir, len);
+}
+
+/* Step 1: the scene, its lens (or the lens a given system was fitted to), focus and
+ * f-stop, the sensor, and glasses that cover the scene's wavelengths. */
+static int load_camera(const render_options *o, render_setup *s, lens_err *err)
+{
+    scene_t *sc = &s->sc;
+    if (scene_load(o->scene, sc, err)) return -1;
+    if (o->spp > 0) sc->spp = o->spp;
+    if (o->seed) sc->seed = o->seed;
+    snprintf(s->lens_path, sizeof s->lens_path, "%s", sc->camera);
+    if (sc->camera_is_poly) {
+        if (poly_read(sc->camera, &s->sys, err)) return -1;
+        if (poly_find_lens_file(s->sys, sc->camera, s->lens_path, sizeof s->lens_path, err))
+            return -1;
+    }
+    if (lens_load(s->lens_path, o->load, &s->lens, err)) return -1;
+    if (o->log) lens_cli_warn_notes("lens-render", &s->lens); /* what an importer skipped */
+    if (s->sys) {
+        /* a fitted system has its focus and aperture baked in */
+        if (!isnan(sc->focus) || !isnan(sc->fstop)) {
+            lens_errf(err, sc->path, 0, "focus and fstop cannot change a fitted .poly camera; "
+                      "give the lens file instead");
+            return -1;
+        }
+    } else if (render_lens_setup(&s->lens, sc->focus, sc->fstop, err)) {
+        return -1;
+    }
+    s->sw = isnan(sc->sensor_w) ? s->lens.sensor_w : sc->sensor_w;
+    s->sh = isnan(sc->sensor_h) ? s->lens.sensor_h : sc->sensor_h;
+    if (!(s->sw > 0 && s->sh > 0)) {
+        lens_errf(err, sc->path, 0, "no sensor size: add 'sensor W H' (the lens file has none)");
+        return -1;
+    }
+    if (sc->mode != SCENE_GREY) {
+        /* every glass must cover the wavelengths the scene will use */
+        double tmp[s->lens.nsurf];
+        if (lens_indices(&s->lens, RENDER_LAMBDA_MIN, tmp, err) ||
+            lens_indices(&s->lens, RENDER_LAMBDA_MAX, tmp, err))
+            return -1;
+    }
+    return 0;
+}
+
+/* Step 2: the lens map: exact tracing, the given system, or a system fitted for the
+ * effects the lens and the scene call for; then the scene's blades. */
+static int choose_lens_map(const render_options *o, render_setup *s, lens_err *err)
+{
+    const scene_t *sc = &s->sc;
+    s->use_eta = sc->transmittance != EFFECT_OFF;
+    s->achromatic = sc->mode == SCENE_GREY || !render_lens_disperses(&s->lens);
+    s->eta_const = 1;
+    s->stop_only = 0;
+    if (o->exact) {
+        s->lc = render_lens_exact(&s->lens, s->sw, s->sh, &s->cam, err);
+        if (o->log) fprintf(o->log, "lens: exact tracing through %s (%zu surfaces)\n",
+                            s->lens_path, s->lens.nsurf);
+    } else if (!s->sys) {
+        render_effects e;
         char dir[1024];
-        if (o->cache_dir) snprintf(dir, sizeof dir, "%s", o->cache_dir);
-        else render_default_cache_dir(dir, sizeof dir);
-        if (render_effects_sampler(&lens, l0, l1, rmax, stop_only, dir, o->threads, o->log, &smp,
-                                   err))
-            goto done;
+        if (render_effects_decide(sc, &s->lens, s->sw, s->sh, &e, err)) return -1;
+        render_effects_print(o->log, &e);
+        cache_dir(o, dir, sizeof dir);
+        s->sys = render_effects_system(&s->lens, &e, dir, o->threads, o->log, err);
+        if (!s->sys) return -1;
+        s->use_eta = e.transmittance;
+        s->eta_const = e.eta_centre;
+        s->achromatic = !e.dispersion;
+        s->stop_only = !e.vignetting;
+        s->lc = render_lens_poly(s->sys, &s->lens, s->sw, s->sh, &s->cam, err);
+    } else {
+        if (o->log) fprintf(o->log, "lens: polynomial system %s\n", sc->camera);
+        if (poly_input_index(s->sys, "lambda") < 0) {
+            if (sc->mode != SCENE_GREY && !s->achromatic && o->log)
+                fprintf(o->log, "note: the system has no lambda input: no dispersion\n");
+            s->achromatic = 1;
+        }
+        s->lc = render_lens_poly(s->sys, &s->lens, s->sw, s->sh, &s->cam, err);
     }
-    img = malloc((size_t)sc.width * sc.height * 3 * sizeof *img);
-    if (!img) {
-        lens_errf(err, sc.path, 0, "out of memory for a %dx%d image", sc.width, sc.height);
-        goto done;
+    if (!s->lc) return -1;
+    if (sc->blades &&
+        render_lens_set_blades(s->lc, sc->blades, sc->blade_rotation * M_PI / 180, err))
+        return -1;
+    return 0;
+}
+
+/* Step 3: the camera-ray sampler, the line pupil over the scene's wavelengths (cached)
+ * or the rear element. */
+static int build_sampler(const render_options *o, render_setup *s, lens_err *err)
+{
+    if (o->rear_sampling) {
+        render_sampler_rear(&s->smp, &s->cam);
+        return 0;
     }
+    int grey = s->sc.mode == SCENE_GREY;
+    double l0 = grey ? GLASS_D_LINE : RENDER_LAMBDA_MIN, l1 = grey ? GLASS_D_LINE : RENDER_LAMBDA_MAX;
+    char dir[1024];
+    cache_dir(o, dir, sizeof dir);
+    return render_effects_sampler(&s->lens, l0, l1, 0.5 * hypot(s->sw, s->sh), s->stop_only, dir,
+                                  o->threads, o->log, &s->smp, err);
+}
+
+/* Step 4: the image, by render_image. */
+static int render_pixels(const render_options *o, render_setup *s, float *img, render_stats *st,
+                         lens_err *err)
+{
+    const scene_t *sc = &s->sc;
     if (o->log)
-        fprintf(o->log, "rendering %dx%d, %ld spp, %s mode, %s sampling, %s\n", sc.width, sc.height,
-                sc.spp, scene_mode_name(sc.mode), o->rear_sampling ? "rear-element" : "line-pupil",
+        fprintf(o->log, "rendering %dx%d, %ld spp, %s mode, %s sampling, %s\n", sc->width,
+                sc->height, sc->spp, scene_mode_name(sc->mode),
+                o->rear_sampling ? "rear-element" : "line-pupil",
                 o->estimator == RENDER_ESTIMATOR_FULL ? "full estimator (Eq. 3, 8, 12)"
                                                       : "estimator of Eq. 13");
-    render_job job = {.scene = &sc, .cam = &cam, .sampler = &smp, .estimator = o->estimator,
-                      .use_eta = use_eta, .achromatic = achromatic,
-                      .filter = sc.filter_tent ? RENDER_FILTER_TENT : RENDER_FILTER_BOX,
-                      .filter_radius = sc.filter_radius,
-                      .eta_const = eta_const, .spp = sc.spp, .threads = o->threads, .progress = o->progress,
+    render_job job = {.scene = sc, .cam = &s->cam, .sampler = &s->smp, .estimator = o->estimator,
+                      .use_eta = s->use_eta, .achromatic = s->achromatic,
+                      .filter = sc->filter_tent ? RENDER_FILTER_TENT : RENDER_FILTER_BOX,
+                      .filter_radius = sc->filter_radius, .eta_const = s->eta_const,
+                      .spp = sc->spp, .threads = o->threads, .progress = o->progress,
                       .progress_ctx = o->progress_ctx};
-    if (render_image(&job, img, NULL, st, err)) goto done;
+    if (render_image(&job, img, NULL, st, err)) return -1;
     if (o->estimator == RENDER_ESTIMATOR_FULL && o->log && st)
         fprintf(o->log, "full estimator: %.0f rays reached the scene, %.0f of them (%.3g%%) "
                 "weighted by Eq. 13 (a factor not finite: |A| = 0, a blocked difference step)\n",
                 st->full_rays, st->full_fallback,
                 st->full_rays > 0 ? 100 * st->full_fallback / st->full_rays : 0);
-    if (write_exr(o->exr, sc.width, sc.height, img, err)) goto done;
-    if (o->png && render_write_png(o->png, sc.width, sc.height, img, err)) goto done;
+    return 0;
+}
+
+/* Step 5: the image files, and the figures against a reference or a second render. */
+static int write_outputs(const render_options *o, const scene_t *sc, const float *img,
+                         const render_stats *st, lens_err *err)
+{
+    if (write_exr(o->exr, sc->width, sc->height, img, err)) return -1;
+    if (o->png && render_write_png(o->png, sc->width, sc->height, img, err)) return -1;
     if (o->reference) {
         double rms, rel;
-        if (render_compare(o->reference, sc.width, sc.height, img, &rms, &rel, err)) goto done;
-        if (o->log) fprintf(o->log, "error vs %s: rms %.4g (%.2f%% of its mean)\n", o->reference, rms,
-                            100 * rel);
+        if (render_compare(o->reference, sc->width, sc->height, img, &rms, &rel, err)) return -1;
+        if (o->log) fprintf(o->log, "error vs %s: rms %.4g (%.2f%% of its mean)\n", o->reference,
+                            rms, 100 * rel);
     }
     if (o->noise_against) {
         float *other = NULL;
-        if (render_read_rgb(o->noise_against, sc.width, sc.height, &other, err)) goto done;
-        double nz = render_noise(sc.width, sc.height, img, other);
+        if (render_read_rgb(o->noise_against, sc->width, sc->height, &other, err)) return -1;
+        double nz = render_noise(sc->width, sc->height, img, other);
         free(other);
         if (o->log)
             fprintf(o->log, "noise: median per-pixel relative variance %.4g against %s "
                     "(times this render's processor time: %.4g s)\n", nz, o->noise_against,
                     st ? nz * st->cpu_seconds : NAN);
     }
+    return 0;
+}
+
+static void setup_free(render_setup *s)
+{
+    render_sampler_free(&s->smp);
+    render_lens_free(s->lc);
+    poly_free(s->sys);
+    lens_free(&s->lens);
+    scene_free(&s->sc);
+}
+
+int render_run(const render_options *o, render_stats *st, lens_err *err)
+{
+    render_setup s = {0};
+    float *img = NULL;
+    int rc = -1;
+    lens_init(&s.lens);
+    if (load_camera(o, &s, err) || choose_lens_map(o, &s, err)) goto done;
+    if (o->emit_camera) {
+        if (s.sc.blades) {
+            lens_errf(err, s.sc.path, 0, "--emit-camera: the module has a round stop (no blades)");
+            goto done;
+        }
+        rc = emit_camera(o, &s.lens, s.sys, s.sw, s.sh, err);
+        goto done;
+    }
+    if (build_sampler(o, &s, err)) goto done;
+    img = malloc((size_t)s.sc.width * s.sc.height * 3 * sizeof *img);
+    if (!img) {
+        lens_errf(err, s.sc.path, 0, "out of memory for a %dx%d image", s.sc.width, s.sc.height);
+        goto done;
+    }
+    if (render_pixels(o, &s, img, st, err) || write_outputs(o, &s.sc, img, st, err)) goto done;
     rc = 0;
 done:
     free(img);
-    render_sampler_free(&smp);
-    render_lens_free(lc);
-    poly_free(sys);
-    lens_free(&lens);
-    scene_free(&sc);
+    setup_free(&s);
     return rc;
 }

@@ -5,18 +5,7 @@ static const opt_choice patterns[] = {
     {"hexapolar", PUPIL_HEXAPOLAR}, {"grid", PUPIL_GRID}, {"random", PUPIL_RANDOM}, {NULL, 0}};
 
 static const opt_spec spot_table[] = {
-    {0, "fields", "LIST", OPT_STRING, OPT_AT(spot_cli, im.fields),
-     .help = "field angles in degrees (object at infinity) or object heights in mm "
-             "(--object-distance)",
-     .def = "0, 0.7 and 1 times the largest",
-     .man =
-     "The largest field is the half field of view of the sensor diagonal named in the lens\n"
-     "header, or, without one, the largest field whose chief ray still reaches the sensor.\n"},
-    {0, "wavelengths", "LIST", OPT_STRING, OPT_AT(spot_cli, im.wavelengths),
-     .help = "um values or Fraunhofer names; the middle one is the primary", .def = "F,d,C",
-     .man =
-     "Wavelengths are 0.2 to 2.5 um; the line names are i h g F' F e d D C' C r A' s t\n"
-     "(F = 0.4861327, d = 0.5875618, C = 0.6562725).\n"},
+    {.type = OPT_GROUP, OPT_AT(spot_cli, im), .group = imaging_cli_field_table},
     {0, "pupil", NULL, OPT_CHOICE, OPT_AT(spot_cli, pattern), .choices = patterns,
      .help = "how rays sample the stop", .def = "hexapolar",
      .man =

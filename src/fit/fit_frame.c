@@ -56,156 +56,193 @@ static int partner(int noutputs, const char *const *outputs, const char *name)
     return find_name(noutputs, outputs, buf);
 }
 
-/* One group of outputs fitted by the core: in the frame (frame = 1: inputs without y,
- * outputs rotated into the frame) or outside it (the inputs through the transforms).
- * Copies its parts, terms and pass circles into sys. A passage group (clip = 1) is
- * fitted on every row where its outputs are finite, as one part copied into every part
- * of sys (its rows are not the others', so neither would its cuts be), with the
- * passage tolerance, and gets circles around the hits of the passing rows. */
-static int fit_group(poly_system *sys, int in_frame, int clip, const int *outs, int ng, int ninputs,
-                     const char *const *inputs, const char *const *outputs, int noutputs,
-                     size_t count, const double *in, const double *out, const fit_options *opt,
-                     lens_err *err)
+/* One group of outputs on its way through the core: its inputs (in the frame: all but
+ * y) and outputs. */
+typedef struct {
+    int frame;            /* fitted in the meridional frame */
+    int clip;             /* a passage group */
+    const int *outs;      /* the group's outputs among the system's */
+    int ng, ninputs, noutputs, nc;
+    int ieta;
+    const char **cnames;  /* the core's inputs */
+    const char **gnames;  /* the core's outputs */
+    int *cmap;            /* core input k is input cmap[k] */
+    double *cin, *cout;   /* count x nc, count x ng */
+} group;
+
+static void group_free(group *g)
 {
-    int frame = in_frame && poly_get_frame(sys) == POLY_FRAME_MERIDIONAL;
-    int iy = frame ? poly_input_index(sys, "y") : -1;
-    int ix = frame ? poly_input_index(sys, "x") : -1;
-    int ieta = find_name(noutputs, outputs, "out_eta");
-    int nc = ninputs - frame; /* the core's inputs: all but y in the frame */
-    int rc = -1;
-    const char **cnames = malloc((size_t)nc * sizeof *cnames);
-    const char **gnames = malloc((size_t)ng * sizeof *gnames);
-    int *cmap = malloc((size_t)nc * sizeof *cmap); /* core input k is input cmap[k] */
-    double *cin = malloc((count ? count : 1) * (size_t)nc * sizeof *cin);
-    double *cout = malloc((count ? count : 1) * (size_t)ng * sizeof *cout);
+    free(g->cnames); free(g->gnames); free(g->cmap); free(g->cin); free(g->cout);
+}
+
+/* The core's rows: the inputs through the frame or the transforms, the outputs rotated
+ * into the frame; nan outputs where a ray does not count for the group. */
+static int group_rows(group *g, const poly_system *sys, const char *const *inputs,
+                      const char *const *outputs, size_t count, const double *in,
+                      const double *out, lens_err *err)
+{
+    int ninputs = g->ninputs, noutputs = g->noutputs, nc = g->nc, ng = g->ng;
+    int iy = g->frame ? poly_input_index(sys, "y") : -1;
     double *t = malloc((size_t)ninputs * sizeof *t), *yo = malloc((size_t)noutputs * sizeof *yo);
-    int *e = malloc((size_t)ninputs * sizeof *e), *ce = malloc((size_t)(nc + 1) * sizeof *ce);
-    poly_system *core = NULL;
-    if (!cnames || !gnames || !cmap || !cin || !cout || !t || !yo || !e || !ce) {
+    g->cnames = malloc((size_t)nc * sizeof *g->cnames);
+    g->gnames = malloc((size_t)ng * sizeof *g->gnames);
+    g->cmap = malloc((size_t)nc * sizeof *g->cmap);
+    g->cin = malloc((count ? count : 1) * (size_t)nc * sizeof *g->cin);
+    g->cout = malloc((count ? count : 1) * (size_t)ng * sizeof *g->cout);
+    if (!t || !yo || !g->cnames || !g->gnames || !g->cmap || !g->cin || !g->cout) {
+        free(t); free(yo);
         lens_errf(err, NULL, 0, "out of memory");
-        goto out;
+        return -1;
     }
     for (int i = 0, k = 0; i < ninputs; i++)
         if (i != iy) {
-            cnames[k] = inputs[i];
-            cmap[k++] = i;
+            g->cnames[k] = inputs[i];
+            g->cmap[k++] = i;
         }
-    for (int g = 0; g < ng; g++)
-        gnames[g] = outputs[outs[g]];
+    for (int q = 0; q < ng; q++)
+        g->gnames[q] = outputs[g->outs[q]];
     for (size_t r = 0; r < count; r++) {
         const double *x = in + r * (size_t)ninputs;
         double cs[2];
         poly_frame_in(sys, x, t, cs);
-        if (!frame) /* the transforms alone */
+        if (!g->frame) /* the transforms alone */
             for (int i = 0; i < ninputs; i++)
                 t[i] = poly_get_transform(sys, i) == POLY_XFORM_INVERSE_SQUARE ? 1 / (x[i] * x[i])
                                                                                : x[i];
         for (int k = 0; k < nc; k++)
-            cin[r * (size_t)nc + k] = t[cmap[k]];
+            g->cin[r * (size_t)nc + k] = t[g->cmap[k]];
         memcpy(yo, out + r * (size_t)noutputs, (size_t)noutputs * sizeof *yo);
-        int ok = usable(yo, noutputs, ieta);
-        for (int g = 0; clip && g < ng; g++)
-            ok = (g == 0 || ok) && isfinite(yo[outs[g]]);
-        if (ok && frame)
+        int ok = usable(yo, noutputs, g->ieta);
+        for (int q = 0; g->clip && q < ng; q++)
+            ok = (q == 0 || ok) && isfinite(yo[g->outs[q]]);
+        if (ok && g->frame)
             poly_frame_out_inverse(sys, cs, yo);
         /* a ray another output or out_eta blocks is left out here too */
-        for (int g = 0; g < ng; g++)
-            cout[r * (size_t)ng + g] = ok ? yo[outs[g]] : NAN;
+        for (int q = 0; q < ng; q++)
+            g->cout[r * (size_t)ng + q] = ok ? yo[g->outs[q]] : NAN;
     }
-    fit_options co = *opt;
-    co.frame = frame ? POLY_FRAME_MERIDIONAL : POLY_FRAME_NONE;
-    double gtol[64]; /* per-output tolerances of this group's outputs */
-    if (opt->output_tolerance || clip) {
+    free(t); free(yo);
+    return 0;
+}
+
+/* The core's options for the group: per-output tolerances (a passage output's from the
+ * passage tolerance and its pass radius), no parts for passage, no offset on the
+ * frame's radius x, and, once a first group has fitted, its scaling and parts (*sc, to
+ * be freed by the caller). gtol holds 64 tolerances. */
+static int group_options(const group *g, const poly_system *sys, const char *const *outputs,
+                         size_t count, const double *out, const fit_options *opt,
+                         fit_options *co, double *gtol, double **sc, lens_err *err)
+{
+    int ng = g->ng, nc = g->nc, noutputs = g->noutputs;
+    *co = *opt;
+    co->frame = g->frame ? POLY_FRAME_MERIDIONAL : POLY_FRAME_NONE;
+    if (opt->output_tolerance || g->clip) {
         if (ng > 64) {
             lens_errf(err, NULL, 0, "at most 64 outputs with per-output tolerances");
-            goto out;
+            return -1;
         }
-        for (int g = 0; g < ng; g++) {
-            gtol[g] = opt->output_tolerance ? opt->output_tolerance[outs[g]] : opt->tolerance;
-            int q = partner(noutputs, outputs, outputs[outs[g]]);
-            if (clip && !(opt->output_tolerance && gtol[g] > 0) && opt->passage_tolerance > 0 &&
-                q >= 0)
-                gtol[g] = opt->passage_tolerance *
-                          pass_radius(out, count, noutputs, ieta, outs[g], q);
+        for (int q = 0; q < ng; q++) {
+            int o = g->outs[q];
+            gtol[q] = opt->output_tolerance ? opt->output_tolerance[o] : opt->tolerance;
+            int p = partner(noutputs, outputs, outputs[o]);
+            if (g->clip && !(opt->output_tolerance && gtol[q] > 0) &&
+                opt->passage_tolerance > 0 && p >= 0)
+                gtol[q] = opt->passage_tolerance * pass_radius(out, count, noutputs, g->ieta, o, p);
         }
-        co.output_tolerance = gtol;
+        co->output_tolerance = gtol;
     }
-    if (clip) {
-        co.max_parts = 1;
-        co.force_parts = 1;
+    if (g->clip) {
+        co->max_parts = 1;
+        co->force_parts = 1;
     }
-    if (frame) {
+    if (g->frame) {
+        int ix = poly_input_index(sys, "x"), iy = poly_input_index(sys, "y");
         int kx = ix < iy ? ix : ix - 1;
         if (kx < 32)
-            co.no_offset |= 1u << kx;
+            co->no_offset |= 1u << kx;
     }
     /* The second group (outside the frame) uses the scaling the first one chose (one
      * scaling per input; y, absent from the frame, is its own) and its number of
      * radial parts, cut by the same rule on the same rows. */
-    double *sc = NULL;
+    *sc = NULL;
     if (poly_nparts(sys) > 0) {
-        sc = malloc((size_t)nc * 2 * sizeof *sc);
-        if (!sc) {
+        *sc = malloc((size_t)nc * 2 * sizeof **sc);
+        if (!*sc) {
             lens_errf(err, NULL, 0, "out of memory");
-            goto out;
+            return -1;
         }
         int sy = poly_get_frame(sys) == POLY_FRAME_MERIDIONAL ? poly_input_index(sys, "y") : -1;
         for (int k = 0; k < nc; k++) {
-            poly_get_scaling(sys, cmap[k], sc + 2 * k, sc + 2 * k + 1);
-            if (cmap[k] == sy)
-                sc[2 * k] = sc[2 * k + 1] = NAN;
+            poly_get_scaling(sys, g->cmap[k], *sc + 2 * k, *sc + 2 * k + 1);
+            if (g->cmap[k] == sy)
+                (*sc)[2 * k] = (*sc)[2 * k + 1] = NAN;
         }
-        co.scaling = sc;
-        if (!clip)
-            co.force_parts = poly_nparts(sys);
+        co->scaling = *sc;
+        if (!g->clip)
+            co->force_parts = poly_nparts(sys);
     }
-    core = fit_system_core(poly_lens_name(sys), nc, cnames, ng, gnames, count, cin, cout, &co, err);
-    free(sc);
-    if (!core)
-        goto out;
-    /* The core's polynomials over the original inputs (y: exponent 0, scale 1). */
-    for (int k = 0; k < nc; k++) {
-        double off, scale;
-        poly_get_scaling(core, k, &off, &scale);
-        poly_set_scaling(sys, cmap[k], off, scale);
+    return 0;
+}
+
+/* Part cp of the core's polynomials into part sp of sys, over the original inputs
+ * (y: exponent 0). */
+static int copy_terms(poly_system *sys, int sp, const poly_system *core, int cp, const group *g,
+                      lens_err *err)
+{
+    int e[POLY_MAX_INPUTS + 1], ce[POLY_MAX_INPUTS + 1];
+    for (int q = 0; q < g->ng; q++)
+        for (int tt = 0; tt < poly_nterms(core, cp, q); tt++) {
+            double coef;
+            poly_get_term(core, cp, q, tt, ce, &coef);
+            memset(e, 0, (size_t)g->ninputs * sizeof *e);
+            for (int k = 0; k < g->nc; k++)
+                e[g->cmap[k]] = ce[k];
+            if (poly_add_term(sys, sp, g->outs[q], e, coef) != 0) {
+                lens_errf(err, NULL, 0, "out of memory");
+                return -1;
+            }
+        }
+    return 0;
+}
+
+/* A passage group's one part, the same polynomial in every part of sys (its rows are
+ * not the others', so neither would its cuts be), with circles around the hits of the
+ * passing rows. */
+static int take_clip_group(poly_system *sys, const poly_system *core, const group *g,
+                           const char *const *outputs, size_t count, const double *out,
+                           lens_err *err)
+{
+    int noutputs = g->noutputs;
+    if (poly_nparts(sys) == 0)
+        poly_add_part(sys, 0, INFINITY);
+    for (int p = 0; p < poly_nparts(sys); p++)
+        if (copy_terms(sys, p, core, 0, g, err) != 0)
+            return -1;
+    for (int q = 0; q < g->ng; q++) {
+        const char *name = outputs[g->outs[q]];
+        int p = partner(noutputs, outputs, name);
+        double rad = p >= 0 ? pass_radius(out, count, noutputs, g->ieta, g->outs[q], p) : 0;
+        if (name[strlen(name) - 1] == 'x' && rad > 0)
+            poly_add_pass_circle(sys, g->outs[q], p, rad * (1 + 1e-9));
     }
+    for (int m = 0; m < poly_nmeta(core); m++) {
+        const char *key = poly_meta_key(core, m), *val = poly_get_meta(core, key);
+        if (!strcmp(key, "fit_samples"))
+            poly_set_meta(sys, "passage_samples", val);
+        else if (!poly_get_meta(sys, key) || !strcmp(key, "fit_flags"))
+            poly_set_meta(sys, key, val);
+    }
+    return 0;
+}
+
+/* A group's parts: the first group's cut the rings, a later one must cut the same. */
+static int take_group(poly_system *sys, const poly_system *core, const group *g, lens_err *err)
+{
     int first = poly_nparts(sys) == 0;
-    if (clip) { /* one part, the same polynomial in every part of sys */
-        if (first)
-            poly_add_part(sys, 0, INFINITY);
-        for (int p = 0; p < poly_nparts(sys); p++)
-            for (int g = 0; g < ng; g++)
-                for (int tt = 0; tt < poly_nterms(core, 0, g); tt++) {
-                    double coef;
-                    poly_get_term(core, 0, g, tt, ce, &coef);
-                    memset(e, 0, (size_t)ninputs * sizeof *e);
-                    for (int k = 0; k < nc; k++)
-                        e[cmap[k]] = ce[k];
-                    if (poly_add_term(sys, p, outs[g], e, coef) != 0) {
-                        lens_errf(err, NULL, 0, "out of memory");
-                        goto out;
-                    }
-                }
-        for (int g = 0; g < ng; g++) {
-            int q = partner(noutputs, outputs, outputs[outs[g]]);
-            double rad = q >= 0 ? pass_radius(out, count, noutputs, ieta, outs[g], q) : 0;
-            if (outputs[outs[g]][strlen(outputs[outs[g]]) - 1] == 'x' && rad > 0)
-                poly_add_pass_circle(sys, outs[g], q, rad * (1 + 1e-9));
-        }
-        for (int m = 0; m < poly_nmeta(core); m++) {
-            const char *key = poly_meta_key(core, m), *val = poly_get_meta(core, key);
-            if (!strcmp(key, "fit_samples"))
-                poly_set_meta(sys, "passage_samples", val);
-            else if (!poly_get_meta(sys, key) || !strcmp(key, "fit_flags"))
-                poly_set_meta(sys, key, val);
-        }
-        rc = 0;
-        goto out;
-    }
     if (!first && poly_nparts(sys) != poly_nparts(core)) {
         lens_errf(err, NULL, 0, "the outputs in and outside the frame chose different radial "
                                 "parts: fit them separately or use --frame none");
-        goto out;
+        return -1;
     }
     for (int p = 0; p < poly_nparts(core); p++) {
         double rmin, rmax, a, b;
@@ -219,26 +256,16 @@ static int fit_group(poly_system *sys, int in_frame, int clip, const int *outs, 
             (isfinite(b) ? fabs(b - rmax) > 1e-9 * (1 + fabs(b)) : b != rmax)) {
             lens_errf(err, NULL, 0, "the outputs in and outside the frame chose different "
                                     "radial parts: fit them separately or use --frame none");
-            goto out;
+            return -1;
         }
-        for (int g = 0; g < ng; g++)
-            for (int tt = 0; tt < poly_nterms(core, p, g); tt++) {
-                double coef;
-                poly_get_term(core, p, g, tt, ce, &coef);
-                memset(e, 0, (size_t)ninputs * sizeof *e);
-                for (int k = 0; k < nc; k++)
-                    e[cmap[k]] = ce[k];
-                if (poly_add_term(sys, p, outs[g], e, coef) != 0) {
-                    lens_errf(err, NULL, 0, "out of memory");
-                    goto out;
-                }
-            }
+        if (copy_terms(sys, p, core, p, g, err) != 0)
+            return -1;
     }
     for (int c = 0; c < poly_npass_circles(core); c++) {
         int a, b;
         double radius;
         poly_get_pass_circle(core, c, &a, &b, &radius);
-        poly_add_pass_circle(sys, outs[a], outs[b], radius);
+        poly_add_pass_circle(sys, g->outs[a], g->outs[b], radius);
     }
     for (int m = 0; m < poly_nmeta(core); m++) {
         const char *key = poly_meta_key(core, m), *val = poly_get_meta(core, key);
@@ -247,12 +274,103 @@ static int fit_group(poly_system *sys, int in_frame, int clip, const int *outs, 
             continue;
         poly_set_meta(sys, key, val);
     }
-    rc = 0;
+    return 0;
+}
+
+/* One group of outputs fitted by the core: in the frame (frame = 1: inputs without y,
+ * outputs rotated into the frame) or outside it (the inputs through the transforms).
+ * Copies its parts, terms and pass circles into sys. A passage group (clip = 1) is
+ * fitted on every row where its outputs are finite, as one part copied into every part
+ * of sys, with the passage tolerance, and gets circles around the hits of the passing
+ * rows. */
+static int fit_group(poly_system *sys, int in_frame, int clip, const int *outs, int ng, int ninputs,
+                     const char *const *inputs, const char *const *outputs, int noutputs,
+                     size_t count, const double *in, const double *out, const fit_options *opt,
+                     lens_err *err)
+{
+    group g = {0};
+    g.frame = in_frame && poly_get_frame(sys) == POLY_FRAME_MERIDIONAL;
+    g.clip = clip;
+    g.outs = outs;
+    g.ng = ng;
+    g.ninputs = ninputs;
+    g.noutputs = noutputs;
+    g.nc = ninputs - g.frame; /* the core's inputs: all but y in the frame */
+    g.ieta = find_name(noutputs, outputs, "out_eta");
+    int rc = -1;
+    poly_system *core = NULL;
+    fit_options co;
+    double gtol[64], *sc = NULL;
+    if (group_rows(&g, sys, inputs, outputs, count, in, out, err) != 0 ||
+        group_options(&g, sys, outputs, count, out, opt, &co, gtol, &sc, err) != 0)
+        goto out;
+    core = fit_system_core(poly_lens_name(sys), g.nc, g.cnames, ng, g.gnames, count, g.cin,
+                           g.cout, &co, err);
+    if (!core)
+        goto out;
+    for (int k = 0; k < g.nc; k++) {
+        double off, scale;
+        poly_get_scaling(core, k, &off, &scale);
+        poly_set_scaling(sys, g.cmap[k], off, scale);
+    }
+    rc = clip ? take_clip_group(sys, core, &g, outputs, count, out, err)
+              : take_group(sys, core, &g, err);
 out:
+    free(sc);
     poly_free(core);
-    free(cnames); free(gnames); free(cmap); free(cin); free(cout); free(t); free(yo); free(e);
-    free(ce);
+    group_free(&g);
     return rc;
+}
+
+/* Held-out errors of a pair in the frame are radial and sagittal; what a user
+ * compares with is the error per lens-frame coordinate, which for rays spread evenly in
+ * angle is sqrt((radial^2 + sagittal^2) / 2) for both. */
+static void frame_holdout_meta(poly_system *sys, int noutputs, const char *const *outputs,
+                               const fit_options *opt)
+{
+    for (int o = 0; opt->frame && o < noutputs; o++) {
+        int q;
+        char key[256], kq[256], m1[256], m2[256];
+        size_t l = strlen(outputs[o]);
+        if (poly_get_output_plain(sys, o) || l < 2 || outputs[o][l - 2] != '_' ||
+            (outputs[o][l - 1] != 'x' && outputs[o][l - 1] != 'u'))
+            continue;
+        snprintf(kq, sizeof kq, "%s", outputs[o]);
+        kq[l - 1] = outputs[o][l - 1] == 'x' ? 'y' : 'v';
+        q = find_name(noutputs, outputs, kq);
+        snprintf(key, sizeof key, "fit_%s", outputs[o]);
+        snprintf(kq, sizeof kq, "fit_%s", outputs[q]);
+        const char *va = poly_get_meta(sys, key), *vb = poly_get_meta(sys, kq);
+        int ta, da, tb, db;
+        double ha, hb, tola, tolb;
+        if (!va || !vb ||
+            sscanf(va, "terms %d degree %d holdout_rms %lf tolerance %lf", &ta, &da, &ha, &tola) != 4 ||
+            sscanf(vb, "terms %d degree %d holdout_rms %lf tolerance %lf", &tb, &db, &hb, &tolb) != 4)
+            continue;
+        double h = sqrt(0.5 * (ha * ha + hb * hb));
+        snprintf(m1, sizeof m1, "terms %d degree %d holdout_rms %.6g tolerance %.6g frame_holdout_rms %.6g",
+                 ta, da, h, tola, ha);
+        snprintf(m2, sizeof m2, "terms %d degree %d holdout_rms %.6g tolerance %.6g frame_holdout_rms %.6g",
+                 tb, db, h, tolb, hb);
+        poly_set_meta(sys, key, m1);
+        poly_set_meta(sys, kq, m2);
+    }
+}
+
+/* fit_flags: the core's, with the frame and the transform. */
+static void record_frame_flags(poly_system *sys, int noutputs, const char *const *outputs,
+                               const fit_options *opt, int xf)
+{
+    const char *ff = poly_get_meta(sys, "fit_flags");
+    char buf[1400], ex[600] = "";
+    for (int o = 0, n = 0; o < noutputs; o++)
+        if (poly_get_output_plain(sys, o)) {
+            size_t l = strlen(ex);
+            snprintf(ex + l, sizeof ex - l, "%s%s", n++ ? "," : " --frame-except ", outputs[o]);
+        }
+    snprintf(buf, sizeof buf, "%s --frame %s%s --lambda-transform %s", ff ? ff : "",
+             poly_frame_name(opt->frame), ex, poly_xform_name(xf));
+    poly_set_meta(sys, "fit_flags", buf);
 }
 
 poly_system *fit_system(const char *lens_name, int ninputs, const char *const *inputs,
@@ -328,48 +446,8 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
     for (int i = 0; i < ninputs; i++)
         if (lo[i] <= hi[i])
             poly_set_domain(sys, i, lo[i], hi[i]);
-    /* Held-out errors of a pair in the frame are radial and sagittal; what a user
-     * compares with is the error per lens-frame coordinate, which for rays spread
-     * evenly in angle is sqrt((radial^2 + sagittal^2) / 2) for both. */
-    for (int o = 0; opt->frame && o < noutputs; o++) {
-        int q;
-        char key[256], kq[256], m1[256], m2[256];
-        size_t l = strlen(outputs[o]);
-        if (poly_get_output_plain(sys, o) || l < 2 || outputs[o][l - 2] != '_' ||
-            (outputs[o][l - 1] != 'x' && outputs[o][l - 1] != 'u'))
-            continue;
-        snprintf(kq, sizeof kq, "%s", outputs[o]);
-        kq[l - 1] = outputs[o][l - 1] == 'x' ? 'y' : 'v';
-        q = find_name(noutputs, outputs, kq);
-        snprintf(key, sizeof key, "fit_%s", outputs[o]);
-        snprintf(kq, sizeof kq, "fit_%s", outputs[q]);
-        const char *va = poly_get_meta(sys, key), *vb = poly_get_meta(sys, kq);
-        int ta, da, tb, db;
-        double ha, hb, tola, tolb;
-        if (!va || !vb ||
-            sscanf(va, "terms %d degree %d holdout_rms %lf tolerance %lf", &ta, &da, &ha, &tola) != 4 ||
-            sscanf(vb, "terms %d degree %d holdout_rms %lf tolerance %lf", &tb, &db, &hb, &tolb) != 4)
-            continue;
-        double h = sqrt(0.5 * (ha * ha + hb * hb));
-        snprintf(m1, sizeof m1, "terms %d degree %d holdout_rms %.6g tolerance %.6g frame_holdout_rms %.6g",
-                 ta, da, h, tola, ha);
-        snprintf(m2, sizeof m2, "terms %d degree %d holdout_rms %.6g tolerance %.6g frame_holdout_rms %.6g",
-                 tb, db, h, tolb, hb);
-        poly_set_meta(sys, key, m1);
-        poly_set_meta(sys, kq, m2);
-    }
-    {
-        const char *ff = poly_get_meta(sys, "fit_flags");
-        char buf[1400], ex[600] = "";
-        for (int o = 0, n = 0; o < noutputs; o++)
-            if (poly_get_output_plain(sys, o)) {
-                size_t l = strlen(ex);
-                snprintf(ex + l, sizeof ex - l, "%s%s", n++ ? "," : " --frame-except ", outputs[o]);
-            }
-        snprintf(buf, sizeof buf, "%s --frame %s%s --lambda-transform %s", ff ? ff : "",
-                 poly_frame_name(opt->frame), ex, poly_xform_name(xf));
-        poly_set_meta(sys, "fit_flags", buf);
-    }
+    frame_holdout_meta(sys, noutputs, outputs, opt);
+    record_frame_flags(sys, noutputs, outputs, opt, xf);
     free(outs); free(lo); free(hi);
     return sys;
 fail:

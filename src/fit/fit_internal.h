@@ -1,7 +1,7 @@
 #ifndef SPARSELENS_FIT_INTERNAL_H
 #define SPARSELENS_FIT_INTERNAL_H
-/* Internals of lens-fit, shared by fit.c, fit_lex.c, fit_moments.c, fit_select.c and the
- * unit tests. Nothing here is part of the library's public interface.
+/* Internals of lens-fit, shared by the files of src/fit and the unit tests. Nothing here
+ * is part of the library's public interface.
  *
  * Monomials of nvar variables with total degree <= M are numbered in lexicographic
  * order of their exponent tuples (a_0 first, each ascending). That order is the order
@@ -50,6 +50,15 @@ void fit_powers_free(fit_powers *p);
 static inline const double *fit_pow_row(const fit_powers *p, int v, int e)
 {
     return p->pw + ((size_t)v * (p->maxe + 1) + e) * p->stride;
+}
+/* The dot product of a and b (n each), summed the same way wherever it is used. */
+static inline double fit_dot(const double *a, const double *b, size_t n)
+{
+    double s = 0;
+#pragma omp simd reduction(+ : s)
+    for (size_t i = 0; i < n; i++)
+        s += a[i] * b[i];
+    return s;
 }
 /* Column of monomial a over the samples into col[n]. */
 void fit_column(const fit_powers *p, const int *a, double *col);

@@ -15,7 +15,6 @@
  * remainder can be resolved, so candidates whose remainder falls below DEP of their
  * squared norm count as dependent; the final coefficients are solved by Householder QR
  * on the sample columns (fit_lsq), and the held-out error is measured on samples. */
-#include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,15 +40,6 @@ typedef struct {
     int *chosen, *hcol; /* hcol[l]: column of H holding the term at position l */
     double *g;
 } sel;
-
-static double dotn(const double *a, const double *b, size_t n)
-{
-    double s = 0;
-#pragma omp simd reduction(+ : s)
-    for (size_t i = 0; i < n; i++)
-        s += a[i] * b[i];
-    return s;
-}
 
 #define RR(s, i, j) ((s)->R[(size_t)(j) * (s)->kcap + (i)])
 
@@ -483,7 +473,7 @@ int fit_select(const fit_basis *b, const double *mom, const double *by,
     s.n = train->n;
     s.nh = hold ? hold->n : 0;
     s.nc = b->cand.count;
-    s.yy = dotn(ytrain, ytrain, s.n);
+    s.yy = fit_dot(ytrain, ytrain, s.n);
     int jmax = o->max_terms;
     /* Forward selection runs past the budget (to twice it), then backward
      * elimination comes back: a set chosen from more terms than it keeps. */
@@ -552,65 +542,5 @@ out:
     free(s.R); free(s.Ri); free(s.z); free(s.beta); free(s.C); free(s.dd); free(s.ee);
     free(s.H); free(s.status); free(s.chosen); free(s.hcol); free(s.slot_used); free(s.g); free(hist);
     free(cur.cand); free(cur.coef);
-    return rc;
-}
-
-double fit_eval_sample(const fit_basis *b, const fit_powers *p, size_t i, int k,
-                       const int *cand, const double *coef)
-{
-    double sum = 0;
-    for (int t = 0; t < k; t++) {
-        const int *a = b->exps + (size_t)cand[t] * b->nvar;
-        double m = coef[t];
-        for (int v = 0; v < b->nvar; v++)
-            if (a[v])
-                m *= fit_pow_row(p, v, a[v])[i];
-        sum += m;
-    }
-    return sum;
-}
-
-int fit_lsq(const fit_basis *b, const fit_powers *p, const double *y, int k, const int *cand,
-            double *coef)
-{
-    size_t m = p->n;
-    if (k < 1 || m < (size_t)k)
-        return -1;
-    double *A = malloc(m * (size_t)k * sizeof *A);
-    double *B = malloc(m * sizeof *B);
-    double *nrm = malloc((size_t)k * sizeof *nrm);
-    int rc = -1;
-    if (!A || !B || !nrm)
-        goto out;
-    for (int t = 0; t < k; t++) {
-        double *col = A + (size_t)t * m;
-        fit_column(p, b->exps + (size_t)cand[t] * b->nvar, col);
-        double s = sqrt(dotn(col, col, m));
-        if (!(s > 0))
-            goto out;
-        nrm[t] = s;
-        for (size_t i = 0; i < m; i++)
-            col[i] /= s;
-    }
-    memcpy(B, y, m * sizeof *B);
-    lapack_int info = LAPACKE_dgels(LAPACK_COL_MAJOR, 'N', (lapack_int)m, k, 1, A,
-                                    (lapack_int)m, B, (lapack_int)m);
-    if (info != 0)
-        goto out;
-    double rmax = 0, rmin = INFINITY;
-    for (int t = 0; t < k; t++) {
-        double d = fabs(A[(size_t)t * m + t]);
-        rmax = d > rmax ? d : rmax;
-        rmin = d < rmin ? d : rmin;
-    }
-    if (!(rmin > 1e-13 * rmax))
-        goto out;
-    for (int t = 0; t < k; t++)
-        coef[t] = B[t] / nrm[t];
-    rc = 0;
-out:
-    free(A);
-    free(B);
-    free(nrm);
     return rc;
 }

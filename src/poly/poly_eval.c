@@ -145,6 +145,17 @@ int poly_eval_part_core(const poly_system *s, int part, const double *in, double
  * outputs of the core alone (the inputs taken as in the frame, no pass flags). */
 enum { RUN_EVAL, RUN_JAC, RUN_CORE };
 
+/* What a batch run computes and writes, beyond the plans: outputs sel[0 .. nsel - 1]
+ * go to the columns of out (all, in order, by default); need[o]: output o is computed
+ * (asked for, or needed by the pass test); the pass test checks outputs finite[0 ..
+ * nfinite - 1] for being finite and then the circles (an output in a circle of finite
+ * radius needs no check of its own: a*a + b*b <= r*r fails for inf and nan). */
+typedef struct {
+    int nsel, nfinite;
+    const int *sel, *finite;
+    const unsigned char *need;
+} batch_job;
+
 /* The batch kernel once per instruction set, each with the vector width of its
  * registers and a block that keeps its partial sums in registers (AVX-512: 32 rays in
  * 4 x 8 lanes, 16 accumulators of its 32 registers; AVX2: 8 in 2 x 4; SSE: 4 in 2 x 2);
@@ -298,8 +309,8 @@ __attribute__((target("avx512f"))) static inline void load_cols5(const double *s
 #undef KERNEL_SQRT
 
 typedef void run_fn(const poly_system *, const poly_plan *const *, int, int, size_t,
-                    const size_t *, size_t, const double *, double *, unsigned char *, double *,
-                    double *, double *, int *);
+                    const size_t *, size_t, const double *, double *, unsigned char *,
+                    const batch_job *, double *, double *, double *, int *);
 
 /* The plans the kernel runs for part p: the part's plan, or with outputs outside the frame
  * the frame view's and the plain view's (poly_impl.h; the system itself for a view that
@@ -324,11 +335,9 @@ static int part_plans(const poly_system *s, int what, int p, const poly_plan **p
  * the rays' own inputs as poly_eval does). RUN_EVAL applies the frame and transforms in
  * the kernel; RUN_JAC and RUN_CORE run the core alone. */
 static void batch(const poly_system *s, int what, size_t count, const double *in, double *out,
-                  unsigned char *pass)
+                  unsigned char *pass, const batch_job *job)
 {
     const int nw = what == RUN_JAC ? s->nout * s->nin : s->nout;
-    if (count == 0)
-        return;
     int maxv = 0, maxo = nw;
     size_t maxoff = 1;
     for (int p = 0; p < s->nparts; p++) {
@@ -353,6 +362,8 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
 #endif
     double *v = s->nparts ? aligned_alloc(64, (size_t)maxv * BLK * sizeof(double)) : NULL;
     double *res = aligned_alloc(64, 2 * (size_t)maxo * BLK * sizeof(double));
+    if (res) /* outputs a block leaves out stay 0 (never garbage, never subnormal) */
+        memset(res, 0, 2 * (size_t)maxo * BLK * sizeof(double));
     double *fb = aligned_alloc(64, ((size_t)s->nin + 3) * BLK * sizeof(double));
     size_t *idx = s->nparts > 1 ? malloc(CHUNK * sizeof(size_t)) : NULL;
     int *part = s->nparts > 1 ? malloc(CHUNK * sizeof(int)) : NULL;
@@ -361,14 +372,14 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
     if (!v || !res || !fb || !off || !start || !cur || (s->nparts > 1 && (!idx || !part))) {
         /* no parts, or out of memory: the rays do not pass */
         for (size_t r = 0; r < count; r++) {
-            fill_nan(out + r * (size_t)nw, nw);
+            fill_nan(out + r * (size_t)job->nsel, job->nsel);
             if (pass)
                 pass[r] = 0;
         }
     } else if (s->nparts == 1) {
         const poly_plan *pls[2];
         const int nview = part_plans(s, what, 0, pls);
-        run(s, pls, nview, what, count, NULL, 0, in, out, pass, v, res, fb, off);
+        run(s, pls, nview, what, count, NULL, 0, in, out, pass, job, v, res, fb, off);
     } else {
         for (size_t c0 = 0; c0 < count; c0 += CHUNK) {
             size_t n = count - c0 < CHUNK ? count - c0 : CHUNK;
@@ -387,7 +398,7 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
                 const int nview = part_plans(s, what, q, pls);
                 if (start[q + 1] > start[q])
                     run(s, pls, nview, what, (size_t)(start[q + 1] - start[q]), idx + start[q],
-                        0, in, out, pass, v, res, fb, off);
+                        0, in, out, pass, job, v, res, fb, off);
             }
         }
     }
@@ -401,21 +412,75 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
     free(cur);
 }
 
+/* The job (batch_job) of a run writing outputs sel[0 .. nsel - 1] (sel NULL: all nw
+ * of them, in order), with the pass test or not; then the run. Without memory for the
+ * job, the rays get nan and do not pass. */
+static void batch_job_run(const poly_system *s, int what, size_t count, const double *in,
+                          int nsel, const int *sel, double *out, unsigned char *pass)
+{
+    const int nw = what == RUN_JAC ? s->nout * s->nin : s->nout;
+    if (count == 0)
+        return;
+    int *ids = malloc((2 * (size_t)nw + 1) * sizeof(int));
+    unsigned char *need = malloc((size_t)nw + 1);
+    if (!ids || !need) {
+        for (size_t r = 0; r < count; r++) {
+            fill_nan(out + r * (size_t)nsel, nsel);
+            if (pass)
+                pass[r] = 0;
+        }
+        free(ids);
+        free(need);
+        return;
+    }
+    batch_job job = {.nsel = sel ? nsel : nw, .sel = sel ? sel : ids, .finite = ids + nw,
+                     .need = need};
+    for (int k = 0; k < nw; k++) {
+        ids[k] = k;
+        need[k] = !sel || pass; /* the pass test needs every output */
+    }
+    for (int j = 0; sel && j < nsel; j++)
+        need[sel[j]] = 1;
+    for (int o = 0; pass && o < s->nout; o++) {
+        int in_circle = 0;
+        for (int c = 0; c < s->ncircles; c++)
+            in_circle |= isfinite(s->circles[c].radius * s->circles[c].radius) &&
+                         (s->circles[c].a == o || s->circles[c].b == o);
+        if (!in_circle)
+            ids[nw + job.nfinite++] = o;
+    }
+    batch(s, what, count, in, out, pass, &job);
+    free(ids);
+    free(need);
+}
+
 void poly_eval_batch_core(const poly_system *s, size_t count, const double *in, double *out,
                           unsigned char *pass)
 {
-    batch(s, RUN_EVAL, count, in, out, pass);
+    batch_job_run(s, RUN_EVAL, count, in, 0, NULL, out, pass);
+}
+
+int poly_eval_batch_outputs(const poly_system *s, size_t count, const double *in, int nsel,
+                            const int *outputs, double *out, unsigned char *pass)
+{
+    if (nsel < 0 || (nsel > 0 && !outputs))
+        return -1;
+    for (int j = 0; j < nsel; j++)
+        if (outputs[j] < 0 || outputs[j] >= s->nout)
+            return -1;
+    batch_job_run(s, RUN_EVAL, count, in, nsel, outputs, out, pass);
+    return 0;
 }
 
 void poly_eval_core_batch(const poly_system *s, size_t count, const double *in, double *out)
 {
-    batch(s, RUN_CORE, count, in, out, NULL);
+    batch_job_run(s, RUN_CORE, count, in, 0, NULL, out, NULL);
 }
 
 void poly_eval_jacobian_batch_core(const poly_system *s, size_t count, const double *in,
                               double *jac)
 {
-    batch(s, RUN_JAC, count, in, jac, NULL);
+    batch_job_run(s, RUN_JAC, count, in, 0, NULL, jac, NULL);
 }
 
 int poly_eval_jacobian_core(const poly_system *s, const double *in, double *out, double *jac)

@@ -7,7 +7,8 @@
  *
  * Runs the plans pls[0 .. nview - 1] (one part's views, see batch()) on n rays: ray r is
  * row idx[r] of in (row first + r if idx is NULL) and goes to the same row of out (and
- * pass). With RUN_EVAL the system's frame and transforms are applied in the block too
+ * pass), its columns and the outputs it computes and tests as job says (batch_job in
+ * poly_eval.c). With RUN_EVAL the system's frame and transforms are applied in the block too
  * (the arithmetic of poly_frame.c on whole columns), so a framed system costs one pass
  * over its rays, its two views' terms and a few operations per ray more. A block is
  * NV = KBLK / VW vectors; the loops over q < NV have constant bounds and are unrolled, so
@@ -23,7 +24,8 @@
 KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *const *pls, int nview,
                                       int what, size_t n, const size_t *idx, size_t first,
                                       const double *in, double *out, unsigned char *pass,
-                                      double *vbuf, double *resbuf, double *fbuf, int *offbuf)
+                                      const batch_job *job, double *vbuf, double *resbuf,
+                                      double *fbuf, int *offbuf)
 {
     typedef double vn __attribute__((vector_size(VW * sizeof(double))));
     typedef long long vmask __attribute__((vector_size(VW * sizeof(long long))));
@@ -32,6 +34,7 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
 #endif
     vn *v = (vn *)vbuf;
     const int nin = s->nin, nres = pls[0]->nout;
+    const int nst = job->nsel, *sel = job->sel; /* res[sel[j]] goes to column j of out */
     /* the frame (poly_frame.c) done here, on whole columns of the block, in the order of
      * poly_frame_in / poly_frame_out: view 0 sees the rotated and transformed inputs,
      * view 1 (if any) the transformed ones, and gives the outputs outside the frame */
@@ -136,6 +139,8 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
             }
             const int *fb_off = fa_off + pl->start[nres];
             for (int o = 0; o < nres; o++) {
+                if (!job->need[o] || (nview > 1 && (w == 0) == (s->plain[o] != 0)))
+                    continue; /* not asked for, or the other view's (res stays 0) */
                 const int t0 = pl->start[o], ns = pl->nsingle[o];
                 const int nq = pl->nquad[o], npr = pl->npair[o];
                 const int nl = pl->start[o + 1] - t0 - ns - 4 * nq - 2 * npr;
@@ -222,6 +227,8 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
         if (fr) {
             const vn *C = (const vn *)cb, *S = (const vn *)sb;
             for (int k = 0; k < s->npairs; k++) {
+                if (!job->need[s->pair[2 * k]])
+                    continue;
                 vn *A = res + s->pair[2 * k] * NV, *B = res + s->pair[2 * k + 1] * NV;
                 for (int q = 0; q < NV; q++) {
                     const vn a = A[q], b = B[q];
@@ -238,47 +245,50 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
             }
 #ifdef KERNEL_SCATTER
 #ifdef KERNEL_STORE_ROWS5
-        if (nres == 5 && !idx && m == KBLK)
+        if (nst == 5 && !idx && m == KBLK)
             for (int q = 0; q < NV; q++) {
-                const vn cols[5] = {res[q], res[NV + q], res[2 * NV + q], res[3 * NV + q],
-                                    res[4 * NV + q]};
+                const vn cols[5] = {res[sel[0] * NV + q], res[sel[1] * NV + q],
+                                    res[sel[2] * NV + q], res[sel[3] * NV + q],
+                                    res[sel[4] * NV + q]};
                 KERNEL_STORE_ROWS5(out + (first + b0 + (size_t)q * VW) * 5, cols);
             }
         else
 #endif
 #ifdef KERNEL_STORE_ROWS8
             for (int q = 0; q < NV; q++)
-                for (int k0 = 0; k0 < nres; k0 += 8) {
+                for (int k0 = 0; k0 < nst; k0 += 8) {
                     vn cols[8];
-                    const int nc = nres - k0 < 8 ? nres - k0 : 8;
+                    const int nc = nst - k0 < 8 ? nst - k0 : 8;
                     for (int j = 0; j < nc; j++)
-                        cols[j] = res[(k0 + j) * NV + q];
-                    KERNEL_STORE_ROWS8(out, row + q * VW, (size_t)nres, (size_t)k0, cols, nc);
+                        cols[j] = res[sel[k0 + j] * NV + q];
+                    KERNEL_STORE_ROWS8(out, row + q * VW, (size_t)nst, (size_t)k0, cols, nc);
                 }
 #else
             for (int q = 0; q < NV; q++) {
                 vidx at;
                 for (int r = 0; r < VW; r++)
-                    at[r] = (long long)row[q * VW + r] * nres;
-                for (int k = 0; k < nres; k++)
-                    KERNEL_SCATTER(out + k, at, res[k * NV + q]);
+                    at[r] = (long long)row[q * VW + r] * nst;
+                for (int k = 0; k < nst; k++)
+                    KERNEL_SCATTER(out + k, at, res[sel[k] * NV + q]);
             }
 #endif
 #else
         const double *rs = (const double *)res; /* output k of lane r at rs[k * KBLK + r] */
         for (int r = 0; r < m; r++) {
-            double *o = out + row[r] * (size_t)nres;
-            for (int k = 0; k < nres; k++)
-                o[k] = rs[k * KBLK + r];
+            double *o = out + row[r] * (size_t)nst;
+            for (int k = 0; k < nst; k++)
+                o[k] = rs[sel[k] * KBLK + r];
         }
 #endif
         if (!pass || what != RUN_EVAL)
             continue;
         for (int q = 0; q < NV; q++) {
             /* the passage test of passes(), per lane (all bits set: passes) */
-            vmask ok = res[q] == res[q];
-            for (int o = 0; o < nres; o++)
-                ok &= (res[o * NV + q] - res[o * NV + q]) == 0; /* inf - inf, nan: nan */
+            vmask ok = ~(vmask){0};
+            for (int k = 0; k < job->nfinite; k++) {
+                const vn x = res[job->finite[k] * NV + q];
+                ok &= (x - x) == 0; /* inf - inf, nan: nan */
+            }
             for (int c = 0; c < s->ncircles; c++) {
                 const vn a = res[s->circles[c].a * NV + q], b = res[s->circles[c].b * NV + q];
                 const double rad = s->circles[c].radius;

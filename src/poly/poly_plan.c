@@ -43,31 +43,25 @@ void poly_plan_free(poly_plan *pl)
     memset(pl, 0, sizeof *pl);
 }
 
+/* Grows array ptr to count elements (returns -1 from the caller when out of memory). */
+#define GROW(ptr, count)                                                                   \
+    do {                                                                                   \
+        void *grown_ = realloc((ptr), (size_t)(count) * sizeof *(ptr));                    \
+        if (!grown_)                                                                       \
+            return -1;                                                                     \
+        (ptr) = grown_;                                                                    \
+    } while (0)
+
 /* Appends a slot holding monomial e computed as slot a * slot b. */
 static int append_slot(poly_mono *m, int nin, const int *e, int a, int b)
 {
     if (m->nslots + 1 > m->cap) {
         int nc = m->cap ? m->cap * 2 : 32;
-        int *ne = realloc(m->exps, (size_t)nc * (size_t)nin * sizeof(int));
-        if (!ne)
-            return -1;
-        m->exps = ne;
-        int *na = realloc(m->a, (size_t)nc * sizeof(int));
-        if (!na)
-            return -1;
-        m->a = na;
-        int *nb = realloc(m->b, (size_t)nc * sizeof(int));
-        if (!nb)
-            return -1;
-        m->b = nb;
-        int *nd = realloc(m->depth, (size_t)nc * sizeof(int));
-        if (!nd)
-            return -1;
-        m->depth = nd;
-        uint64_t *nu = realloc(m->used_by, (size_t)nc * sizeof(uint64_t));
-        if (!nu)
-            return -1;
-        m->used_by = nu;
+        GROW(m->exps, (size_t)nc * (size_t)nin);
+        GROW(m->a, nc);
+        GROW(m->b, nc);
+        GROW(m->depth, nc);
+        GROW(m->used_by, nc);
         m->cap = nc;
     }
     if (index_hash_add(&m->index, index_hash_bytes(e, (size_t)nin * sizeof(int)), m->nslots) != 0)
@@ -158,20 +152,10 @@ int poly_terms_push(poly_out_terms *ot, int nin, const int *e, double coef, int 
 {
     if (ot->nterms + 1 > ot->cap) {
         int nc = ot->cap ? ot->cap * 2 : 16;
-        if (e) {
-            int *ne = realloc(ot->exps, (size_t)nc * (size_t)nin * sizeof(int));
-            if (!ne)
-                return -1;
-            ot->exps = ne;
-        }
-        double *nco = realloc(ot->coef, (size_t)nc * sizeof(double));
-        if (!nco)
-            return -1;
-        ot->coef = nco;
-        int *ns = realloc(ot->slot, (size_t)nc * sizeof(int));
-        if (!ns)
-            return -1;
-        ot->slot = ns;
+        if (e)
+            GROW(ot->exps, (size_t)nc * (size_t)nin);
+        GROW(ot->coef, nc);
+        GROW(ot->slot, nc);
         ot->cap = nc;
     }
     int t = ot->nterms++;
@@ -182,43 +166,60 @@ int poly_terms_push(poly_out_terms *ot, int nin, const int *e, double coef, int 
     return 0;
 }
 
-/* The plan of poly_impl.h for nout sums over table m: which products are kept (and their
- * compact numbers), each output's single terms, then its fused ones. */
-int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
-                      const poly_out_terms *sums)
+/* Scratch of poly_plan_build, over all outputs. */
+typedef struct {
+    int *cidx; /* per slot: its value number, -1 when fused (never stored) */
+    int *fz;   /* an output's fused terms: (term, first factor, shared factor) each, then
+                  from fz + 3 (nt + 1) on the order they are grouped in */
+    int *cnt;  /* per value: how many of the output's fused terms have it as a factor */
+    char *done; /* per fused term: grouped already */
+} plan_work;
+
+static void plan_work_free(plan_work *w)
+{
+    free(w->cidx);
+    free(w->fz);
+    free(w->cnt);
+    free(w->done);
+}
+
+/* The plan's arrays and the scratch for ns slots, nout outputs and nt terms. */
+static int plan_alloc(poly_plan *n, plan_work *w, int ns, int nout, int nt)
+{
+    n->prod = malloc(2 * (size_t)ns * sizeof(int));
+    n->order = malloc((size_t)ns * sizeof(int));
+    n->start = malloc((size_t)(nout + 1) * sizeof(int));
+    n->nsingle = malloc((size_t)nout * sizeof(int));
+    n->coef = malloc((size_t)(nt + 1) * sizeof(double));
+    n->fa = malloc((size_t)(nt + 1) * sizeof(int));
+    n->fb = malloc((size_t)(nt + 1) * sizeof(int));
+    n->src = malloc((size_t)(nt + 1) * sizeof(int));
+    n->nquad = malloc((size_t)(nout + 1) * sizeof(int));
+    n->npair = malloc((size_t)(nout + 1) * sizeof(int));
+    n->vslot = malloc((size_t)(ns + 1) * sizeof(int));
+    w->cidx = malloc((size_t)ns * sizeof(int));
+    w->fz = malloc(4 * (size_t)(nt + 1) * sizeof(int));
+    w->cnt = calloc((size_t)ns + 1, sizeof(int));
+    w->done = calloc((size_t)nt + 1, 1);
+    return n->prod && n->order && n->start && n->nsingle && n->coef && n->fa && n->fb &&
+                   n->src && n->nquad && n->npair && n->vslot && w->cidx && w->fz && w->cnt &&
+                   w->done
+               ? 0
+               : -1;
+}
+
+/* The values a ray computes: the product slots in depth order (n->order), and of them
+ * the ones kept (n->prod, n->vslot, their numbers in cidx); a product that one term
+ * alone uses and nothing is built from is fused into that term (cidx -1). */
+static int plan_values(poly_plan *n, int *cidx, const poly_mono *m, int nin, int nout,
+                       const poly_out_terms *sums)
 {
     const int ns = m->nslots;
-    int nt = 0;
-    for (int o = 0; o < nout; o++)
-        nt += sums[o].nterms;
-    poly_plan n = {0};
     int *uses = calloc((size_t)ns, sizeof(int));   /* terms using the slot */
     int *factor = calloc((size_t)ns, sizeof(int)); /* slots built from it */
-    int *cidx = malloc((size_t)ns * sizeof(int));  /* compact number, -1 if not kept */
-    n.prod = malloc(2 * (size_t)ns * sizeof(int));
-    n.order = malloc((size_t)ns * sizeof(int));
-    n.start = malloc((size_t)(nout + 1) * sizeof(int));
-    n.nsingle = malloc((size_t)nout * sizeof(int));
-    n.coef = malloc((size_t)(nt + 1) * sizeof(double));
-    n.fa = malloc((size_t)(nt + 1) * sizeof(int));
-    n.fb = malloc((size_t)(nt + 1) * sizeof(int));
-    n.src = malloc((size_t)(nt + 1) * sizeof(int));
-    n.nquad = malloc((size_t)(nout + 1) * sizeof(int));
-    n.npair = malloc((size_t)(nout + 1) * sizeof(int));
-    n.vslot = malloc((size_t)(ns + 1) * sizeof(int));
-    int *fz = malloc(4 * (size_t)(nt + 1) * sizeof(int)); /* fused terms: t, a, b; order */
-    int *cnt = calloc((size_t)ns + 1, sizeof(int));       /* per value: fused factors */
-    char *done = calloc((size_t)nt + 1, 1);                /* fused terms grouped */
-    if (!uses || !factor || !cidx || !n.prod || !n.order || !n.start || !n.nsingle ||
-        !n.coef || !n.fa || !n.fb || !n.src || !n.nquad || !n.npair || !n.vslot || !fz ||
-        !cnt || !done) {
+    if (!uses || !factor) {
         free(uses);
         free(factor);
-        free(cidx);
-        free(fz);
-        free(cnt);
-        free(done);
-        poly_plan_free(&n);
         return -1;
     }
     int maxd = 0, no = 0;
@@ -228,7 +229,7 @@ int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
     for (int d = 1; d <= maxd; d++)
         for (int k = 1 + nin; k < ns; k++)
             if (m->depth[k] == d)
-                n.order[no++] = k;
+                n->order[no++] = k;
     for (int o = 0; o < nout; o++)
         for (int t = 0; t < sums[o].nterms; t++)
             uses[sums[o].slot[t]]++;
@@ -237,93 +238,125 @@ int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
         factor[m->b[k]]++;
     }
     for (int k = 0; k <= nin && k < ns; k++)
-        cidx[k] = n.vslot[k] = k;
-    n.nvals = 1 + nin;
+        cidx[k] = n->vslot[k] = k;
+    n->nvals = 1 + nin;
     for (int j = 0; j < no; j++) {
-        int k = n.order[j];
+        int k = n->order[j];
         cidx[k] = -1;
         if (uses[k] == 1 && factor[k] == 0)
             continue; /* fused into its one term */
         /* factors come first in depth order, and factors are always kept */
-        n.prod[2 * n.nprod] = cidx[m->a[k]];
-        n.prod[2 * n.nprod + 1] = cidx[m->b[k]];
-        n.nprod++;
-        n.vslot[n.nvals] = k;
-        cidx[k] = n.nvals++;
+        n->prod[2 * n->nprod] = cidx[m->a[k]];
+        n->prod[2 * n->nprod + 1] = cidx[m->b[k]];
+        n->nprod++;
+        n->vslot[n->nvals] = k;
+        cidx[k] = n->nvals++;
+    }
+    free(uses);
+    free(factor);
+    return 0;
+}
+
+/* Sorts an output's nf fused terms (fz) by their shared factor, the one more of them
+ * have (the table's second factor on a tie): groups in the order of their first term,
+ * terms in add order. Returns the grouped order (indices into fz). */
+static const int *plan_group(plan_work *w, int nf, int nt)
+{
+    int *fz = w->fz, *cnt = w->cnt;
+    for (int f = 0; f < nf; f++) {
+        cnt[fz[3 * f + 1]]++;
+        cnt[fz[3 * f + 2]]++;
+    }
+    for (int f = 0; f < nf; f++)
+        if (cnt[fz[3 * f + 1]] > cnt[fz[3 * f + 2]]) {
+            int a = fz[3 * f + 1];
+            fz[3 * f + 1] = fz[3 * f + 2];
+            fz[3 * f + 2] = a;
+        }
+    for (int f = 0; f < nf; f++)
+        cnt[fz[3 * f + 1]] = cnt[fz[3 * f + 2]] = 0;
+    int *gr = fz + 3 * (nt + 1), ngr = 0;
+    for (int f = 0; f < nf; f++) {
+        if (w->done[f])
+            continue;
+        for (int g = f; g < nf; g++)
+            if (!w->done[g] && fz[3 * g + 2] == fz[3 * f + 2]) {
+                gr[ngr++] = g;
+                w->done[g] = 1;
+            }
+    }
+    memset(w->done, 0, (size_t)nf);
+    return gr;
+}
+
+/* Output o's planned terms from planned term q on (returns the next q): its single terms
+ * in add order, then its fused ones, the quads of every group, then the pairs, then the
+ * lone terms. */
+static int plan_output(poly_plan *n, plan_work *w, const poly_mono *m,
+                       const poly_out_terms *ot, int o, int q, int nt)
+{
+    const int *cidx = w->cidx;
+    int *fz = w->fz, nf = 0;
+    n->start[o] = q;
+    for (int t = 0; t < ot->nterms; t++) {
+        const int k = ot->slot[t];
+        if (cidx[k] >= 0) {
+            n->coef[q] = ot->coef[t];
+            n->fa[q] = cidx[k];
+            n->fb[q] = 0;
+            n->src[q++] = t;
+        } else {
+            fz[3 * nf] = t;
+            fz[3 * nf + 1] = cidx[m->a[k]];
+            fz[3 * nf + 2] = cidx[m->b[k]];
+            nf++;
+        }
+    }
+    n->nsingle[o] = q - n->start[o];
+    const int *gr = plan_group(w, nf, nt);
+    n->nquad[o] = n->npair[o] = 0;
+    for (int pass = 4; pass >= 1; pass /= 2)
+        for (int i = 0, j; i < nf; i = j) {
+            for (j = i; j < nf && fz[3 * gr[j] + 2] == fz[3 * gr[i] + 2]; j++)
+                ; /* gr[i .. j - 1]: one group */
+            const int nq = (j - i) / 4 * 4, np = (j - i - nq) / 2 * 2;
+            const int from = pass == 4 ? i : pass == 2 ? i + nq : i + nq + np;
+            const int to = pass == 4 ? i + nq : pass == 2 ? i + nq + np : j;
+            n->nquad[o] += pass == 4 ? nq / 4 : 0;
+            n->npair[o] += pass == 2 ? np / 2 : 0;
+            for (int g = from; g < to; g++) {
+                const int f = gr[g], t = fz[3 * f];
+                n->coef[q] = ot->coef[t];
+                n->fa[q] = fz[3 * f + 1];
+                n->fb[q] = fz[3 * f + 2];
+                n->src[q++] = t;
+            }
+        }
+    return q;
+}
+
+/* The plan of poly_impl.h for nout sums over table m: which products are kept (and their
+ * compact numbers), each output's single terms, then its fused ones. */
+int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
+                    const poly_out_terms *sums)
+{
+    int nt = 0;
+    for (int o = 0; o < nout; o++)
+        nt += sums[o].nterms;
+    poly_plan n = {0};
+    plan_work w = {0};
+    if (plan_alloc(&n, &w, m->nslots, nout, nt) != 0 ||
+        plan_values(&n, w.cidx, m, nin, nout, sums) != 0) {
+        plan_work_free(&w);
+        poly_plan_free(&n);
+        return -1;
     }
     n.nout = nout;
     int q = 0;
-    for (int o = 0; o < nout; o++) {
-        const poly_out_terms *ot = &sums[o];
-        n.start[o] = q;
-        for (int t = 0; t < ot->nterms; t++)
-            if (cidx[ot->slot[t]] >= 0) {
-                n.coef[q] = ot->coef[t];
-                n.fa[q] = cidx[ot->slot[t]];
-                n.fb[q] = 0;
-                n.src[q++] = t;
-            }
-        n.nsingle[o] = q - n.start[o];
-        /* the fused terms and their factors; the shared factor: the one more of them
-         * have (the table's second factor on a tie) */
-        int nf = 0;
-        for (int t = 0; t < ot->nterms; t++)
-            if (cidx[ot->slot[t]] < 0) {
-                int k = ot->slot[t];
-                fz[3 * nf] = t;
-                fz[3 * nf + 1] = cidx[m->a[k]];
-                fz[3 * nf + 2] = cidx[m->b[k]];
-                cnt[fz[3 * nf + 1]]++;
-                cnt[fz[3 * nf + 2]]++;
-                nf++;
-            }
-        for (int f = 0; f < nf; f++)
-            if (cnt[fz[3 * f + 1]] > cnt[fz[3 * f + 2]]) {
-                int a = fz[3 * f + 1];
-                fz[3 * f + 1] = fz[3 * f + 2];
-                fz[3 * f + 2] = a;
-            }
-        for (int f = 0; f < nf; f++)
-            cnt[fz[3 * f + 1]] = cnt[fz[3 * f + 2]] = 0;
-        /* gr: the fused terms group by group (groups by first term, terms in add order) */
-        int *gr = fz + 3 * (nt + 1), ngr = 0;
-        for (int f = 0; f < nf; f++) {
-            if (done[f])
-                continue;
-            for (int g = f; g < nf; g++)
-                if (!done[g] && fz[3 * g + 2] == fz[3 * f + 2]) {
-                    gr[ngr++] = g;
-                    done[g] = 1;
-                }
-        }
-        memset(done, 0, (size_t)nf);
-        /* the quads of every group, then the pairs, then the lone terms */
-        n.nquad[o] = n.npair[o] = 0;
-        for (int pass = 4; pass >= 1; pass /= 2)
-            for (int i = 0, j; i < ngr; i = j) {
-                for (j = i; j < ngr && fz[3 * gr[j] + 2] == fz[3 * gr[i] + 2]; j++)
-                    ; /* gr[i .. j - 1]: one group */
-                const int nq = (j - i) / 4 * 4, np = (j - i - nq) / 2 * 2;
-                const int from = pass == 4 ? i : pass == 2 ? i + nq : i + nq + np;
-                const int to = pass == 4 ? i + nq : pass == 2 ? i + nq + np : j;
-                n.nquad[o] += pass == 4 ? nq / 4 : 0;
-                n.npair[o] += pass == 2 ? np / 2 : 0;
-                for (int g = from; g < to; g++) {
-                    const int f = gr[g], t = fz[3 * f];
-                    n.coef[q] = ot->coef[t];
-                    n.fa[q] = fz[3 * f + 1];
-                    n.fb[q] = fz[3 * f + 2];
-                    n.src[q++] = t;
-                }
-            }
-    }
+    for (int o = 0; o < nout; o++)
+        q = plan_output(&n, &w, m, &sums[o], o, q, nt);
     n.start[nout] = q;
-    free(uses);
-    free(factor);
-    free(cidx);
-    free(fz);
-    free(cnt);
-    free(done);
+    plan_work_free(&w);
     poly_plan_free(pl);
     *pl = n;
     return 0;

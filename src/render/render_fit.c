@@ -139,6 +139,105 @@ static poly_system *rebuild(const poly_system *s, const double *tol)
     return r;
 }
 
+/* Training rays drawn the way the renderer draws camera rays: n sensor points over
+ * the domain, half uniform over the disc and half uniform in radius (the axis, where a
+ * small pixel sees the rims of the on-axis beam, gets rays enough for a sure fit),
+ * with line-pupil directions. Rows x y u v lambda in in5; returns how many. */
+static size_t draw_training_rays(const render_sampler *smp, const render_effects *e, size_t n,
+                                 double *in5)
+{
+    uint64_t st = 0x5EED;
+    size_t k = 0;
+    for (size_t guard = 0; k < n && guard < 50 * n; guard++) {
+        double q = uniform(&st), a = 2 * M_PI * uniform(&st);
+        double r = e->domain_radius * (k % 2 ? q : sqrt(q));
+        double x = r * cos(a), y = r * sin(a), u, v;
+        if (!(render_sampler_sample(smp, x, y, uniform(&st), uniform(&st), &u, &v) > 0))
+            continue;
+        double lam = e->dispersion ? RENDER_LAMBDA_MIN +
+                                         uniform(&st) * (RENDER_LAMBDA_MAX - RENDER_LAMBDA_MIN)
+                                   : GLASS_D_LINE;
+        double *row = in5 + 5 * k++;
+        row[0] = x, row[1] = y, row[2] = u, row[3] = v, row[4] = lam;
+    }
+    return k;
+}
+
+/* The outputs' names: the outer pupil, the stop's hit, the hits on the clipping
+ * surfaces clip[0..nclip-1], out_eta with transmittance. Returns their number. */
+static int output_names(const render_effects *e, const int *clip, int nclip,
+                        char (*clip_names)[2][24], const char **outputs)
+{
+    static const char *const fixed[6] = {"out_x", "out_y", "out_u", "out_v", "ap_x", "ap_y"};
+    int nout = 6;
+    memcpy(outputs, fixed, sizeof fixed);
+    for (int c = 0; c < nclip; c++)
+        for (int a = 0; a < 2; a++) {
+            snprintf(clip_names[c][a], sizeof clip_names[c][a], "s%d_%c", clip[c] + 1, "xy"[a]);
+            outputs[nout++] = clip_names[c][a];
+        }
+    if (e->transmittance) outputs[nout++] = "out_eta";
+    return nout;
+}
+
+/* Every ray is a row: the outer pupil (and out_eta) where it passes, nan where not,
+ * which fit_system leaves out of those outputs; the hits (nsel pairs) wherever they
+ * exist. Each output divided by its tolerance. */
+static void training_rows(const render_effects *e, size_t n, int nin, int nout, int nsel,
+                          const double *in5, const double *outer, const double *hits,
+                          const double *tol, double *X, double *Y)
+{
+    for (size_t i = 0; i < n; i++) {
+        const double *o = outer + 5 * i, *h = hits + 2 * (size_t)nsel * i;
+        int pass = o[4] > 0;
+        memcpy(X + (size_t)nin * i, in5 + 5 * i, nin * sizeof *X);
+        double *q = Y + (size_t)nout * i;
+        for (int c = 0; c < 4; c++) q[c] = pass ? o[c] : NAN;
+        memcpy(q + 4, h, 2 * (size_t)nsel * sizeof *q);
+        if (e->transmittance) q[nout - 1] = pass ? o[4] : NAN;
+        for (int c = 0; c < nout; c++) q[c] /= tol[c];
+    }
+}
+
+/* The rims: the hits are exact where the ray meets each surface, so a rim is the
+ * semi-diameter itself, unless the element's two surfaces cross inside it (as
+ * fisheye-ii's 15-16 do, by 0.16 mm at the rim): a ray then misses the next surface
+ * short of the rim, and the rim is the furthest passing hit, fit_system's circle
+ * (in units of the tolerance). clip[0] is the stop. */
+static void set_rims(poly_system *sys, const poly_system *scaled, const lens_t *lens,
+                     const int *clip, const double *tol)
+{
+    for (int c = 0; c < poly_npass_circles(scaled); c++) {
+        int a, b;
+        double r, at;
+        poly_get_pass_circle(scaled, c, &a, &b, &r);
+        if (a == 0)
+            continue; /* out_x out_y: the front's rim is a passage pair when it limits */
+        int surf = clip[(a - 4) / 2];
+        int cross = surf > 0 && lens_min_gap(lens, (size_t)surf - 1, &at) < 0;
+        poly_add_pass_circle(sys, a, b, cross ? r * tol[a] : lens->surf[surf].semi_diameter);
+    }
+}
+
+/* How the system was fitted, as meta lines. */
+static void record_fit(poly_system *sys, const lens_t *lens, const render_effects *e, size_t n,
+                       int nout, const double *tol)
+{
+    char buf[160];
+    snprintf(buf, sizeof buf, "lens-render: dispersion %d transmittance %d vignetting %d "
+             "domain %.6g mm tolerance %.6g, %zu rays",
+             e->dispersion, e->transmittance, e->vignetting, e->domain_radius, e->tolerance, n);
+    poly_set_meta(sys, "fitted-by", buf);
+    poly_set_meta(sys, "passage", e->vignetting ? "full" : "partial: vignetting off (the stop "
+                                                            "and the surfaces behind it)");
+    int len = 0;
+    for (int o = 0; o < nout && len < (int)sizeof buf - 12; o++)
+        len += snprintf(buf + len, sizeof buf - len, "%s%.3g", o ? " " : "", tol[o]);
+    poly_set_meta(sys, "tolerances", buf); /* the fit_* holdout_rms are in these units */
+    snprintf(buf, sizeof buf, "%.17g", lens->surf[lens->nsurf - 1].thickness);
+    poly_set_meta(sys, "sensor-distance", buf);
+}
+
 poly_system *render_fit(const lens_t *lens, const render_effects *e, int threads,
                         double *seconds, lens_err *err)
 {
@@ -163,57 +262,22 @@ poly_system *render_fit(const lens_t *lens, const render_effects *e, int threads
                             e->dispersion ? RENDER_LAMBDA_MAX : GLASS_D_LINE, e->domain_radius,
                             threads, err))
         goto done;
-    uint64_t st = 0x5EED;
-    size_t k = 0;
-    for (size_t guard = 0; k < N && guard < 50 * N; guard++) {
-        /* half uniform over the disc, half uniform in radius: the axis, where a small
-         * pixel sees the rims of the on-axis beam, gets rays enough for a sure fit */
-        double q = uniform(&st), a = 2 * M_PI * uniform(&st);
-        double r = e->domain_radius * (k % 2 ? q : sqrt(q));
-        double x = r * cos(a), y = r * sin(a), u, v;
-        if (!(render_sampler_sample(&smp, x, y, uniform(&st), uniform(&st), &u, &v) > 0))
-            continue;
-        double lam = e->dispersion ? RENDER_LAMBDA_MIN +
-                                         uniform(&st) * (RENDER_LAMBDA_MAX - RENDER_LAMBDA_MIN)
-                                   : GLASS_D_LINE;
-        double *row = in5 + 5 * k++;
-        row[0] = x, row[1] = y, row[2] = u, row[3] = v, row[4] = lam;
-    }
-    N = k;
+    N = draw_training_rays(&smp, e, N, in5);
     int nsel = 1 + nclip;
     if (trace_batch(lens, TRACE_TO_OUTER, N, in5, outer, NULL, threads, err) ||
         trace_surfaces_batch(lens, nsel, clip, N, in5, hits, threads, err))
         goto done;
     const char *inputs[5] = {"x", "y", "u", "v", "lambda"};
     char clip_names[MAX_CLIP][2][24];
-    const char *outputs[24] = {"out_x", "out_y", "out_u", "out_v", "ap_x", "ap_y"};
-    int nout = 6;
-    for (int c = 0; c < nclip; c++)
-        for (int a = 0; a < 2; a++) {
-            snprintf(clip_names[c][a], sizeof clip_names[c][a], "s%d_%c", clip[c + 1] + 1,
-                     "xy"[a]);
-            outputs[nout++] = clip_names[c][a];
-        }
-    if (e->transmittance) outputs[nout++] = "out_eta";
+    const char *outputs[24];
+    int nout = output_names(e, clip + 1, nclip, clip_names, outputs);
     int nin = e->dispersion ? 5 : 4;
-    /* Every ray is a row: the outer pupil (and out_eta) where it passes, nan where not,
-     * which fit_system leaves out of those outputs; the hits wherever they exist. */
-    for (size_t i = 0; i < N; i++) {
-        const double *o = outer + 5 * i, *h = hits + 2 * (size_t)nsel * i;
-        int pass = o[4] > 0;
-        memcpy(X + (size_t)nin * i, in5 + 5 * i, nin * sizeof *X);
-        double *q = Y + (size_t)nout * i;
-        for (int c = 0; c < 4; c++) q[c] = pass ? o[c] : NAN;
-        memcpy(q + 4, h, 2 * (size_t)nsel * sizeof *q);
-        if (e->transmittance) q[nout - 1] = pass ? o[4] : NAN;
-    }
     /* per-output tolerances: outputs are divided by theirs and fitted to tolerance 1
      * (passage hits included: no passage tolerance on top), and the coefficients scaled
      * back in rebuild() */
     double tol[24];
     output_tolerances(lens, e, clip + 1, nclip, tol);
-    for (size_t i = 0; i < N; i++)
-        for (int o = 0; o < nout; o++) Y[i * nout + o] /= tol[o];
+    training_rows(e, N, nin, nout, nsel, in5, outer, hits, tol, X, Y);
     fit_options opt;
     fit_options_default(&opt);
     opt.tolerance = 1;
@@ -234,34 +298,9 @@ poly_system *render_fit(const lens_t *lens, const render_effects *e, int threads
         goto done;
     }
     poly_set_lens_path(sys, lens->path);
-    /* The rims: the hits are exact where the ray meets each surface, so a rim is the
-     * semi-diameter itself, unless the element's two surfaces cross inside it (as
-     * fisheye-ii's 15-16 do, by 0.16 mm at the rim): a ray then misses the next surface
-     * short of the rim, and the rim is the furthest passing hit, fit_system's circle. */
-    for (int c = 0; c < poly_npass_circles(scaled); c++) {
-        int a, b;
-        double r, at;
-        poly_get_pass_circle(scaled, c, &a, &b, &r);
-        if (a == 0)
-            continue; /* out_x out_y: the front's rim is a passage pair when it limits */
-        int surf = clip[(a - 4) / 2];
-        int cross = surf > 0 && lens_min_gap(lens, (size_t)surf - 1, &at) < 0;
-        poly_add_pass_circle(sys, a, b, cross ? r * tol[a] : lens->surf[surf].semi_diameter);
-    }
+    set_rims(sys, scaled, lens, clip, tol);
     poly_free(scaled);
-    char buf[160];
-    snprintf(buf, sizeof buf, "lens-render: dispersion %d transmittance %d vignetting %d "
-             "domain %.6g mm tolerance %.6g, %zu rays",
-             e->dispersion, e->transmittance, e->vignetting, e->domain_radius, e->tolerance, N);
-    poly_set_meta(sys, "fitted-by", buf);
-    poly_set_meta(sys, "passage", e->vignetting ? "full" : "partial: vignetting off (the stop "
-                                                            "and the surfaces behind it)");
-    int len = 0;
-    for (int o = 0; o < nout && len < (int)sizeof buf - 12; o++)
-        len += snprintf(buf + len, sizeof buf - len, "%s%.3g", o ? " " : "", tol[o]);
-    poly_set_meta(sys, "tolerances", buf); /* the fit_* holdout_rms are in these units */
-    snprintf(buf, sizeof buf, "%.17g", lens->surf[lens->nsurf - 1].thickness);
-    poly_set_meta(sys, "sensor-distance", buf);
+    record_fit(sys, lens, e, N, nout, tol);
 done:
     *seconds = omp_get_wtime() - t0;
     render_sampler_free(&smp);

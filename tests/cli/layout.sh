@@ -73,3 +73,16 @@ BEGIN {
   close(cmd)
   if (bad == 0) printf "ok layout (%d includes follow the flow)\n", checked
 }'
+
+# Sizes (tools/house-check.sh): no function over 120 lines and no file over 600 without a
+# reason written beside it. Listing only until the splits of issue 12 have landed: the
+# offenders are shown, and `strict=1` makes them failures.
+strict=0
+if offenders=$(tools/house-check.sh); then
+  ok house_check
+elif [ $strict = 1 ]; then
+  fail house_check "$(tr '\n' ';' <<<"$offenders")"
+else
+  ok "house_check (listing $(wc -l <<<"$offenders") offenders, not failing yet)"
+  sed 's/^/# house-check: /' <<<"$offenders"
+fi
