@@ -1,7 +1,8 @@
 #ifndef SPARSELENS_POLY_IMPL_H
 #define SPARSELENS_POLY_IMPL_H
-/* The layout of a poly_system, shared by poly.c (building), poly_io.c (the text format),
- * poly_eval.c and poly_emit_c.c. Nothing outside those files includes this.
+/* The layout of a poly_system, shared by poly.c (building), poly_io.c and poly_write.c
+ * (the text format), poly_eval.c and poly_emit_c.c. Nothing outside those files includes
+ * this.
  *
  * Monomials. Each part keeps a table of "slots", values computed once per ray:
  *   slot 0          the constant 1
@@ -204,6 +205,9 @@ void poly_frame_on_term(poly_system *s, int part, int output, const int *exps, d
 
 /* 1 when evaluation needs the frame or a transform around the core. */
 static inline int poly_frame_active(const poly_system *s) { return s->frame != 0 || s->nxform > 0; }
+
+/* The version the .poly writer writes and the reader accepts ("lens-poly 1"). */
+#define POLY_FORMAT_VERSION 1
 
 /* Shortest decimal that reads back as v ("inf" / "-inf" for infinities); buf >= 32. */
 void poly_format_number(char *buf, size_t len, double v);
