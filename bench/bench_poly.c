@@ -19,6 +19,8 @@
  *   trace, trace_passing  the exact tracer (trace_batch, 1 thread) on all the rays / on
  *                     the rays it passes
  *   batch, batch_passing  poly_eval_batch on the same rays (pass test included)
+ *   batch_optics      poly_eval_batch_outputs writing the five optical outputs alone,
+ *                     with the pass flags (the passage outputs computed, not stored)
  *   batch_noframe     poly_eval_batch of NOFRAME.poly (the cost of the frame)
  *   batch_cold        poly_eval_batch on COLD x RAYS rays (rows of 80 bytes a ray in and
  *                     out, beyond the caches: what memory traffic adds; the other
@@ -143,12 +145,12 @@ static void flatten(const poly_system *s, flat *F)
 }
 
 enum {
-    M_TRACE, M_TRACE_PASSING, M_BATCH, M_BATCH_PASSING, M_BATCH_NOFRAME, M_BATCH_COLD,
+    M_TRACE, M_TRACE_PASSING, M_BATCH, M_BATCH_PASSING, M_BATCH_OPTICS, M_BATCH_NOFRAME, M_BATCH_COLD,
     M_SCALAR, M_NAIVE, M_JAC, M_JAC_BATCH, M_EMIT, M_EMIT_NATIVE, M_EMIT_BATCH,
     M_EMIT_BATCH_NATIVE, M_COUNT
 };
 static const char *const names[M_COUNT] = {
-    "trace",    "trace_passing",  "batch",     "batch_passing",    "batch_noframe",
+    "trace",    "trace_passing",  "batch",     "batch_passing",    "batch_optics", "batch_noframe",
     "batch_cold", "scalar",       "naive",     "jacobian",         "jacobian_batch",
     "emitted_c", "emitted_c_native", "emitted_c_batch", "emitted_c_batch_native"};
 
@@ -177,6 +179,11 @@ static double run(const bench_ctx *c, int m, size_t n, const double *in)
     case M_BATCH_PASSING:
         poly_eval_batch(c->s, n, in, c->out, c->pass);
         break;
+    case M_BATCH_OPTICS: {
+        static const int optics[5] = {0, 1, 2, 3, 4};
+        poly_eval_batch_outputs(c->s, n, in, 5, optics, c->out, c->pass);
+        break;
+    }
     case M_BATCH_NOFRAME:
         poly_eval_batch(c->s0, n, in, c->out, c->pass);
         break;
@@ -356,12 +363,15 @@ int main(int argc, char **argv)
         printf("bench %s_trace_ns_per_passing_ray %.2f ns\n", tag, te);
         printf("bench %s_batch_ns_per_passing_ray %.2f ns\n", tag, tp);
         printf("bench ratio_%s_trace_over_batch_per_passing_ray %.2f x\n", tag, te / tp);
+        const double to = best[M_BATCH_OPTICS] * n / npass_exact;
+        printf("bench %s_batch_optics_ns_per_passing_ray %.2f ns\n", tag, to);
+        printf("bench ratio_%s_trace_over_batch_optics_per_passing_ray %.2f x\n", tag, te / to);
     }
     /* how many times the second's time the first's is (> 1: the second is faster) */
     const int pairs[][2] = {{M_TRACE_PASSING, M_BATCH_PASSING}, {M_SCALAR, M_BATCH},
                             {M_JAC_BATCH, M_BATCH},             {M_JAC, M_JAC_BATCH},
                             {M_NAIVE, M_BATCH},                 {M_BATCH, M_BATCH_NOFRAME},
-                            {M_BATCH_COLD, M_BATCH},
+                            {M_BATCH_COLD, M_BATCH},             {M_BATCH, M_BATCH_OPTICS},
                             {M_EMIT, M_SCALAR},                 {M_EMIT_NATIVE, M_SCALAR},
                             {M_EMIT_BATCH, M_BATCH},            {M_EMIT_BATCH_NATIVE, M_BATCH}};
     for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++) {

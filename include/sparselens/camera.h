@@ -41,16 +41,28 @@ void lens_camera_free(lens_camera *c);
  * polynomial backend evaluates the rays in vector blocks. */
 size_t lens_camera_rays(const lens_camera *c, size_t n, const double *samples, double *rays);
 
+/* An aperture of blades (0: the stop's circle; 3 .. 16): the regular polygon inscribed
+ * in the stop's circle, its vertices at angles rotation + k 2 pi / blades (radians, from
+ * +x of the lens frame), tested where each ray meets the stop (a system needs its
+ * outputs ap_x ap_y). 0, or -1 with err. Not while another thread calls
+ * lens_camera_rays. */
+int lens_camera_set_blades(lens_camera *c, int blades, double rotation, lens_err *err);
+
 /* The camera as one self-contained C file a renderer compiles in (camera_emit.c): the
  * system sys fitted to lens (its passage included), a line pupil of boxes probed from
- * the system, the front element and the weight, behind one function
+ * the system, the aperture's blades (0: the stop's circle, as lens_camera_set_blades),
+ * the front element and the weight, behind
  *   double NAME_ray(double sx, double sy, double lambda, double r1, double r2,
  *                   double org[3], double dir[3])
- * with the meanings of lens_camera_rays (it returns the weight). Its line pupil is
- * coarser than the library's (fewer rays pass), the estimate the same. 0, or -1 with
- * err (a NAME that is no C identifier, a system without the camera's inputs). */
+ * with the meanings of lens_camera_rays (it returns the weight), and
+ *   size_t NAME_rays(size_t n, const double *samples, double *rays)
+ * with the rows and the return value of lens_camera_rays, the system evaluated in
+ * blocks by its vectorised batch function. Its line pupil is coarser than the
+ * library's (fewer rays pass), the estimate the same. 0, or -1 with err (a NAME that is
+ * no C identifier, a system without the camera's inputs, blades without ap_x ap_y). */
 #include <stdio.h>
 int lens_camera_emit(FILE *f, const lens_t *lens, const poly_system *sys, double sensor_w,
-                     double sensor_h, const char *name, lens_err *err);
+                     double sensor_h, int blades, double rotation, const char *name,
+                     lens_err *err);
 
 #endif

@@ -41,6 +41,14 @@ int poly_eval_jacobian(const poly_system *sys, const double *in, double *out, do
  * use it wherever rays come in bulk. */
 void poly_eval_batch(const poly_system *sys, size_t count, const double *in, double *out,
                      unsigned char *pass);
+/* poly_eval_batch writing only outputs outputs[0 .. nsel - 1], in that order: out is
+ * count x nsel (nsel may be 0: the pass flags alone). The values and pass flags are
+ * poly_eval_batch's, bit for bit. The outputs a caller does not ask for cost no stores;
+ * without pass (NULL) they are not computed either, while the pass test needs them
+ * all (a system's passage outputs: its stop and rim hit points). Returns 0, or -1 (and
+ * writes nothing) for a negative nsel or an output out of range. */
+int poly_eval_batch_outputs(const poly_system *sys, size_t count, const double *in, int nsel,
+                            const int *outputs, double *out, unsigned char *pass);
 /* The Jacobian of count rays (the same values as poly_eval_jacobian): jac is count x
  * (noutputs x ninputs), row r holding d out_o / d in_i at [o * ninputs + i]. */
 void poly_eval_jacobian_batch(const poly_system *sys, size_t count, const double *in,

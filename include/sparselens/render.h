@@ -83,17 +83,24 @@ double render_sampler_sample(const render_sampler *s, double x, double y, double
                              double *u, double *v);
 
 /* Eq. 13 (the default), or the unsimplified estimator: Eq. 3 with G-bar (Eq. 12) and
- * p_A(s1) (Eq. 8) each evaluated, with |A| from the lens's Jacobian (render.c). */
+ * p_A(s1) (Eq. 8) each evaluated from its own terms, from the lens's Jacobian
+ * (render_full.c). */
 typedef enum { RENDER_ESTIMATOR_EQ13, RENDER_ESTIMATOR_FULL } render_estimator;
 
 /* The factors of the full estimator for one camera ray (render_full_weight). */
 typedef struct {
+    /* Eq. 8, the sensor point s0 fixed */
     double A;        /* |det d(out_x, out_y) / d(u, v)|: line pupil -> front element */
     double J_all;    /* area on the front element per d out_x d out_y (frames) */
     double ds1_dsf;  /* area at s1 per area on the front element */
     double cos_s0, cos_s0p; /* at the sensor point and at the line-pupil point */
     double pA_s1;    /* Eq. 8: density of s1 per area of the scene surface */
-    double G;        /* Eq. 12 without P_a T_r: cos(theta_s0) dw_s0 / dA(s1) */
+    /* Eq. 12, the scene point s1 fixed */
+    double A_s1;     /* |det d(out_x, out_y) / d(x, y)| along the rays through s1 */
+    double cos_sf, cos_s1; /* the ray against the front element's and s1's normals */
+    double dist_f1;  /* |s_f - s1|, mm */
+    double G;        /* Eq. 12 without P_a T_r: cos(theta_s1) dw_s1 / dA(s0) =
+                      * J_all A_s1 cos_sf cos_s1 / dist_f1^2 */
     double weight;   /* T_r G / p_A(s1) (W_e / p_A(s0) = 1): the ray's weight before L */
 } render_full_terms;
 

@@ -41,8 +41,8 @@ static const opt_spec render_table[] = {
              "seed"},
     {0, "estimator", NULL, OPT_CHOICE, OPT_AT(render_cli, run.estimator), .choices = estimators,
      .help = "eq13: the simplified weight of Eq. 13; full: Eq. 3 with G-bar (Eq. 12) and "
-             "p_A(s1) (Eq. 8) evaluated, |A| from the system's Jacobian (the same image, "
-             "slower: a check)",
+             "p_A(s1) (Eq. 8) each evaluated from its own terms, from the lens map's Jacobian "
+             "(slower: a check of Eq. 13 and of the system's conservation of etendue)",
      .def = "eq13",
      .man =
      "See the estimator above.\n"},

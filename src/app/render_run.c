@@ -132,25 +132,6 @@ int render_compare(const char *ref, int w, int h, const float *rgb, double *rms,
     return 0;
 }
 
-/* --emit-camera: the scene's camera as one C file (camera.h), instead of the render. */
-static int emit_camera(const render_options *o, const lens_t *lens, const poly_system *sys,
-                       double sw, double sh, lens_err *err)
-{
-    if (!sys) {
-        lens_errf(err, o->scene, 0, "--emit-camera needs a polynomial system (not --exact)");
-        return -1;
-    }
-    outfile *of = outfile_open(o->emit_camera, err);
-    if (!of) return -1;
-    if (lens_camera_emit(outfile_stream(of), lens, sys, sw, sh, "lens_camera", err)) {
-        outfile_abort(of);
-        return -1;
-    }
-    if (outfile_commit(of, err)) return -1;
-    if (o->log) fprintf(o->log, "camera module: wrote %s (lens_camera_ray)\n", o->emit_camera);
-    return 0;
-}
-
 /* Everything render_run holds between its steps, freed by setup_free. */
 typedef struct {
     scene_t sc;
@@ -322,6 +303,28 @@ static int write_outputs(const render_options *o, const scene_t *sc, const float
     return 0;
 }
 
+/* --emit-camera: the scene's camera as one C file (camera.h), instead of the render. */
+static int emit_camera(const render_options *o, const render_setup *s, lens_err *err)
+{
+    const poly_system *sys = s->sys;
+    if (!sys) {
+        lens_errf(err, o->scene, 0, "--emit-camera needs a polynomial system (not --exact)");
+        return -1;
+    }
+    outfile *of = outfile_open(o->emit_camera, err);
+    if (!of) return -1;
+    if (lens_camera_emit(outfile_stream(of), &s->lens, sys, s->sw, s->sh, s->sc.blades,
+                         s->sc.blade_rotation * M_PI / 180, "lens_camera", err)) {
+        outfile_abort(of);
+        return -1;
+    }
+    if (outfile_commit(of, err)) return -1;
+    if (o->log)
+        fprintf(o->log, "camera module: wrote %s (lens_camera_ray, lens_camera_rays)\n",
+                o->emit_camera);
+    return 0;
+}
+
 static void setup_free(render_setup *s)
 {
     render_sampler_free(&s->smp);
@@ -339,11 +342,7 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
     lens_init(&s.lens);
     if (load_camera(o, &s, err) || choose_lens_map(o, &s, err)) goto done;
     if (o->emit_camera) {
-        if (s.sc.blades) {
-            lens_errf(err, s.sc.path, 0, "--emit-camera: the module has a round stop (no blades)");
-            goto done;
-        }
-        rc = emit_camera(o, &s.lens, s.sys, s.sw, s.sh, err);
+        rc = emit_camera(o, &s, err);
         goto done;
     }
     if (build_sampler(o, &s, err)) goto done;

@@ -2,7 +2,6 @@
 #include "base/line_reader.h"
 #include "lens/import_common.h"
 
-#include "sparselens/paraxial.h"
 #include "sparselens/numparse.h"
 
 #include <ctype.h>
@@ -144,28 +143,6 @@ int import_read_file(const char *path, char **data, size_t *len, lens_err *err)
     return rc;
 }
 
-char *import_begin(const char *data, size_t len, const char *path, const char *program,
-                   lens_t *lens, import_system *sys, lens_err *err)
-{
-    lens_init(lens);
-    memset(sys, 0, sizeof *sys);
-    sys->path = path;
-    sys->lens = lens;
-    sys->unit = 1;
-    sys->epd = sys->fno = NAN;
-    snprintf(lens->path, sizeof lens->path, "%s", path);
-    const char *base = strrchr(path, '/');
-    snprintf(lens->source, sizeof lens->source, "%s file %s", program, base ? base + 1 : path);
-    char *text = import_decode(data, len);
-    if (!text)
-        lens_errf(err, path, 0, "out of memory");
-    else if (import_check_lines(text, path, err) != 0) {
-        free(text);
-        text = NULL;
-    }
-    return text;
-}
-
 int import_check_lines(const char *text, const char *path, lens_err *err)
 {
     long line = 1;
@@ -195,17 +172,22 @@ int import_read_parse(FILE *f, const char *path, const lens_load_options *opt, l
     return rc;
 }
 
-int import_grow(void **array, size_t *cap, size_t n, size_t size)
+void *import_push(void **array, size_t *cap, size_t *n, size_t size, const char *path,
+                  long line, lens_err *err)
 {
-    if (n < *cap)
-        return 0;
-    size_t nc = *cap ? 2 * *cap : 16;
-    void *a = realloc(*array, nc * size);
-    if (!a)
-        return -1;
-    *array = a;
-    *cap = nc;
-    return 0;
+    if (*n == *cap) {
+        size_t nc = *cap ? 2 * *cap : 16;
+        void *a = realloc(*array, nc * size);
+        if (!a) {
+            lens_errf(err, path, line, "out of memory");
+            return NULL;
+        }
+        *array = a;
+        *cap = nc;
+    }
+    char *item = (char *)*array + (*n)++ * size;
+    memset(item, 0, size);
+    return item;
 }
 
 int import_any_nonzero(char **tok, int n, int from)
@@ -216,6 +198,13 @@ int import_any_nonzero(char **tok, int n, int from)
             return 1;
     }
     return 0;
+}
+
+void import_numbers(char **tok, int n, double *dst, int *count, int max)
+{
+    for (int i = 1; i < n && *count < max; i++)
+        if (parse_double(tok[i], &dst[*count]) == 0)
+            (*count)++;
 }
 
 char *import_next_line(import_lines *it)
@@ -271,6 +260,14 @@ int import_eq(const char *a, const char *b)
         if (toupper((unsigned char)*a) != toupper((unsigned char)*b))
             return 0;
     return *a == *b;
+}
+
+int import_eq_any(const char *a, const char *const *words)
+{
+    for (; *words; words++)
+        if (import_eq(a, *words))
+            return 1;
+    return 0;
 }
 
 const char *import_rest_after(const char *line, const char *keyword)
@@ -339,188 +336,6 @@ void import_skips_note(const import_skips *sk, lens_t *lens)
     lens_add_note(lens, "%s", buf);
 }
 
-void import_glass_init(import_glass_ctx *g, const lens_load_options *opt, const char *lens_path)
-{
-    memset(g, 0, sizeof *g);
-    g->opt = opt;
-    material_ctx_init(&g->m, opt, lens_path);
-}
-
-void import_glass_free(import_glass_ctx *g)
-{
-    material_ctx_free(&g->m);
-}
-
-static void append(char *dst, size_t cap, const char *s)
-{
-    size_t o = strlen(dst);
-    if (o + 1 < cap)
-        snprintf(dst + o, cap - o, "%s%s", o ? ", " : "", s);
-}
-
-/* Upper case, hyphens and blanks removed: N-BK7, n-bk7 and NBK7 are one glass. */
-static void normalise(const char *in, char *out, size_t cap)
-{
-    size_t o = 0;
-    for (; *in && o + 1 < cap; in++)
-        if (*in != '-' && *in != ' ')
-            out[o++] = (char)toupper((unsigned char)*in);
-    out[o] = '\0';
-}
-
-static const glass_t *find_loose(const glass_catalog *cat, const char *name)
-{
-    const glass_t *g = glass_catalog_find(cat, name);
-    if (g)
-        return g;
-    char want[64], have[64];
-    normalise(name, want, sizeof want);
-    const glass_t *hit = NULL;
-    size_t n = glass_catalog_size(cat);
-    for (size_t i = 0; i < n; i++) {
-        const glass_t *c = glass_catalog_at(cat, i);
-        normalise(c->name, have, sizeof have);
-        if (strcmp(want, have) == 0) {
-            /* The same name again (a later catalog) loses to the first; two different
-             * names that match loosely are ambiguous: better an error than a wrong glass. */
-            if (hit && !import_eq(hit->name, c->name))
-                return NULL;
-            if (!hit)
-                hit = c;
-        }
-    }
-    return hit;
-}
-
-int import_glass_model(lens_surface *s, double nd, double vd, const char *file, long line,
-                       lens_err *err)
-{
-    if (!isfinite(vd) || vd == 0)
-        vd = NAN; /* not given, or 0: a bare index */
-    char what[64];
-    snprintf(what, sizeof what, "model glass %g/%g", nd, isnan(vd) ? 0 : vd);
-    if (glass_check_ndvd(nd, vd, what, file, line, err) != 0)
-        return -1;
-    if (!isnan(vd)) {
-        s->medium = glass_from_ndvd(nd, vd);
-        snprintf(s->material, sizeof s->material, "%.10g/%.10g", nd, vd);
-    } else {
-        s->medium = glass_constant(nd);
-        snprintf(s->material, sizeof s->material, "%.10g", nd);
-    }
-    return 0;
-}
-
-int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double vd,
-                        const char *file, long line, lens_surface *s, lens_err *err)
-{
-    const glass_t *hit = NULL;
-    const char *searched = "none found";
-    int rc = material_lookup(&g->m, name, &hit, &searched, err);
-    if (rc < 0)
-        return -1;
-    if (!hit && g->m.cat)
-        hit = find_loose(g->m.cat, name);
-    if (!hit && g->m.cat) {
-        /* CODE V and some Zemax files qualify the name with its maker: SK16_SCHOTT. */
-        char base[64];
-        snprintf(base, sizeof base, "%s", name);
-        char *cut = strrchr(base, '_');
-        if (!cut)
-            cut = strrchr(base, '.');
-        if (cut && cut != base) {
-            *cut = '\0';
-            hit = find_loose(g->m.cat, base);
-        }
-    }
-    if (hit) {
-        s->medium = *hit;
-        snprintf(s->material, sizeof s->material, "%s", hit->name);
-        return 0;
-    }
-    int have_ndvd = isfinite(nd) && nd > 1.0 && isfinite(vd) && vd > 0;
-    if (have_ndvd && g->opt && g->opt->ndvd_fallback) {
-        if (import_glass_model(s, nd, vd, file, line, err) != 0)
-            return -1;
-        char what[96];
-        snprintf(what, sizeof what, "%s as %s", name, s->material);
-        append(g->fallbacks, sizeof g->fallbacks, what);
-        return 0;
-    }
-    char hint[200] = "";
-    if (g->maker_catalogs[0])
-        snprintf(hint, sizeof hint, "; the file names the catalogs %s: add their AGF files "
-                                    "with --glass-catalog",
-                 g->maker_catalogs);
-    if (have_ndvd)
-        lens_errf(err, file, line,
-                  "glass %s not found in %s (the file gives n_d %g, V_d %g: "
-                  "--glass-fallback ndvd would use them)%s",
-                  name, searched, nd, vd, hint);
-    else
-        lens_errf(err, file, line, "glass %s not found in %s%s", name, searched, hint);
-    return -1;
-}
-
-void import_glass_note(const import_glass_ctx *g, lens_t *lens)
-{
-    if (g->fallbacks[0])
-        lens_add_note(lens, "glass not in catalogs, n_d/V_d model used: %s", g->fallbacks);
-}
-
-int import_set_aperture(lens_t *lens, double fnumber, double epd_mm, const char *what,
-                        int hard, lens_err *err)
-{
-    paraxial_data p;
-    lens_err e;
-    e.msg[0] = '\0';
-    if (paraxial_compute(lens, GLASS_D_LINE, &p, &e) != 0 || !(p.fnumber > 0) ||
-        !isfinite(p.fnumber) || !isfinite(p.efl)) {
-        lens_add_note(lens, "aperture %s not applied: %s", what,
-                      e.msg[0] ? e.msg : "the lens has no finite paraxial f-number");
-        return 0;
-    }
-    double target = fnumber > 0 ? fnumber : fabs(p.efl) / epd_mm;
-    lens_surface *s = &lens->surf[lens->stop];
-    double old = s->semi_diameter, sd = old * p.fnumber / target;
-    if (!isfinite(sd) || isnan(lens_sag(s, sd * sd))) {
-        lens_errf(err, lens->path, s->line,
-                  "%s needs a stop semi-diameter of %g mm, more than surface %d can have", what,
-                  sd, lens->stop + 1);
-        return -1;
-    }
-    lens->fnumber = target;
-    if (hard && sd > old * (1 + 1e-6)) {
-        /* A hard aperture on the stop clips the beam the system aperture asks for. */
-        lens_add_note(lens, "%s asks for a stop semi-diameter of %.6g mm; the stop's clear "
-                            "aperture %g mm is kept (f/%.4g, not f/%.4g)",
-                      what, sd, old, p.fnumber, target);
-        return 0;
-    }
-    s->semi_diameter = sd;
-    if (fabs(sd - old) > 1e-6 * old)
-        lens_add_note(lens, "stop semi-diameter %.6g mm from %s (the file's is %g)", sd, what,
-                      old);
-    return 0;
-}
-
-double import_radius(double c, double unit)
-{
-    if (c == 0 || !isfinite(c))
-        return INFINITY;
-    double r = 1.0 / c;
-    char buf[40];
-    for (int prec = 1; prec <= 17; prec++) {
-        snprintf(buf, sizeof buf, "%.*g", prec, r);
-        double v = strtod(buf, NULL);
-        if (1.0 / v == c) {
-            r = v;
-            break;
-        }
-    }
-    return r * unit;
-}
-
 /* Control characters become '?', and blanks at both ends go: what the native format's
  * header lines can carry and read back unchanged. */
 static void clean_line(char *s, size_t cap)
@@ -566,16 +381,3 @@ void import_clean_text(lens_t *lens)
     memcpy(lens->notes, out, o + 1);
 }
 
-int import_finish(lens_t *lens, const import_skips *skips, double fnumber, const char *fno_name,
-                  double epd_mm, const char *epd_name, int hard, lens_err *err)
-{
-    import_skips_note(skips, lens);
-    import_clean_text(lens);
-    if (lens_finish(lens, err) != 0)
-        return -1;
-    if (isfinite(fnumber) && fnumber > 0)
-        return import_set_aperture(lens, fnumber, 0, fno_name, hard, err);
-    if (isfinite(epd_mm) && epd_mm > 0)
-        return import_set_aperture(lens, 0, epd_mm, epd_name, hard, err);
-    return 0;
-}

@@ -31,12 +31,18 @@ typedef int (*import_parser)(const char *data, size_t len, const char *path,
 int import_read_parse(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,
                       lens_err *err, import_parser parse);
 
-/* Grows an array of *cap elements of size bytes so that it holds n + 1 (doubling, from
- * 16). 0, or -1 when out of memory (the array is kept). */
-int import_grow(void **array, size_t *cap, size_t n, size_t size);
+/* Appends a zeroed element of size bytes to *array (*n used of *cap, doubling from 16)
+ * and returns it; NULL (err: "FILE:LINE: out of memory") when memory runs out, the
+ * array kept. */
+void *import_push(void **array, size_t *cap, size_t *n, size_t size, const char *path,
+                  long line, lens_err *err);
 
 /* True when any of tok[from..n) is a non-zero number (a tilt, a decentre, a factor). */
 int import_any_nonzero(char **tok, int n, int from);
+
+/* Appends the numbers among tok[1..n) to dst[*count..max), passing over words that are
+ * not numbers (lists of wavelengths or fields). */
+void import_numbers(char **tok, int n, double *dst, int *count, int max);
 
 /* Next line of a decoded buffer, split in place (\n, \r\n or \r); NULL at the end. */
 typedef struct {
@@ -60,6 +66,8 @@ void import_set_name(lens_t *lens, const char *name);
 
 /* Case-insensitive string equality (keywords are upper case in files, but not always). */
 int import_eq(const char *a, const char *b);
+/* import_eq against any of words (a NULL-terminated list). */
+int import_eq_any(const char *a, const char *const *words);
 
 /* Things read but not modelled, counted by a human-readable label, for the notes. */
 #define IMPORT_MAX_SKIPS 24
@@ -83,7 +91,13 @@ typedef struct {
     double unit;       /* mm per length unit of the file */
     double epd;        /* entrance pupil diameter, file units; NAN if not given */
     double fno;        /* f-number; NAN if not given */
+    int inf_words;     /* import_number reads INF and INFINITY (import_format's) */
 } import_system;
+
+/* tok[i] (of n tokens) as a number into *v. -1 with "FILE:LINE: KEY: expected a
+ * number, found 'X'" (KEY = tok[0]; "end of line" when there is no tok[i]). */
+int import_number(const import_system *sys, char **tok, int n, int i, long line, double *v,
+                  lens_err *err);
 
 /* The start of every design-file parser: *lens emptied, lens->path = path, lens->source =
  * "PROGRAM file BASENAME", *sys set for it (mm, no aperture yet), and data decoded
@@ -92,9 +106,31 @@ typedef struct {
 char *import_begin(const char *data, size_t len, const char *path, const char *program,
                    lens_t *lens, import_system *sys, lens_err *err);
 
+/* One design-file format for import_parse: the program that writes it (for lens->source),
+ * whether import_number reads INF and INFINITY, the size of the format's state (an
+ * import_system first, then the format's own), how the decoded text is read into the
+ * state, how the lens is built from it, and what frees the arrays the state holds. */
+typedef struct {
+    const char *program;
+    int inf_words;
+    size_t state_size;
+    int (*read)(void *state, char *text, lens_err *err);
+    int (*build)(void *state, const lens_load_options *opt, lens_err *err);
+    void (*free)(void *state);
+} import_format;
 
-/* Appends "; "-separated text to lens->notes, ending in "..." if it does not fit. */
-void import_note(lens_t *lens, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Every design-file parse: a zeroed state, import_begin into its import_system,
+ * fmt->read over the text, fmt->build; the state and the text freed, and *lens emptied
+ * on failure. 0, or -1 with err set. */
+int import_parse(const char *data, size_t len, const char *path, const lens_load_options *opt,
+                 lens_t *lens, const import_format *fmt, lens_err *err);
+
+/* The notes "fields KIND: y1 y2 (x3,y3) ..." (x may be NULL: fields along y only; an
+ * x of 0 is not written) and "wavelengths (um): w1 w2 (primary) ...", wave[i] / per_um
+ * in micrometres, primary counted from 1 (0: none). Nothing when n is 0. */
+void import_fields_note(lens_t *lens, const char *kind, const double *x, int nx,
+                        const double *y, int n);
+void import_waves_note(lens_t *lens, const double *wave, int n, double per_um, int primary);
 
 /* Radius in mm of a curvature c given per lens unit (unit mm long); INFINITY for c = 0.
  * Of the decimal radii whose reciprocal is c exactly, the shortest: a file written from

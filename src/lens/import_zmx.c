@@ -59,30 +59,16 @@ static int num(const char *s, double *v)
 
 /* Keywords that only concern display, file bookkeeping or analysis settings: they do
  * not change the optics, so they are not worth a warning. */
-static int silent_system_key(const char *k)
-{
-    static const char *const keys[] = {
-        "VERS", "PFIL", "LANG", "ENVD", "GFAC", "RAIM", "PUSH", "SDMA", "OMMA", "ROPD",
-        "HYPR", "PICB", "FWGN", "FWGT", "POLS", "GLRS", "GSTD", "COFN", "SURP", "BLNK",
-        "NOTE", "WWGT", "WWGN", "VDSZ", "SCOL", "SLAB", "RWRE", "BLNS", "TOLE", "MAZH",
-        "PPAR", "DMFS", "EFFL", "SDMS", "NSCD", "NSCS", "FIMP", "MAZH",
-        "XFLM", "YFLM", "FWGM", "FTYM", "DBDT", NULL};
-    for (int i = 0; keys[i]; i++)
-        if (import_eq(k, keys[i]))
-            return 1;
-    return 0;
-}
+static const char *const silent_system_keys[] = {
+    "VERS", "PFIL", "LANG", "ENVD", "GFAC", "RAIM", "PUSH", "SDMA", "OMMA", "ROPD",
+    "HYPR", "PICB", "FWGN", "FWGT", "POLS", "GLRS", "GSTD", "COFN", "SURP", "BLNK",
+    "NOTE", "WWGT", "WWGN", "VDSZ", "SCOL", "SLAB", "RWRE", "BLNS", "TOLE", "MAZH",
+    "PPAR", "DMFS", "EFFL", "SDMS", "NSCD", "NSCS", "FIMP", "MAZH",
+    "XFLM", "YFLM", "FWGM", "FTYM", "DBDT", NULL};
 
-static int silent_surface_key(const char *k)
-{
-    static const char *const keys[] = {"HIDE", "MIRR", "SLAB", "COMM", "POPS", "MEMA",
-                                       "PZUP", "FLAP", "XDAT", "VPAR", "PPAR", "BLNK",
-                                       "SCOL", "COLR", "FIMP", "OEMA", "MAZH", NULL};
-    for (int i = 0; keys[i]; i++)
-        if (import_eq(k, keys[i]))
-            return 1;
-    return 0;
-}
+static const char *const silent_surface_keys[] = {"HIDE", "MIRR", "SLAB", "COMM", "POPS", "MEMA",
+                                                  "PZUP", "FLAP", "XDAT", "VPAR", "PPAR", "BLNK",
+                                                  "SCOL", "COLR", "FIMP", "OEMA", "MAZH", NULL};
 
 static void refuse(zsurf *z, long line, const char *fmt, const char *what)
 {
@@ -96,33 +82,32 @@ static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, le
 {
     const char *k = tok[0];
     double v;
-#define NEED_NUM(i, dst)                                                                    \
-    do {                                                                                    \
-        if (n <= (i) || num(tok[i], &(dst)) != 0) {                                         \
-            lens_errf(err, st->sys.path, line, "%s: expected a number, found '%s'", k,          \
-                      n > (i) ? tok[i] : "end of line");                                    \
-            return -1;                                                                      \
-        }                                                                                   \
-    } while (0)
     if (import_eq(k, "TYPE")) {
         snprintf(z->type, sizeof z->type, "%s", n > 1 ? tok[1] : "");
     } else if (import_eq(k, "CURV")) {
-        NEED_NUM(1, z->curv);
+        if (import_number(&st->sys, tok, n, 1, line, &z->curv, err) != 0)
+            return -1;
     } else if (import_eq(k, "DISZ")) {
-        NEED_NUM(1, z->disz);
+        if (import_number(&st->sys, tok, n, 1, line, &z->disz, err) != 0)
+            return -1;
     } else if (import_eq(k, "DIAM")) {
-        NEED_NUM(1, z->diam);
+        if (import_number(&st->sys, tok, n, 1, line, &z->diam, err) != 0)
+            return -1;
     } else if (import_eq(k, "CLAP")) {
         /* CLAP min-radius max-radius ...: a circular clear aperture. */
-        NEED_NUM(2, z->clap);
+        if (import_number(&st->sys, tok, n, 2, line, &z->clap, err) != 0)
+            return -1;
         if (n > 1 && parse_double(tok[1], &v) == 0 && v > 0)
             import_skip(&st->sys.skips, "annular aperture inner radius");
     } else if (import_eq(k, "CONI")) {
-        NEED_NUM(1, z->coni);
+        if (import_number(&st->sys, tok, n, 1, line, &z->coni, err) != 0)
+            return -1;
     } else if (import_eq(k, "PARM")) {
         double idx;
-        NEED_NUM(1, idx);
-        NEED_NUM(2, v);
+        if (import_number(&st->sys, tok, n, 1, line, &idx, err) != 0)
+            return -1;
+        if (import_number(&st->sys, tok, n, 2, line, &v, err) != 0)
+            return -1;
         if (idx >= 0 && idx < ZMX_NPARM && idx == floor(idx))
             z->parm[(int)idx] = v;
         else if (v != 0)
@@ -162,11 +147,10 @@ static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, le
             refuse(z, line, "%s", "is tilted or decentred; sparselens models centred systems only");
     } else if (import_eq(k, "TOL") || !strncmp(k, "TOL", 3)) {
         import_skip(&st->sys.skips, "tolerance data");
-    } else if (!silent_surface_key(k)) {
+    } else if (!import_eq_any(k, silent_surface_keys)) {
         import_skip_word(&st->sys.skips, "surface keyword", k);
     }
     return 0;
-#undef NEED_NUM
 }
 
 static int system_key(zmx_state *st, char **tok, int n, long line, lens_err *err)
@@ -261,7 +245,7 @@ static int system_key(zmx_state *st, char **tok, int n, long line, lens_err *err
     } else if (!strncmp(k, "VD", 2) || !strncmp(k, "VC", 2) || import_eq(k, "VANN")) {
         if (import_any_nonzero(tok, n, 1))
             import_skip(&st->sys.skips, "field vignetting factors");
-    } else if (!silent_system_key(k)) {
+    } else if (!import_eq_any(k, silent_system_keys)) {
         import_skip_word(&st->sys.skips, "keyword", k);
     }
     return 0;
@@ -317,45 +301,23 @@ static int check_type(zmx_state *st, zsurf *z)
 
 static void fields_and_waves_note(zmx_state *st)
 {
-    char buf[400];
-    size_t o = 0;
     int nf = st->nfields > 0 && st->nfields <= 12 ? st->nfields : (st->ny > st->nx ? st->ny : st->nx);
     if (nf > st->ny)
         nf = st->ny;
     if (st->nfields <= 0) /* no count in the file: the unused slots are the trailing zeros */
         while (nf > 1 && st->yfield[nf - 1] == 0 && (nf > st->nx || st->xfield[nf - 1] == 0))
             nf--;
-    if (nf > 0) {
-        static const char *const kind[] = {"angle (deg)", "object height", "paraxial image height",
-                                           "real image height"};
-        const char *what = st->ftype >= 0 && st->ftype <= 3 ? kind[st->ftype] : "other";
-        o += (size_t)snprintf(buf + o, sizeof buf - o, "fields %s:", what);
-        for (int i = 0; i < nf && o < sizeof buf; i++) {
-            double x = i < st->nx ? st->xfield[i] : 0, y = st->yfield[i];
-            int w = x != 0 ? snprintf(buf + o, sizeof buf - o, " (%g,%g)", x, y)
-                           : snprintf(buf + o, sizeof buf - o, " %g", y);
-            if (w < 0)
-                break;
-            o += (size_t)w;
-        }
-        lens_add_note(st->sys.lens, "%s", buf);
-    }
+    static const char *const kind[] = {"angle (deg)", "object height", "paraxial image height",
+                                       "real image height"};
+    import_fields_note(st->sys.lens, st->ftype >= 0 && st->ftype <= 3 ? kind[st->ftype] : "other",
+                       st->xfield, st->nx, st->yfield, nf);
     int nw = st->nwaves > 0 && st->nwaves <= st->nwave_read ? st->nwaves : st->nwave_read;
-    if (nw > 0) {
-        o = (size_t)snprintf(buf, sizeof buf, "wavelengths (um):");
-        for (int i = 0; i < nw && o < sizeof buf; i++) {
-            int w = snprintf(buf + o, sizeof buf - o, " %.7g%s", st->wave[i],
-                             i + 1 == st->pwav ? " (primary)" : "");
-            if (w < 0)
-                break;
-            o += (size_t)w;
-        }
-        lens_add_note(st->sys.lens, "%s", buf);
-    }
+    import_waves_note(st->sys.lens, st->wave, nw, 1, st->pwav);
 }
 
-static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
+static int build(void *state, const lens_load_options *opt, lens_err *err)
 {
+    zmx_state *st = state;
     lens_t *lens = st->sys.lens;
     if (st->ns < 3) {
         lens_errf(err, st->sys.path, 0,
@@ -454,15 +416,30 @@ static int build(zmx_state *st, const lens_load_options *opt, lens_err *err)
     return import_finish(lens, &st->sys.skips, st->sys.fno, "FNUM", st->sys.epd * u, "ENPD", stop_clap, err);
 }
 
-int lens_parse_zmx(const char *data, size_t len, const char *path,
-                   const lens_load_options *opt, lens_t *lens, lens_err *err)
+/* A SURF line: the next surface block. */
+static zsurf *new_surface(zmx_state *st, char **tok, int n, long line, lens_err *err)
 {
-    zmx_state st;
-    memset(&st, 0, sizeof st);
-    char *text = import_begin(data, len, path, "Zemax", lens, &st.sys, err);
-    if (!text)
-        return -1;
+    long no;
+    if (n < 2 || parse_long(tok[1], &no) != 0 || no != (long)st->ns) {
+        lens_errf(err, st->sys.path, line, "SURF %s: expected surface number %zu",
+                  n > 1 ? tok[1] : "", st->ns);
+        return NULL;
+    }
+    zsurf *z = import_push((void **)&st->s, &st->cap, &st->ns, sizeof *st->s, st->sys.path,
+                           line, err);
+    if (!z)
+        return NULL;
+    z->line = line;
+    z->number = (int)no;
+    z->nd = z->vd = NAN;
+    return z;
+}
 
+/* Keyword lines at the left margin are system data; indented ones under a SURF line
+ * belong to that surface. */
+static int read_lines(void *state, char *text, lens_err *err)
+{
+    zmx_state *st = state;
     import_lines it = {text, 0};
     char *line, *tok[ZMX_MAX_TOK];
     zsurf *cur = NULL;
@@ -473,7 +450,7 @@ int lens_parse_zmx(const char *data, size_t len, const char *path,
          * line is split into tokens in place. */
         const char *name = import_rest_after(line, "NAME");
         if (name && !(cur && indented)) {
-            import_set_name(lens, name);
+            import_set_name(st->sys.lens, name);
             cur = NULL;
             continue;
         }
@@ -483,43 +460,34 @@ int lens_parse_zmx(const char *data, size_t len, const char *path,
         if (import_eq(tok[0], "VERS"))
             seen_vers = 1;
         if (import_eq(tok[0], "SURF")) {
-            long no;
-            if (n < 2 || parse_long(tok[1], &no) != 0 || no != (long)st.ns) {
-                lens_errf(err, path, it.line, "SURF %s: expected surface number %zu",
-                          n > 1 ? tok[1] : "", st.ns);
-                rc = -1;
-                break;
-            }
-            if (import_grow((void **)&st.s, &st.cap, st.ns, sizeof *st.s) != 0) {
-                lens_errf(err, path, it.line, "out of memory");
-                rc = -1;
-                break;
-            }
-            cur = &st.s[st.ns++];
-            memset(cur, 0, sizeof *cur);
-            cur->line = it.line;
-            cur->number = (int)no;
-            cur->nd = cur->vd = NAN;
-            continue;
-        }
-        if (cur && indented)
-            rc = surface_key(&st, cur, tok, n, it.line, err);
-        else {
+            cur = new_surface(st, tok, n, it.line, err);
+            rc = cur ? 0 : -1;
+        } else if (cur && indented) {
+            rc = surface_key(st, cur, tok, n, it.line, err);
+        } else {
             cur = NULL;
-            rc = system_key(&st, tok, n, it.line, err);
+            rc = system_key(st, tok, n, it.line, err);
         }
     }
-    if (rc == 0 && !seen_vers && st.ns == 0) {
-        lens_errf(err, path, 0, "not a Zemax .zmx file (no VERS line and no SURF blocks)");
+    if (rc == 0 && !seen_vers && st->ns == 0) {
+        lens_errf(err, st->sys.path, 0, "not a Zemax .zmx file (no VERS line and no SURF blocks)");
         rc = -1;
     }
-    if (rc == 0)
-        rc = build(&st, opt, err);
-    free(st.s);
-    free(text);
-    if (rc != 0)
-        lens_free(lens);
     return rc;
+}
+
+static void free_state(void *state)
+{
+    free(((zmx_state *)state)->s);
+}
+
+static const import_format zmx_format = {"Zemax", 1, sizeof(zmx_state), read_lines, build,
+                                         free_state};
+
+int lens_parse_zmx(const char *data, size_t len, const char *path,
+                   const lens_load_options *opt, lens_t *lens, lens_err *err)
+{
+    return import_parse(data, len, path, opt, lens, &zmx_format, err);
 }
 
 int lens_read_zmx(FILE *f, const char *path, const lens_load_options *opt, lens_t *lens,

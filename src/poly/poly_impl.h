@@ -1,7 +1,8 @@
 #ifndef SPARSELENS_POLY_IMPL_H
 #define SPARSELENS_POLY_IMPL_H
-/* The layout of a poly_system, shared by poly.c (building), poly_io.c (the text format),
- * poly_eval.c and poly_emit_c.c. Nothing outside those files includes this.
+/* The layout of a poly_system, shared by poly.c (building), poly_io.c and poly_write.c
+ * (the text format), poly_eval.c and poly_emit_c.c. Nothing outside those files includes
+ * this.
  *
  * Monomials. Each part keeps a table of "slots", values computed once per ray:
  *   slot 0          the constant 1
@@ -155,10 +156,32 @@ int poly_eval_values_core(const poly_system *sys, int part, const double *in, do
 void poly_eval_batch_core(const poly_system *sys, size_t count, const double *in, double *out,
                           unsigned char *pass);
 int poly_eval_jacobian_core(const poly_system *sys, const double *in, double *out, double *jac);
-/* poly_eval_part_core on many rays (bit for bit), through the batch kernel. */
-void poly_eval_core_batch(const poly_system *sys, size_t count, const double *in, double *out);
+/* poly_eval_jacobian_batch of a framed system whose views exist (when it has outputs
+ * outside the frame): the kernel applies frame and transforms, runs the frame view's
+ * values and derivatives and the plain view's derivatives, then poly_frame_chain on
+ * each block. */
+void poly_eval_jacobian_batch_frame(const poly_system *sys, size_t count, const double *in,
+                                    double *jac);
 void poly_eval_jacobian_batch_core(const poly_system *sys, size_t count, const double *in,
                                    double *jac);
+
+/* What the chain rule through the frame (poly_frame_chain, poly_frame.c) reads and
+ * writes for n rays, as columns: value k of ray r at [k * n + r] (one ray: the rows of
+ * the cores; a block of the batch kernel: its columns). */
+typedef struct {
+    size_t n;
+    const double *x;      /* nin: the inputs as given */
+    const double *w;      /* nin: rotated into the frame, not transformed */
+    const double *c, *sn; /* the rotation */
+    const double *o;      /* nout: the frame view's values (of the rotated pairs at least) */
+    const double *J, *Jp; /* nout x nin: d out_o / d t_i of the frame and plain views (Jp
+                             read only when np) */
+    double *g;            /* scratch: 2 nin + 9 columns */
+    double *jac;          /* nout x nin: d out_o / d in_i */
+} poly_chain_cols;
+/* jac = d out / d in from the cores' values and derivatives; np: the system has outputs
+ * outside the frame (the plain view's). */
+void poly_frame_chain(const poly_system *s, int np, const poly_chain_cols *k);
 
 /* Monomial tables and plans (poly_plan.c). A table's slot 0 is the constant and slots
  * 1..nin the scaled inputs; poly_mono_ensure returns the slot of monomial e, created
@@ -182,6 +205,9 @@ void poly_frame_on_term(poly_system *s, int part, int output, const int *exps, d
 
 /* 1 when evaluation needs the frame or a transform around the core. */
 static inline int poly_frame_active(const poly_system *s) { return s->frame != 0 || s->nxform > 0; }
+
+/* The version the .poly writer writes and the reader accepts ("lens-poly 1"). */
+#define POLY_FORMAT_VERSION 1
 
 /* Shortest decimal that reads back as v ("inf" / "-inf" for infinities); buf >= 32. */
 void poly_format_number(char *buf, size_t len, double v);

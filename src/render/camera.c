@@ -41,6 +41,11 @@ void lens_camera_free(lens_camera *c)
     free(c);
 }
 
+int lens_camera_set_blades(lens_camera *c, int blades, double rotation, lens_err *err)
+{
+    return render_lens_set_blades(c->ctx, blades, rotation, err);
+}
+
 #define CHUNK 64
 size_t lens_camera_rays(const lens_camera *c, size_t n, const double *samples, double *rays)
 {

@@ -28,7 +28,10 @@
 #include "sparselens/render_spectrum.h"
 #include "sparselens/trace.h"
 
-#define BLOCK 64 /* camera samples per lens batch */
+/* camera samples per lens batch: a block runs across a row's pixels, so that a system's
+ * batch kernel meets hundreds of rays a call whatever the spp (its set-up per call costs
+ * about as much as 30 rays) */
+#define BLOCK 256
 #define MAX_WAVE (RENDER_HERO > 3 ? RENDER_HERO : 3)
 
 /* sample dimensions (render_samples.h): pairs and singles are numbered apart */
@@ -127,6 +130,8 @@ typedef struct {
     double o4[BLOCK * MAX_WAVE * 4], jac[BLOCK * MAX_WAVE * 16]; /* full estimator */
     unsigned char pass[BLOCK * MAX_WAVE];
     wave_set waves[BLOCK];
+    int px[BLOCK];  /* each sample's pixel (column of the row) */
+    long k[BLOCK];  /* and its index among the pixel's spp */
 } block_buf;
 
 /* Per pixel: the sums of the samples' contributions and of their squares, the counts. */
@@ -187,9 +192,18 @@ typedef struct {
     double rho;
 } camera_cull;
 
-static void render_block(const render_job *job, const camera_cull *cc, const ld_pixel *key, int px,
-                         int py, long k0, int m, block_buf *b, pixel_acc *acc)
+/* One row's pixels in the making: their sample keys and sums, by column. */
+typedef struct {
+    int py;
+    ld_pixel *key;
+    pixel_acc *acc;
+} row_state;
+
+/* Samples b->px[i], b->k[i] (i < m) of the row: lens, scene, sums. */
+static void render_block(const render_job *job, const camera_cull *cc, const row_state *row,
+                         int m, block_buf *b)
 {
+    const int py = row->py;
     const scene_t *sc = job->scene;
     const render_camera *cam = job->cam;
     long spp = job->spp;
@@ -198,7 +212,9 @@ static void render_block(const render_job *job, const camera_cull *cc, const ld_
     /* the camera rays of the block */
     int nray = 0; /* rays per sample */
     for (int i = 0; i < m; i++) {
-        long k = k0 + i;
+        long k = b->k[i];
+        int px = b->px[i];
+        const ld_pixel *key = &row->key[px];
         double q[2], p2[2];
         ld_2d_px(key, DIM_PIXEL, spp, k, q);
         if (job->filter == RENDER_FILTER_TENT) q[0] = 0.5 + tent(q[0], rad), q[1] = 0.5 + tent(q[1], rad);
@@ -211,15 +227,17 @@ static void render_block(const render_job *job, const camera_cull *cc, const ld_
         b->pdf[i] = render_sampler_sample(job->sampler, x, y, p2[0], p2[1], &uu, &vv);
         nray = job->achromatic ? 1 : w->nwave;
         for (int j = 0; j < nray; j++) {
-            double *row = b->in + 5 * ((size_t)i * nray + j);
-            row[0] = x, row[1] = y, row[2] = uu, row[3] = vv;
-            row[4] = job->achromatic ? GLASS_D_LINE : w->lambda[j];
+            double *ray_in = b->in + 5 * ((size_t)i * nray + j);
+            ray_in[0] = x, ray_in[1] = y, ray_in[2] = uu, ray_in[3] = vv;
+            ray_in[4] = job->achromatic ? GLASS_D_LINE : w->lambda[j];
         }
     }
     if (full) full_block(job, (size_t)m * nray, b);
     else lens_block(job, (size_t)m * nray, b);
     for (int i = 0; i < m; i++) {
-        long k = k0 + i;
+        long k = b->k[i];
+        const ld_pixel *key = &row->key[b->px[i]];
+        pixel_acc *acc = &row->acc[b->px[i]];
         const wave_set *w = &b->waves[i];
         double a[3] = {0, 0, 0};
         int any = 0;
@@ -288,30 +306,36 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
 #pragma omp parallel num_threads(threads) reduction(+ : passed_total, full_total, fallback_total)
     {
         block_buf *b = malloc(sizeof *b);
-        if (!b) {
+        row_state row = {0, malloc((size_t)W * sizeof *row.key), malloc((size_t)W * sizeof *row.acc)};
+        if (!b || !row.key || !row.acc) {
 #pragma omp atomic write
             fail = 1;
         }
 #pragma omp for schedule(dynamic, 1)
         for (int py = 0; py < H; py++) {
-            if (!b) continue;
+            if (!b || !row.key || !row.acc) continue;
+            /* the pixels rendered: [xa, xb) of the row, or none (a crop) */
+            int crop = job->x1 > 0, xa = crop ? job->x0 : 0, xb = crop ? job->x1 : W;
+            if (xa < 0) xa = 0;
+            if (xb > W) xb = W;
+            if (crop && (py < job->y0 || py >= job->y1)) xb = xa;
+            row.py = py;
+            for (int px = xa; px < xb; px++) {
+                ld_pixel_init(&row.key[px], ld_pixel_key(sc->seed, (size_t)py * W + px));
+                memset(&row.acc[px], 0, sizeof row.acc[px]);
+            }
+            int m = 0;
+            for (int px = xa; px < xb; px++)
+                for (long k = 0; k < job->spp; k++) {
+                    b->px[m] = px, b->k[m] = k;
+                    if (++m == BLOCK) render_block(job, &cc, &row, m, b), m = 0;
+                }
+            if (m) render_block(job, &cc, &row, m, b);
             for (int px = 0; px < W; px++) {
                 size_t pix = (size_t)py * W + px;
-                if (job->x1 > 0 && (px < job->x0 || px >= job->x1 || py < job->y0 || py >= job->y1)) {
-                    for (int c = 0; c < 3; c++) {
-                        rgb[3 * pix + c] = 0;
-                        if (var) var[3 * pix + c] = 0;
-                    }
-                    continue;
-                }
-                ld_pixel key;
-                ld_pixel_init(&key, ld_pixel_key(sc->seed, pix));
                 pixel_acc acc;
-                memset(&acc, 0, sizeof acc);
-                for (long k0 = 0; k0 < job->spp; k0 += BLOCK) {
-                    int m = (int)(job->spp - k0 < BLOCK ? job->spp - k0 : BLOCK);
-                    render_block(job, &cc, &key, px, py, k0, m, b, &acc);
-                }
+                if (px >= xa && px < xb) acc = row.acc[px];
+                else memset(&acc, 0, sizeof acc);
                 passed_total += acc.passed;
                 full_total += acc.full;
                 fallback_total += acc.fallback;
@@ -332,6 +356,8 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
                 job->progress(job->progress_ctx, (double)done / H);
         }
         free(b);
+        free(row.key);
+        free(row.acc);
     }
     scene_cull_free(cull);
     if (fail) {

@@ -143,9 +143,18 @@ double scene_albedo(const scene_t *s, int obj, const double p[3], int c)
         /* a solid checker: the same pattern on planes and spheres */
         /* The parity of each cell index from fmod, not a cast to long: a tiny square or
          * a far hit gives indices past LONG_MAX (undefined behaviour when cast). */
+        /* On a plane (or disk) the hit is first put back on it exactly: a plane on a
+         * cell face (z = 1000 with cubes of 40) would otherwise take either colour by
+         * the last bit of the hit, a different one for two ways of tracing one ray. */
+        double q[3] = {p[0], p[1], p[2]};
+        if (o->kind != OBJ_SPHERE) {
+            double off = (p[0] - o->p[0]) * o->n[0] + (p[1] - o->p[1]) * o->n[1] +
+                         (p[2] - o->p[2]) * o->n[2];
+            for (int j = 0; j < 3; j++) q[j] -= off * o->n[j];
+        }
         double k = 0;
         for (int j = 0; j < 3; j++)
-            k += fabs(fmod(floor(p[j] / t->size), 2.0));
+            k += fabs(fmod(floor(q[j] / t->size), 2.0));
         return fmod(k, 2.0) == 1.0 ? t->b[c] : t->a[c];
     }
     case TEX_IMAGE: {

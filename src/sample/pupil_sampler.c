@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <omp.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,14 +16,71 @@
  * circle) three probes left gaps between their sets wider than the dilation. */
 enum { MAX_LAMBDAS = 5, COARSE = 64 };
 
+/* A run of occupied cells along a grid row: columns i0 .. i0 + n - 1 of row j, after
+ * cum occupied cells in index order (row by row). */
+typedef struct {
+    int cum;
+    short i0, j;
+} pupil_run;
+
+/* The occupied cells are kept as a bitmap (the density test: a bit a cell) and as runs
+ * (drawing the k-th occupied cell: a binary search over the runs, no division): both a
+ * few kB a set, so that a render's accesses, spread over every set a row of pixels
+ * meets, stay in the cache (a list of cell indices was 4 bytes a cell, random access). */
 typedef struct {
     double u0, v0, du, dv; /* grid origin (lower corner) and cell size */
     int g;                 /* cells per side */
-    unsigned char *occ;    /* g*g occupancy, row v, column u */
-    int *cells;            /* indices of the occupied cells */
-    int count;
+    uint64_t *occ;         /* g*g occupancy bits, row v, column u: bit c of word c / 64 */
+    pupil_run *runs;
+    int nruns;
+    int count;   /* occupied cells */
     double area; /* count * du * dv */
 } pupil_set;
+
+static int occupied(const pupil_set *set, size_t c)
+{
+    return (int)(set->occ[c / 64] >> (c % 64) & 1);
+}
+
+/* The runs, count and area of a set whose bitmap is filled. */
+static int set_finish(pupil_set *set)
+{
+    int g = set->g;
+    set->count = set->nruns = 0;
+    for (int j = 0; j < g; j++)
+        for (int i = 0; i < g; i++)
+            set->nruns += occupied(set, (size_t)j * g + i) && (i == 0 || !occupied(set, (size_t)j * g + i - 1));
+    set->runs = malloc((size_t)(set->nruns + 1) * sizeof *set->runs);
+    if (!set->runs)
+        return -1;
+    int r = 0;
+    for (int j = 0; j < g; j++)
+        for (int i = 0; i < g; i++) {
+            if (!occupied(set, (size_t)j * g + i))
+                continue;
+            if (i == 0 || !occupied(set, (size_t)j * g + i - 1))
+                set->runs[r++] = (pupil_run){set->count, (short)i, (short)j};
+            set->count++;
+        }
+    set->runs[r] = (pupil_run){set->count, 0, 0}; /* a sentinel: the end of the last run */
+    set->area = set->count * set->du * set->dv;
+    return 0;
+}
+
+/* The k-th occupied cell (0 <= k < count), column i and row j. */
+static void set_cell(const pupil_set *set, int k, int *i, int *j)
+{
+    int lo = 0, hi = set->nruns - 1; /* the last run with cum <= k */
+    while (lo < hi) {
+        int mid = (lo + hi + 1) / 2;
+        if (set->runs[mid].cum <= k)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    *i = set->runs[lo].i0 + (k - set->runs[lo].cum);
+    *j = set->runs[lo].j;
+}
 
 struct pupil_sampler {
     int nr;
@@ -153,9 +211,8 @@ static int build_set(const prober *p, double r, int g, pupil_set *set)
     set->du = (imax - imin + 4) * cu / g;
     set->dv = (jmax - jmin + 4) * cv / g;
     unsigned char *hit = calloc((size_t)g * g, 1);
-    set->occ = calloc((size_t)g * g, 1);
-    set->cells = malloc((size_t)g * g * sizeof *set->cells);
-    if (!hit || !set->occ || !set->cells) {
+    set->occ = calloc(((size_t)g * g + 63) / 64, sizeof *set->occ);
+    if (!hit || !set->occ) {
         free(hit);
         return -1;
     }
@@ -167,14 +224,11 @@ static int build_set(const prober *p, double r, int g, pupil_set *set)
             for (int b = j - 1; b <= j + 1 && !on; b++)
                 for (int a = i - 1; a <= i + 1 && !on; a++)
                     on = a >= 0 && a < g && b >= 0 && b < g && hit[b * g + a];
-            if (on) {
-                set->occ[j * g + i] = 1;
-                set->cells[set->count++] = j * g + i;
-            }
+            if (on)
+                set->occ[((size_t)j * g + i) / 64] |= 1ull << (((size_t)j * g + i) % 64);
         }
     free(hit);
-    set->area = set->count * set->du * set->dv;
-    return 0;
+    return set_finish(set);
 }
 
 void pupil_sampler_free(pupil_sampler *ps)
@@ -183,7 +237,7 @@ void pupil_sampler_free(pupil_sampler *ps)
         return;
     for (int i = 0; i < ps->nr && ps->sets; i++) {
         free(ps->sets[i].occ);
-        free(ps->sets[i].cells);
+        free(ps->sets[i].runs);
     }
     free(ps->sets);
     free(ps);
@@ -272,7 +326,7 @@ pupil_sampler *pupil_sampler_build_probe(pupil_probe_fn fn, void *ctx, double re
 }
 
 /* The cache file: a magic line, then per set its grid and its occupancy as a bitmap
- * (the cells are listed in index order, so the list is rebuilt as build_set made it),
+ * (the runs are rebuilt from it as build_set made them),
  * binary in the machine's byte order (a cache, read back on the machine that wrote it). */
 static const char cache_magic[16] = "pupil_sampler 2";
 
@@ -291,8 +345,9 @@ int pupil_sampler_write(FILE *f, const pupil_sampler *ps)
         unsigned char *bits = calloc(nb, 1);
         if (!bits)
             return -1;
-        for (int k = 0; k < s->count; k++)
-            bits[s->cells[k] / 8] |= (unsigned char)(1u << (s->cells[k] % 8));
+        for (size_t c = 0; c < (size_t)s->g * s->g; c++)
+            if (occupied(s, c))
+                bits[c / 8] |= (unsigned char)(1u << (c % 8));
         ok = fwrite(bits, 1, nb, f) == nb;
         free(bits);
     }
@@ -322,20 +377,13 @@ pupil_sampler *pupil_sampler_read(FILE *f, lens_err *err)
             continue;
         size_t n = (size_t)s->g * s->g, nb = (n + 7) / 8;
         unsigned char *bits = malloc(nb);
-        s->occ = calloc(n, 1);
-        s->cells = malloc((size_t)gc[1] * sizeof *s->cells);
-        ok = bits && s->occ && s->cells && fread(bits, 1, nb, f) == nb;
+        s->occ = calloc((n + 63) / 64, sizeof *s->occ);
+        ok = bits && s->occ && fread(bits, 1, nb, f) == nb;
         for (size_t c = 0; ok && c < n; c++)
-            if (bits[c / 8] >> (c % 8) & 1) {
-                ok = s->count < gc[1];
-                if (ok) {
-                    s->occ[c] = 1;
-                    s->cells[s->count++] = (int)c;
-                }
-            }
-        ok = ok && s->count == gc[1];
+            if (bits[c / 8] >> (c % 8) & 1)
+                s->occ[c / 64] |= 1ull << (c % 64);
         free(bits);
-        s->area = s->count * s->du * s->dv;
+        ok = ok && set_finish(s) == 0 && s->count == gc[1];
     }
     if (!ok) {
         lens_errf(err, NULL, 0, "pupil sampler: not a cached sampler, or a damaged one");
@@ -353,7 +401,7 @@ static int in_set(const pupil_set *set, double u, double v)
     double fi = floor((u - set->u0) / set->du), fj = floor((v - set->v0) / set->dv);
     if (!(fi >= 0 && fi < set->g && fj >= 0 && fj < set->g))
         return 0;
-    return set->occ[(int)fj * set->g + (int)fi];
+    return occupied(set, (size_t)fj * set->g + (size_t)fi);
 }
 
 /* The two tabulated radii around r, and the rotation taking (r, 0) to (x, y). */
@@ -403,9 +451,10 @@ int pupil_sampler_sample(const pupil_sampler *ps, double x, double y, const doub
     double fu = ct - k;
     if (fu > 1)
         fu = 1;
-    int cell = set->cells[k];
-    double up = set->u0 + (cell % set->g + fu) * set->du;
-    double vp = set->v0 + (cell / set->g + rnd[1]) * set->dv;
+    int ci, cj;
+    set_cell(set, k, &ci, &cj);
+    double up = set->u0 + (ci + fu) * set->du;
+    double vp = set->v0 + (cj + rnd[1]) * set->dv;
     *u = c * up - s * vp;
     *v = s * up + c * vp;
     /* The mixture's density: 1/total in each set that holds the point. */

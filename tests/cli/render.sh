@@ -41,7 +41,13 @@ cmp -s "$T/p.exr" "$T/p2.exr" && ok reproducible || fail reproducible "same seed
 # the camera module compiles on its own, warning-free, and defines lens_camera_ray
 err=$($R "$T/s.scene" --emit-camera "$T/cam.c" --cache "$T/cache" 2>&1)
 if [ -s "$T/cam.c" ] && cc -std=c99 -O2 -Wall -Wextra -Werror -c "$T/cam.c" -o "$T/cam.o" 2>&1 \
-   && nm "$T/cam.o" | grep -q ' T lens_camera_ray$'; then ok camera-module; else fail camera-module "$err"; fi
+   && nm "$T/cam.o" | grep -q ' T lens_camera_ray$' && nm "$T/cam.o" | grep -q ' T lens_camera_rays$'; then
+  ok camera-module; else fail camera-module "$err"; fi
+# with the scene's blades (their values: test_render_camera)
+sed 's/^spp 4$/spp 4\nblades 6 10/' "$T/s.scene" >"$T/blades.scene"
+err=$($R "$T/blades.scene" --emit-camera "$T/camb.c" --cache "$T/cache" 2>&1)
+if grep -q '_blade\[6\]\[2\]' "$T/camb.c" && cc -std=c99 -O2 -Wall -Wextra -Werror -c "$T/camb.c" -o "$T/camb.o" 2>&1; then
+  ok camera-module-blades; else fail camera-module-blades "$err"; fi
 expect_error camera-module-exact 'needs a polynomial' $R "$T/s.scene" --emit-camera "$T/c2.c" --exact
 [ ! -e "$T/c2.c" ] && ok camera-module-no-partial || fail camera-module-no-partial "c2.c left behind"
 

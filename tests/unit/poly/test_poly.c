@@ -255,6 +255,34 @@ static void test_pass_and_domain(void **st)
  * expressions, which must agree bit for bit, for each layout lens-fit can write, with
  * two parts, a pass circle, a count that leaves a partial block, rays on the axis and
  * rays whose 1/lambda^2 is infinite (they must not pass). */
+/* poly_eval_batch_outputs against poly_eval_batch's outb and pb on the same n rays:
+ * the columns asked for and the pass flags bit for bit, with and without the pass test,
+ * five columns (the kernel's row transpose) or three, none; bad selections refused. */
+static void check_selected_outputs(const poly_system *s, int n, const double *in,
+                                   const double *outb, const unsigned char *pb)
+{
+    static const int sel5[5] = {4, 3, 2, 1, 0}, sel3[3] = {4, 0, 1}, bad[2] = {0, 5};
+    double *o = malloc((size_t)n * 5 * sizeof *o);
+    unsigned char *p = malloc((size_t)n);
+    assert_non_null(o);
+    assert_non_null(p);
+    for (int k = 0; k < 4; k++) {
+        const int ns = k < 2 ? 5 : k == 2 ? 3 : 0;
+        const int *sel = k < 2 ? sel5 : sel3;
+        memset(p, 7, (size_t)n);
+        assert_int_equal(poly_eval_batch_outputs(s, (size_t)n, in, ns, sel, o, k == 1 ? NULL : p), 0);
+        for (int r = 0; r < n; r++) {
+            for (int j = 0; j < ns; j++)
+                assert_memory_equal(&o[r * ns + j], &outb[r * 5 + sel[j]], sizeof *o);
+            assert_int_equal(p[r], k == 1 ? 7 : pb[r]);
+        }
+    }
+    assert_int_equal(poly_eval_batch_outputs(s, 1, in, 2, bad, o, p), -1);
+    assert_int_equal(poly_eval_batch_outputs(s, 1, in, -1, sel3, o, p), -1);
+    free(o);
+    free(p);
+}
+
 static void test_batch_frame_layouts(void **st)
 {
     (void)st;
@@ -301,6 +329,7 @@ static void test_batch_frame_layouts(void **st)
         if (layout != 1)
             assert_int_equal(pb[9], 0);
         assert_true(npass > N / 2);
+        check_selected_outputs(s, N, in, outb, pb);
         poly_free(s);
     }
     free(in);
