@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "sparselens/numparse.h"
+#include "app/fit_input.h"
 
 typedef struct {
     char *incopy, *outcopy, *default_out, *passage_note;
@@ -25,8 +26,10 @@ typedef struct {
     size_t count, blocked;
     int ceta, clam, lam_is_input;
     double lam0;
+    char fnumber[64]; /* the samples' "# fnumber:" (lens-trace --fnumber), or "" */
     unsigned char *plain;
     fit_options opt;
+    fit_input_check usable; /* the usable rows' spreads, checked before the fit */
 } fit_job;
 
 static void fit_job_free(fit_job *j)
@@ -34,6 +37,7 @@ static void fit_job_free(fit_job *j)
     free(j->in); free(j->out); free(j->vals); free(j->inmap); free(j->outmap);
     free(j->in_names); free(j->out_names); free(j->tols); free(j->plain); free(j->incopy);
     free(j->outcopy); free(j->default_out); free(j->passage_note);
+    fit_input_check_free(&j->usable);
 }
 
 /* Splits "a,b,c" into names (pointers into *copy); the count, or -1 with err set. The
@@ -215,6 +219,26 @@ static int parse_tolerance(fit_job *j, const char *tol_s, lens_err *err)
     return rc;
 }
 
+/* The f-number the samples were traced at, as written: "# fnumber: N (why)" as
+ * lens-trace writes it with --fnumber; "" when there is no such line. */
+static int samples_fnumber(const samples_reader *r, char *fnumber, size_t len, lens_err *err)
+{
+    const char *m = samples_meta(r, "fnumber");
+    double v;
+    fnumber[0] = '\0';
+    if (!m)
+        return 0;
+    size_t n = strcspn(m, " \t");
+    if (n < len)
+        snprintf(fnumber, len, "%.*s", (int)n, m);
+    if (n >= len || parse_double(fnumber, &v) != 0 || !(v > 0)) {
+        fnumber[0] = '\0';
+        lens_errf(err, samples_path(r), 0, "'# fnumber: %s': expected a positive f-number", m);
+        return -1;
+    }
+    return 0;
+}
+
 /* The columns: inputs, outputs (by default with every passage pair the samples have, so
  * the system gets their pass circles and rays blocked there do not pass it), how many
  * passage columns are left unfitted, the tolerances, and where each is in the rows. */
@@ -248,7 +272,7 @@ static int setup_columns(fit_job *j, const fit_cli *o, samples_reader *r, lens_e
         lens_errf(err, NULL, 0, "out of memory");
         return -1;
     }
-    if (parse_tolerance(j, o->tolerance, err) != 0)
+    if (samples_fnumber(r, j->fnumber, sizeof j->fnumber, err) != 0 || parse_tolerance(j, o->tolerance, err) != 0)
         return -1;
     j->inmap = malloc((size_t)j->nin * sizeof *j->inmap);
     j->outmap = malloc((size_t)j->nout * sizeof *j->outmap);
@@ -268,7 +292,7 @@ static int setup_columns(fit_job *j, const fit_cli *o, samples_reader *r, lens_e
         j->lam_is_input |= strcmp(j->in_names[i], "lambda") == 0;
     if (!j->lam_is_input)
         j->clam = samples_find(r, "lambda");
-    return 0;
+    return fit_input_check_init(&j->usable, j->nin, j->in_names, err);
 }
 
 /* One row into in[] and out[]: a blocked ray keeps only its passage hits
@@ -276,21 +300,19 @@ static int setup_columns(fit_job *j, const fit_cli *o, samples_reader *r, lens_e
 static int take_row(fit_job *j, const samples_reader *r, long *lam_line, lens_err *err)
 {
     const double *vals = j->vals;
-    for (int i = 0; i < j->nin; i++) {
-        double x = vals[j->inmap[i]];
-        if (!isfinite(x)) {
-            lens_errf(err, samples_path(r), samples_line(r),
-                      "input %s is %g (inputs must be finite)", j->in_names[i], x);
+    double *in = j->in + j->count * j->nin;
+    for (int k = 0; k < j->nin + j->nout; k++) {
+        int output = k >= j->nin;
+        const char *name = output ? j->out_names[k - j->nin] : j->in_names[k];
+        double x = vals[output ? j->outmap[k - j->nin] : j->inmap[k]];
+        const char *why = fit_input_bad_value(name, x, output);
+        if (why) {
+            lens_errf(err, samples_path(r), samples_line(r), "%s %s is %g: %s",
+                      output ? "output" : "input", name, x, why);
             return -1;
         }
-        /* Checked here, with the file and line: 1/lambda^2 of 0 is inf, which the
-         * fitter could only call "not finite" with a sample number. */
-        if (!(x > 0) && strcmp(j->in_names[i], "lambda") == 0) {
-            lens_errf(err, samples_path(r), samples_line(r),
-                      "lambda %g: a wavelength must be > 0 um", x);
-            return -1;
-        }
-        j->in[j->count * j->nin + i] = x;
+        if (!output)
+            in[k] = x;
     }
     int pass = j->ceta < 0 || vals[j->ceta] > 0;
     for (int o = 0; o < j->nout; o++)
@@ -299,6 +321,8 @@ static int take_row(fit_job *j, const samples_reader *r, long *lam_line, lens_er
         j->out[j->count * j->nout + o] =
             pass || fit_is_passage_output(j->out_names[o]) ? vals[j->outmap[o]] : NAN;
     j->blocked += !pass;
+    if (pass)
+        fit_input_check_row(&j->usable, in, samples_line(r));
     if (j->clam >= 0 && pass) {
         double l = vals[j->clam];
         if (isnan(j->lam0)) {
@@ -405,14 +429,17 @@ static int choose_frame(fit_job *j, const fit_cli *o, lens_err *err)
     return 0;
 }
 
-/* What the system remembers: its lens file, the one wavelength of samples without
- * lambda among the inputs, and whether its passage is complete. */
+/* What the system remembers: its lens file, the f-number its samples were traced at,
+ * the one wavelength of samples without lambda among the inputs, and whether its
+ * passage is complete. */
 static void record(poly_system *sys, const fit_job *j, const char *lens_path,
                    fit_run_stats *st)
 {
     if (lens_path[0])
         poly_set_lens_path(sys, lens_path);
     st->no_lens_path = !lens_path[0];
+    if (j->fnumber[0])
+        poly_set_meta(sys, "fnumber", j->fnumber);
     if (j->clam >= 0 && !isnan(j->lam0)) {
         char buf[64];
         snprintf(buf, sizeof buf, "%.17g", j->lam0);
@@ -443,7 +470,10 @@ poly_system *fit_run(const fit_cli *o, samples_reader *r, FILE *log, fit_run_sta
         lens_errf(err, o->samples_path, 0, "no samples (the file has no data rows)");
         goto done;
     }
-    if (choose_frame(&j, o, err) != 0)
+    if (fit_input_check_columns(&j.usable, samples_path(r), j.count, err) != 0 ||
+        choose_frame(&j, o, err) != 0 ||
+        (j.opt.frame == POLY_FRAME_MERIDIONAL &&
+         fit_input_check_frame(&j.usable, samples_path(r), err) != 0))
         goto done;
     *st = (fit_run_stats){.samples = j.count, .blocked = j.blocked, .nin = j.nin,
                           .nout = j.nout};

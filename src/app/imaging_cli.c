@@ -1,5 +1,6 @@
 /* The shared command line of lens-spot and lens-distort (see imaging_cli.h). */
 #include "sparselens/imaging_cli.h"
+#include "sparselens/numparse.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -57,12 +58,15 @@ const opt_spec imaging_cli_table[] = {
     {0, "fnumber", "N", OPT_POSITIVE, OPT_AT(imaging_cli, fnumber),
      .help = "stop the lens down to f-number N (efl over entrance pupil diameter, paraxial, "
              "object at infinity) by scaling the aperture stop's semi-diameter",
-     .def = "the lens's own",
+     .def = "the lens's own, or the f-number a system records",
      .man = "A lens opens no wider than its stop allows (an error). A fitted system keeps the\n"
-            "aperture it was fitted with: compare it with the lens at the\n"
+            "aperture it was fitted with; one fitted to samples traced with\n"
+            ".B \"lens-trace \\-\\-fnumber\"\n"
+            "records that f-number\n"
+            ".RB ( \"meta fnumber\" ),\n"
+            "and the lens it is shown or compared with is stopped down to it unless\n"
             ".B \\-\\-fnumber\n"
-            "its samples were traced at\n"
-            ".RB ( \"lens-trace \\-\\-fnumber\" ).\n"
+            "is given.\n"
             "The titles of the pictures state the f-number and the focus.\n"},
     {.type = OPT_GROUP, OPT_AT(imaging_cli, lopt), .group = lens_cli_table},
     {0}};
@@ -96,8 +100,18 @@ int imaging_cli_models(imaging_cli *a, imaging_models *models, imaging im[2],
     int rc = imaging_models_load(a->input, a->compare, a->lens, lens_cli_options_get(&a->lopt),
                                  models, err);
     lens_cli_options_free(&a->lopt);
-    if (rc == 0 && !isnan(a->fnumber))
-        rc = lens_set_fnumber(&models->lens, a->fnumber, err);
+    /* A system fitted to samples of the stopped-down lens records that f-number: the lens
+     * it is shown or compared with is stopped down alike, unless --fnumber says. */
+    const poly_system *sys = models->sys ? models->sys : models->compare;
+    const char *recorded = rc == 0 && sys ? poly_get_meta(sys, "fnumber") : NULL;
+    double fnumber = a->fnumber;
+    if (isnan(fnumber) && recorded && parse_double(recorded, &fnumber) != 0) {
+        lens_errf(err, models->sys ? a->input : a->compare, 0,
+                  "meta fnumber '%s' is not a number", recorded);
+        rc = -1;
+    }
+    if (rc == 0 && !isnan(fnumber))
+        rc = lens_set_fnumber(&models->lens, fnumber, err);
     if (rc != 0) {
         imaging_models_free(models);
         return -1;

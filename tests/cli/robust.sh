@@ -201,4 +201,4 @@ run "$BIN/lens-info" --format lens "$T/sub.lens" 2>/dev/null | grep -q '1e-310' 
 # lens-fit names the file and line of a wavelength of 0 (was "sample 2: input lambda is
 # not finite", from its 1/lambda^2).
 printf '# columns: x y u v lambda out_x out_y out_u out_v out_eta\n0 0 0 0 0.5 0 0 0 0 1\n1 0 0 0 0 0 0 0 0 1\n' >"$T/lam0.txt"
-err_has fit_lambda_zero_named 'lam0.txt:3: lambda 0: a wavelength must be > 0 um' "$BIN/lens-fit" "$T/lam0.txt"
+err_has fit_lambda_zero_named 'lam0.txt:3: input lambda is 0: a wavelength must be > 0 um' "$BIN/lens-fit" "$T/lam0.txt"
