@@ -57,21 +57,15 @@ void design_set_print_footer(table_out *t, const design_set *ds, const char *wha
         return;
     }
     table_out_keys(t, "sensor", NULL);
-    table_out_str(t, "shift_mm");
-    table_out_num(t, ds->sensor_shift, 0);
-    table_out_row_end(t);
+    table_out_key_num(t, "shift_mm", ds->sensor_shift);
     table_out_keys(t, "time", NULL);
     for (int m = 0; m < ds->nmodels; m++) {
         char key[32];
         snprintf(key, sizeof key, "%s_s", ds->names[m]);
-        table_out_str(t, key);
-        table_out_num(t, ds->seconds[m], 0);
-        table_out_row_end(t);
+        table_out_key_num(t, key, ds->seconds[m]);
     }
     if (ds->nmodels > 1) {
-        table_out_str(t, "ratio");
-        table_out_num(t, ratio, 0);
-        table_out_row_end(t);
+        table_out_key_num(t, "ratio", ratio);
     }
 }
 
@@ -84,9 +78,7 @@ void design_set_print_difference(table_out *t, const design_set *ds, const char 
     }
     table_out_keys(t, "difference", NULL);
     for (int i = 0; i < n; i++) {
-        table_out_str(t, keys[i]);
-        table_out_num(t, values[i], 0);
-        table_out_row_end(t);
+        table_out_key_num(t, keys[i], values[i]);
     }
 }
 
