@@ -11,7 +11,7 @@
  * Every path (scalar, batch, Jacobian, emitted C) computes the same expressions in the
  * same order (the batch path in its kernel, poly_eval_kernel.h, on columns of rays): r = sqrt(x*x + y*y), c = x * (1 / r), s = y * (1 / r) (c = 1, s = 0 on the axis),
  * u' = c*u + s*v, v' = c*v - s*u; outputs a = c*a' - s*b', b = s*a' + c*b'. The pass
- * test is made on the frame outputs (the rotation keeps the length of a pair). */
+ * test is made on the final outputs, rotated back, in every path. */
 #include "poly/poly_impl.h"
 
 #include <math.h>
@@ -343,6 +343,71 @@ static void jacobian_inputs(const poly_system *s, int np, const double *in, doub
         plain_in(s, in, p);
 }
 
+/* d^2 out_o / d s_i d s_j of part p of v at the scaled inputs sc, term by term (only for
+ * rays on the axis, where speed does not matter). */
+static double second_derivative(const poly_system *v, int p, int o, int i, int j,
+                                const double *sc)
+{
+    const poly_out_terms *ot = &v->parts[p].out[o];
+    double sum = 0;
+    for (int t = 0; t < ot->nterms; t++) {
+        const int *e = ot->exps + (size_t)t * (size_t)v->nin;
+        if (!e[i] || !e[j])
+            continue;
+        double m = ot->coef[t] * e[i] * e[j];
+        for (int q = 0; q < v->nin; q++)
+            for (int k = e[q] - (q == i) - (q == j); k > 0; k--)
+                m *= sc[q];
+        sum += m;
+    }
+    return sum;
+}
+
+/* d out / dy of ray r on the axis (x = y = 0, held at c = 1, s = 0): off the axis, at
+ * (r cos t, r sin t), d / dy at t = 0 is (1/r) d / dt, and turning the ray turns the
+ * outputs with it while its direction turns against the frame:
+ *   d out / dt = J f + f_u' v - f_v' u   (J (a, b) = (-b, a) for a turned pair, 0 else),
+ * f the frame view's outputs at (r, u', v'). For a rotationally symmetric lens this
+ * vanishes at r = 0, and its limit over r is the derivative of the bracket in r:
+ *   d out / dy = J f_r + f_u'r v - f_v'r u,
+ * which needs the mixed second derivatives (from the terms). Where the fit is not
+ * exactly symmetric, this is the derivative of its symmetric part: the raw one grows
+ * as 1/r towards the axis. */
+static void axis_limit(const poly_system *s, int np, const poly_chain_cols *k, size_t r)
+{
+    const size_t n = k->n;
+    const int nin = s->nin, ix = s->ix, iy = s->iy, iu = s->iu, iv = s->iv;
+    double in[POLY_MAX_INPUTS], sc[POLY_MAX_INPUTS], lim[POLY_MAX_OUTPUTS];
+    if (s->nparts == 0)
+        return;
+    for (int i = 0; i < nin; i++) {
+        in[i] = k->x[(size_t)i * n + r];
+        sc[i] = k->w[(size_t)i * n + r];
+        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
+            sc[i] = 1 / (sc[i] * sc[i]);
+        poly_scale_column(s, i, &sc[i], 1);
+    }
+    const poly_system *vf = np && s->vframe ? s->vframe : s;
+    const int p = poly_select_part(s, in);
+    const double gx = k->g[(size_t)ix * n + r], gu = k->g[(size_t)iu * n + r];
+    const double gv = k->g[(size_t)iv * n + r], u = in[iu], v = in[iv];
+    const double cu = poly_scale_chain(s, ix, poly_scale_chain(s, iu, 1)) * gx * gu;
+    const double cv = poly_scale_chain(s, ix, poly_scale_chain(s, iv, 1)) * gx * gv;
+    for (int o = 0; o < s->nout; o++)
+        if (!(np && s->plain[o])) {
+            lim[o] = second_derivative(vf, p, o, ix, iu, sc) * cu * v -
+                     second_derivative(vf, p, o, ix, iv, sc) * cv * u;
+            k->jac[(size_t)(o * nin + iy) * n + r] = lim[o];
+        }
+    for (int q = 0; q < s->npairs; q++) {
+        const int a = s->pair[2 * q], b = s->pair[2 * q + 1];
+        const double fa = k->J[(size_t)(a * nin + ix) * n + r] * gx;
+        const double fb = k->J[(size_t)(b * nin + ix) * n + r] * gx;
+        k->jac[(size_t)(a * nin + iy) * n + r] = lim[a] - fb;
+        k->jac[(size_t)(b * nin + iy) * n + r] = lim[b] + fa;
+    }
+}
+
 /* Vector code for whole columns where the machine has it (one clone per instruction set,
  * chosen at load time; only IEEE arithmetic, never contracted, so one ray and many give
  * the same bits on any of them). */
@@ -358,7 +423,8 @@ static void jacobian_inputs(const poly_system *s, int np, const double *in, doub
 /* Chain rule: jac = d out / d in from the cores' values and Jacobians. With the frame,
  * t depends on in through the rotation (c and s vary with x and y) and on the transforms;
  * the outputs through the rotation back. On the axis (r = 0) the angle is undefined:
- * there the frame is held fixed (the derivative along +x). The rotation's derivatives
+ * there the frame is held at c = 1, s = 0 and d / dy is its limit (axis_limit). The
+ * rotation's derivatives
  * are written out rather than multiplied as a matrix: 11 of its 25 entries are not zero.
  * Column by column over the rays: the batch Jacobian runs it on a chunk of rays, in
  * vector registers; poly_eval_jacobian on one. */
@@ -448,6 +514,10 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
             }
         }
     }
+    if (mer) /* on the axis, d / dy as its limit */
+        for (size_t r = 0; r < n; r++)
+            if (COL(k->w, s->ix)[r] == 0)
+                axis_limit(s, np, k, r);
     if (np) /* outside the frame: the transforms alone, diagonal */
         for (int o = 0; o < nout; o++)
             for (int j = 0; j < nin && s->plain[o]; j++) {
