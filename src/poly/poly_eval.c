@@ -141,19 +141,26 @@ int poly_eval_part_core(const poly_system *s, int part, const double *in, double
 }
 
 /* What a batch run computes: the outputs with the frame, transforms and passage test;
- * the derivatives d out_o / d in_i of the derivative plan (chain rule applied); or the
- * outputs of the core alone (the inputs taken as in the frame, no pass flags). */
-enum { RUN_EVAL, RUN_JAC, RUN_CORE };
+ * the derivatives d out_o / d in_i of the derivative plan (scaling's chain rule applied);
+ * the outputs of the core alone (the inputs taken as in the frame, no pass flags); or
+ * the derivatives through the frame and transforms (poly_eval_jacobian_batch of a
+ * framed system: the frame view's values and derivatives, the plain view's derivatives,
+ * then poly_frame_chain on the block). */
+enum { RUN_EVAL, RUN_JAC, RUN_CORE, RUN_JACF };
 
-/* What a batch run computes and writes, beyond the plans: outputs sel[0 .. nsel - 1]
- * go to the columns of out (all, in order, by default); need[o]: output o is computed
- * (asked for, or needed by the pass test); the pass test checks outputs finite[0 ..
+/* What a batch run computes and writes, beyond the plans (at most 3, part_plans):
+ * outputs sel[0 .. nsel - 1] go to the columns of out (all, in order, by default);
+ * need[w][o]: sum o of plan w is computed (asked for, or needed by the pass test or the
+ * chain rule); kind[w]: plan w reads the inputs in the frame (0) or as given (1),
+ * transformed both; its sums at res + roff[w] (in sums of a block); deriv[w]: they are
+ * derivatives d / d s_i, scaled to d / d in_i. The pass test checks outputs finite[0 ..
  * nfinite - 1] for being finite and then the circles (an output in a circle of finite
  * radius needs no check of its own: a*a + b*b <= r*r fails for inf and nan). */
 typedef struct {
     int nsel, nfinite;
     const int *sel, *finite;
-    const unsigned char *need;
+    const unsigned char *need[3];
+    int kind[3], roff[3], deriv[3];
 } batch_job;
 
 /* The batch kernel once per instruction set, each with the vector width of its
@@ -312,11 +319,30 @@ typedef void run_fn(const poly_system *, const poly_plan *const *, int, int, siz
                     const size_t *, size_t, const double *, double *, unsigned char *,
                     const batch_job *, double *, double *, double *, int *);
 
+/* A run that cannot be made: the rays get nan and do not pass. */
+static void job_fail(int nsel, size_t count, double *out, unsigned char *pass)
+{
+    for (size_t r = 0; r < count; r++) {
+        fill_nan(out + r * (size_t)nsel, nsel);
+        if (pass)
+            pass[r] = 0;
+    }
+}
+
 /* The plans the kernel runs for part p: the part's plan, or with outputs outside the frame
  * the frame view's and the plain view's (poly_impl.h; the system itself for a view that
  * could not be built, as poly_eval_part does). Returns how many. */
 static int part_plans(const poly_system *s, int what, int p, const poly_plan **pls)
 {
+    if (what == RUN_JACF) { /* the views exist (poly_eval_jacobian_batch checks) */
+        const poly_system *vf = s->frame && s->nplain ? s->vframe : s;
+        pls[0] = &vf->parts[p].plan;
+        pls[1] = &vf->parts[p].dplan;
+        if (!(s->frame && s->nplain))
+            return 2;
+        pls[2] = &s->vplain->parts[p].dplan;
+        return 3;
+    }
     if (what == RUN_JAC) {
         pls[0] = &s->parts[p].dplan;
         return 1;
@@ -337,20 +363,24 @@ static int part_plans(const poly_system *s, int what, int p, const poly_plan **p
 static void batch(const poly_system *s, int what, size_t count, const double *in, double *out,
                   unsigned char *pass, const batch_job *job)
 {
-    const int nw = what == RUN_JAC ? s->nout * s->nin : s->nout;
-    int maxv = 0, maxo = nw;
+    const size_t nj = (size_t)s->nout * (size_t)s->nin;
+    int maxv = 0, maxo = 1;
     size_t maxoff = 1;
     for (int p = 0; p < s->nparts; p++) {
-        const poly_plan *pls[2];
+        const poly_plan *pls[3];
         const int nview = part_plans(s, what, p, pls);
         size_t no = 0;
+        int nsums = 0;
         for (int w = 0; w < nview; w++) {
+            nsums += pls[w]->nout;
             no += 2 * (size_t)pls[w]->nprod + 2 * (size_t)pls[w]->start[pls[w]->nout];
             if (pls[w]->nvals > maxv)
                 maxv = pls[w]->nvals;
         }
         if (no > maxoff)
             maxoff = no;
+        if (nsums > maxo)
+            maxo = nsums;
     }
     int *off = malloc(maxoff * sizeof(int));
 #if defined(POLY_X86)
@@ -361,23 +391,20 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
     run_fn *run = run_blocks_sse; /* the portable 2-lane kernel */
 #endif
     double *v = s->nparts ? aligned_alloc(64, (size_t)maxv * BLK * sizeof(double)) : NULL;
-    double *res = aligned_alloc(64, 2 * (size_t)maxo * BLK * sizeof(double));
+    double *res = aligned_alloc(64, (size_t)maxo * BLK * sizeof(double));
     if (res) /* outputs a block leaves out stay 0 (never garbage, never subnormal) */
-        memset(res, 0, 2 * (size_t)maxo * BLK * sizeof(double));
-    double *fb = aligned_alloc(64, ((size_t)s->nin + 3) * BLK * sizeof(double));
+        memset(res, 0, (size_t)maxo * BLK * sizeof(double));
+    /* the raw inputs, r, c, s; with RUN_JACF the kernel's columns for the chain rule */
+    const size_t nfb = (size_t)s->nin + 3 + (what == RUN_JACF ? 3 * (size_t)s->nin + 9 + nj : 0);
+    double *fb = aligned_alloc(64, nfb * BLK * sizeof(double));
     size_t *idx = s->nparts > 1 ? malloc(CHUNK * sizeof(size_t)) : NULL;
     int *part = s->nparts > 1 ? malloc(CHUNK * sizeof(int)) : NULL;
     int *start = calloc((size_t)s->nparts + 1, sizeof(int));
     int *cur = calloc((size_t)s->nparts + 1, sizeof(int));
     if (!v || !res || !fb || !off || !start || !cur || (s->nparts > 1 && (!idx || !part))) {
-        /* no parts, or out of memory: the rays do not pass */
-        for (size_t r = 0; r < count; r++) {
-            fill_nan(out + r * (size_t)job->nsel, job->nsel);
-            if (pass)
-                pass[r] = 0;
-        }
+        job_fail(job->nsel, count, out, pass); /* no parts, or out of memory */
     } else if (s->nparts == 1) {
-        const poly_plan *pls[2];
+        const poly_plan *pls[3];
         const int nview = part_plans(s, what, 0, pls);
         run(s, pls, nview, what, count, NULL, 0, in, out, pass, job, v, res, fb, off);
     } else {
@@ -394,7 +421,7 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
             for (size_t r = 0; r < n; r++)
                 idx[cur[part[r]]++] = c0 + r;
             for (int q = 0; q < s->nparts; q++) {
-                const poly_plan *pls[2];
+                const poly_plan *pls[3];
                 const int nview = part_plans(s, what, q, pls);
                 if (start[q + 1] > start[q])
                     run(s, pls, nview, what, (size_t)(start[q + 1] - start[q]), idx + start[q],
@@ -418,30 +445,48 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
 static void batch_job_run(const poly_system *s, int what, size_t count, const double *in,
                           int nsel, const int *sel, double *out, unsigned char *pass)
 {
-    const int nw = what == RUN_JAC ? s->nout * s->nin : s->nout;
+    const int nout = s->nout, nj = nout * s->nin;
+    const int nw = what == RUN_JAC || what == RUN_JACF ? nj : nout;
     if (count == 0)
         return;
     int *ids = malloc((2 * (size_t)nw + 1) * sizeof(int));
-    unsigned char *need = malloc((size_t)nw + 1);
+    unsigned char *need = calloc(3 * (size_t)nw + 1, 1);
     if (!ids || !need) {
-        for (size_t r = 0; r < count; r++) {
-            fill_nan(out + r * (size_t)nsel, nsel);
-            if (pass)
-                pass[r] = 0;
-        }
+        job_fail(sel ? nsel : nw, count, out, pass);
         free(ids);
         free(need);
         return;
     }
+    const int views = s->frame && s->nplain; /* RUN_EVAL, RUN_JACF: the views of poly_impl.h */
     batch_job job = {.nsel = sel ? nsel : nw, .sel = sel ? sel : ids, .finite = ids + nw,
-                     .need = need};
+                     .need = {need, need + nw, need + 2 * nw}};
     for (int k = 0; k < nw; k++) {
         ids[k] = k;
         need[k] = !sel || pass; /* the pass test needs every output */
     }
     for (int j = 0; sel && j < nsel; j++)
         need[sel[j]] = 1;
-    for (int o = 0; pass && o < s->nout; o++) {
+    if (what == RUN_EVAL && views) { /* each output from its own view */
+        job.kind[1] = 1;
+        job.roff[1] = nout;
+        for (int o = 0; o < nout; o++) {
+            need[nw + o] = need[o] && s->plain[o];
+            need[o] = need[o] && !s->plain[o];
+        }
+    }
+    if (what == RUN_JACF) { /* values of the turned pairs, derivatives of each view */
+        memset(need, 0, 3 * (size_t)nw);
+        for (int k = 0; k < 2 * s->npairs; k++)
+            need[s->pair[k]] = 1;
+        job.deriv[1] = job.deriv[2] = 1;
+        job.roff[1] = nout;
+        job.kind[2] = 1;
+        job.roff[2] = nout + nj;
+        for (int k = 0; k < nj; k++)
+            need[(views && s->plain[k / s->nin] ? 2 : 1) * nw + k] = 1;
+    }
+    job.deriv[0] = what == RUN_JAC;
+    for (int o = 0; pass && o < nout; o++) {
         int in_circle = 0;
         for (int c = 0; c < s->ncircles; c++)
             in_circle |= isfinite(s->circles[c].radius * s->circles[c].radius) &&
@@ -472,9 +517,10 @@ int poly_eval_batch_outputs(const poly_system *s, size_t count, const double *in
     return 0;
 }
 
-void poly_eval_core_batch(const poly_system *s, size_t count, const double *in, double *out)
+void poly_eval_jacobian_batch_frame(const poly_system *s, size_t count, const double *in,
+                                    double *jac)
 {
-    batch_job_run(s, RUN_CORE, count, in, 0, NULL, out, NULL);
+    batch_job_run(s, RUN_JACF, count, in, 0, NULL, jac, NULL);
 }
 
 void poly_eval_jacobian_batch_core(const poly_system *s, size_t count, const double *in,

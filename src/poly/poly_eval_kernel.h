@@ -3,18 +3,20 @@
  *   KERNEL_TARGET  its target attribute (empty for the baseline)
  *   VW             doubles per hardware vector of that set (8 AVX-512, 4 AVX2, 2 SSE)
  *   KERNEL_SQRT    the square root of a vector of VW doubles (that set's instruction)
- * and KBLK (rays per block, a multiple of VW) and RUN_EVAL / RUN_JAC / RUN_CORE defined.
+ * and KBLK (rays per block, a multiple of VW) and RUN_EVAL / RUN_JAC / RUN_CORE / RUN_JACF.
  *
- * Runs the plans pls[0 .. nview - 1] (one part's views, see batch()) on n rays: ray r is
- * row idx[r] of in (row first + r if idx is NULL) and goes to the same row of out (and
- * pass), its columns and the outputs it computes and tests as job says (batch_job in
- * poly_eval.c). With RUN_EVAL the system's frame and transforms are applied in the block too
- * (the arithmetic of poly_frame.c on whole columns), so a framed system costs one pass
- * over its rays, its two views' terms and a few operations per ray more. A block is
- * NV = KBLK / VW vectors; the loops over q < NV have constant bounds and are unrolled, so
- * the partial sums stay in registers (one vector type of KBLK lanes would be split by
- * the compiler through the stack). vbuf (nvals x KBLK), resbuf (nview x nout x KBLK),
- * fbuf ((nin + 3) x KBLK) and offbuf (2 nprod + 2 nterms per view) are scratch, 64-byte
+ * Runs the plans pls[0 .. nview - 1] (one part's views, see part_plans()) on n rays: ray r
+ * is row idx[r] of in (row first + r if idx is NULL) and goes to the same row of out (and
+ * pass), its columns and the sums it computes and tests as job says (batch_job in
+ * poly_eval.c). With RUN_EVAL and RUN_JACF the system's frame and transforms are applied
+ * in the block too (the arithmetic of poly_frame.c on whole columns), so a framed system
+ * costs one pass over its rays, its views' terms and a few operations per ray more;
+ * RUN_JACF then runs poly_frame_chain on the block's columns. A block is NV = KBLK / VW
+ * vectors; the loops over q < NV have constant bounds and are unrolled, so the partial
+ * sums stay in registers (one vector type of KBLK lanes would be split by the compiler
+ * through the stack). vbuf (nvals x KBLK), resbuf (every plan's sums x KBLK), fbuf ((nin
+ * + 3) x KBLK, with RUN_JACF (4 nin + 12 + nout nin) x KBLK) and offbuf (2 nprod + 2
+ * nterms per plan) are scratch, 64-byte
  * aligned; value k of lane r is vbuf[k * KBLK + r]. Unused lanes of the last block repeat
  * its first ray so no lane computes on garbage. Only IEEE multiplies, adds, divides and
  * square roots, never contracted: every instruction set gives the bits of the scalar
@@ -35,16 +37,25 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
     vn *v = (vn *)vbuf;
     const int nin = s->nin, nres = pls[0]->nout;
     const int nst = job->nsel, *sel = job->sel; /* res[sel[j]] goes to column j of out */
+    const int jf = what == RUN_JACF; /* the chain rule through the frame, per block */
     /* the frame (poly_frame.c) done here, on whole columns of the block, in the order of
      * poly_frame_in / poly_frame_out: view 0 sees the rotated and transformed inputs,
      * view 1 (if any) the transformed ones, and gives the outputs outside the frame */
-    const int fr = what == RUN_EVAL && s->frame == POLY_FRAME_MERIDIONAL;
-    const int xf = what == RUN_EVAL && s->nxform > 0;
+    const int fr = (what == RUN_EVAL || jf) && s->frame == POLY_FRAME_MERIDIONAL;
+    const int xf = (what == RUN_EVAL || jf) && s->nxform > 0;
     const int ix = s->ix, iy = s->iy, iu = s->iu, iv = s->iv;
     double *raw = fbuf, *rad = fbuf + (size_t)nin * KBLK, *cb = rad + KBLK, *sb = cb + KBLK;
+    /* RUN_JACF: the inputs rotated (not transformed), the chain rule's scratch, its result */
+    double *wcol = sb + KBLK, *gcol = wcol + (size_t)nin * KBLK;
+    double *jcol = gcol + (2 * (size_t)nin + 9) * KBLK;
+    if (jf && !fr)
+        for (int r = 0; r < KBLK; r++) {
+            cb[r] = 1;
+            sb[r] = 0;
+        }
     /* the plans' value numbers as offsets in doubles into v: one load each, no
      * arithmetic on the index (half the integer work of the loops below) */
-    int *offs[2];
+    int *offs[3];
     for (int w = 0; w < nview; w++) {
         const poly_plan *pl = pls[w];
         const int np = pl->nprod, nt = pl->start[pl->nout];
@@ -107,16 +118,17 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
         }
         for (int w = 0; w < nview; w++) {
             const poly_plan *pl = pls[w];
-            const int np = pl->nprod;
+            const int np = pl->nprod, nsum = pl->nout, kind = job->kind[w];
             const int *pr = offs[w], *fa_off = pr + 2 * np;
-            vn *res = (vn *)resbuf + (size_t)w * nres * NV;
-            for (int i = 0; i < nin; i++) {
+            vn *res = (vn *)resbuf + (size_t)job->roff[w] * NV;
+            const unsigned char *need = job->need[w];
+            for (int i = 0; i < nin && !(w > 0 && kind == job->kind[w - 1]); i++) {
                 _Alignas(64) double col[KBLK]; /* aligned: a split vector access here cost up to 2x, by stack position */
                 const double *X = raw + i * KBLK;
                 const int turns = fr && (i == ix || i == iy || i == iu || i == iv);
                 if (w > 0 && !turns)
                     continue; /* the same value as in view 0, still in place */
-                if (turns && w == 0) {
+                if (turns && kind == 0) {
                     const double *U = raw + iu * KBLK, *V = raw + iv * KBLK;
                     for (int r = 0; r < KBLK; r++)
                         col[r] = i == ix   ? rad[r]
@@ -126,6 +138,8 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 } else {
                     memcpy(col, X, sizeof col);
                 }
+                if (jf && kind == 0)
+                    memcpy(wcol + i * KBLK, col, sizeof col);
                 if (xf && s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
                     for (int r = 0; r < KBLK; r++)
                         col[r] = 1 / (col[r] * col[r]);
@@ -137,9 +151,9 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 for (int q = 0; q < NV; q++)
                     d[j * NV + q] = x[q] * y[q];
             }
-            const int *fb_off = fa_off + pl->start[nres];
-            for (int o = 0; o < nres; o++) {
-                if (!job->need[o] || (nview > 1 && (w == 0) == (s->plain[o] != 0)))
+            const int *fb_off = fa_off + pl->start[nsum];
+            for (int o = 0; o < nsum; o++) {
+                if (!need[o])
                     continue; /* not asked for, or the other view's (res stays 0) */
                 const int t0 = pl->start[o], ns = pl->nsingle[o];
                 const int nq = pl->nquad[o], npr = pl->npair[o];
@@ -217,17 +231,30 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 for (int q = 0; q < NV; q++)
                     res[o * NV + q] = (a0[q] + a1[q]) + (a2[q] + a3[q]);
             }
+            if (job->deriv[w]) /* d / d s_i to d / d in_i (poly_scale_chain), on whole vectors */
+                for (int k = 0; k < nsum; k++) {
+                    const double inv = 1 / s->scale[k % nin];
+                    for (int q = 0; q < NV; q++)
+                        res[k * NV + q] *= inv;
+                }
         }
         vn *res = (vn *)resbuf;
-        if (nview > 1) /* the outputs outside the frame from view 1 */
+        if (jf) { /* poly_frame.c's chain rule on the block's columns, into jcol */
+            const poly_chain_cols k = {KBLK, raw, wcol, cb, sb, resbuf,
+                                       resbuf + (size_t)job->roff[1] * KBLK,
+                                       nview > 2 ? resbuf + (size_t)job->roff[2] * KBLK : NULL,
+                                       gcol, jcol};
+            poly_frame_chain(s, nview > 2, &k);
+            res = (vn *)jcol;
+        } else if (nview > 1) /* the outputs outside the frame from view 1 */
             for (int o = 0; o < nres; o++)
                 if (s->plain && s->plain[o])
                     for (int q = 0; q < NV; q++)
                         res[o * NV + q] = res[(nres + o) * NV + q];
-        if (fr) {
+        if (fr && !jf) {
             const vn *C = (const vn *)cb, *S = (const vn *)sb;
             for (int k = 0; k < s->npairs; k++) {
-                if (!job->need[s->pair[2 * k]])
+                if (!job->need[0][s->pair[2 * k]]) /* pairs turn: view 0's */
                     continue;
                 vn *A = res + s->pair[2 * k] * NV, *B = res + s->pair[2 * k + 1] * NV;
                 for (int q = 0; q < NV; q++) {
@@ -237,12 +264,6 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 }
             }
         }
-        if (what == RUN_JAC) /* d / d s_i to d / d in_i (poly_scale_chain), on whole vectors */
-            for (int k = 0; k < nres; k++) {
-                const double inv = 1 / s->scale[k % nin];
-                for (int q = 0; q < NV; q++)
-                    res[k * NV + q] *= inv;
-            }
 #ifdef KERNEL_SCATTER
 #ifdef KERNEL_STORE_ROWS5
         if (nst == 5 && !idx && m == KBLK)

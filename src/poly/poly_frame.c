@@ -11,7 +11,7 @@
  * Every path (scalar, batch, Jacobian, emitted C) computes the same expressions in the
  * same order (the batch path in its kernel, poly_eval_kernel.h, on columns of rays): r = sqrt(x*x + y*y), c = x * (1 / r), s = y * (1 / r) (c = 1, s = 0 on the axis),
  * u' = c*u + s*v, v' = c*v - s*u; outputs a = c*a' - s*b', b = s*a' + c*b'. The pass
- * test is made on the frame outputs (the rotation keeps the length of a pair). */
+ * test is made on the final outputs, rotated back, in every path. */
 #include "poly/poly_impl.h"
 
 #include <math.h>
@@ -343,125 +343,216 @@ static void jacobian_inputs(const poly_system *s, int np, const double *in, doub
         plain_in(s, in, p);
 }
 
-/* Chain rule: jac = d out / d in from the cores' values and Jacobians: out and J of the
- * frame view at t (out in the frame, replaced by the final outputs), op and Jp of the
- * plain view (when np). With the frame, t depends on in through the rotation (c and s
- * vary with x and y) and on the transforms; the outputs through the rotation back. On the
- * axis (r = 0) the angle is undefined: there the frame is held fixed (the derivative
- * along +x). The rotation's derivatives are written out rather than multiplied as a
- * matrix: 11 of its 25 entries are not zero, and the product cost as much as the cores.
- * g: scratch of 2 nin doubles. Returns the pass flag. */
-static int frame_chain(const poly_system *s, int np, const double *in, const double *w,
-                       const double *cs, double *out, const double *J, const double *op,
-                       const double *Jp, double *g, double *jac)
+/* d^2 out_o / d s_i d s_j of part p of v at the scaled inputs sc, term by term (only for
+ * rays on the axis, where speed does not matter). */
+static double second_derivative(const poly_system *v, int p, int o, int i, int j,
+                                const double *sc)
 {
-    const int nin = s->nin, nout = s->nout;
-    const double c = cs[0], sn = cs[1];
-    double *gp = g + nin; /* d(1/w^2)/dw at the frame's inputs w, and at in (plain view) */
-    for (int i = 0; i < nin; i++) {
-        const int inv = s->xform[i] == POLY_XFORM_INVERSE_SQUARE;
-        g[i] = inv ? -2 / (w[i] * w[i] * w[i]) : 1;
-        gp[i] = !inv ? 1 : w[i] == in[i] ? g[i] : -2 / (in[i] * in[i] * in[i]);
+    const poly_out_terms *ot = &v->parts[p].out[o];
+    double sum = 0;
+    for (int t = 0; t < ot->nterms; t++) {
+        const int *e = ot->exps + (size_t)t * (size_t)v->nin;
+        if (!e[i] || !e[j])
+            continue;
+        double m = ot->coef[t] * e[i] * e[j];
+        for (int q = 0; q < v->nin; q++)
+            for (int k = e[q] - (q == i) - (q == j); k > 0; k--)
+                m *= sc[q];
+        sum += m;
     }
-    for (int o = 0; o < nout; o++) /* inputs the frame does not turn: the transforms alone */
-        for (int j = 0; j < nin; j++)
-            jac[o * nin + j] = J[o * nin + j] * g[j];
-    double dc[2] = {0, 0}, ds[2] = {0, 0}; /* of c and s with respect to x and y */
-    if (s->frame == POLY_FRAME_MERIDIONAL) {
-        const int ix = s->ix, iy = s->iy, iu = s->iu, iv = s->iv;
-        const double u = in[iu], v = in[iv], r = w[ix]; /* rotate_in's sqrt(x*x + y*y) */
-        const double ir = r > 0 ? 1 / r : 0;
-        dc[0] = sn * sn * ir;
-        dc[1] = -c * sn * ir;
-        ds[0] = -c * sn * ir;
-        ds[1] = c * c * ir;
-        /* d u' / d x, d u' / d y, d v' / d x, d v' / d y; d r / d (x, y) = (c, s) */
-        const double dux = dc[0] * u + ds[0] * v, duy = dc[1] * u + ds[1] * v;
-        const double dvx = dc[0] * v - ds[0] * u, dvy = dc[1] * v - ds[1] * u;
-        for (int o = 0; o < nout; o++) {
-            double *jo = jac + o * nin;
-            const double Jr = J[o * nin + ix] * g[ix], Ju = J[o * nin + iu] * g[iu];
-            const double Jv = J[o * nin + iv] * g[iv];
-            jo[ix] = Jr * c + Ju * dux + Jv * dvx;
-            jo[iy] = Jr * sn + Ju * duy + Jv * dvy;
-            jo[iu] = Ju * c - Jv * sn;
-            jo[iv] = Ju * sn + Jv * c;
-        }
-    }
-    for (int k = 0; k < s->npairs; k++) {
-        int a = s->pair[2 * k], b = s->pair[2 * k + 1];
-        double A = out[a], B = out[b];
-        for (int j = 0; j < nin; j++) {
-            double dA = jac[a * nin + j], dB = jac[b * nin + j];
-            double dcj = j == s->ix ? dc[0] : j == s->iy ? dc[1] : 0;
-            double dsj = j == s->ix ? ds[0] : j == s->iy ? ds[1] : 0;
-            jac[a * nin + j] = c * dA - sn * dB + A * dcj - B * dsj;
-            jac[b * nin + j] = sn * dA + c * dB + A * dsj + B * dcj;
-        }
-    }
-    if (np) /* outside the frame: the transforms alone, diagonal */
-        for (int o = 0; o < nout; o++) {
-            if (!s->plain[o])
-                continue;
-            out[o] = op[o];
-            for (int j = 0; j < nin; j++)
-                jac[o * nin + j] = Jp[o * nin + j] * gp[j];
-        }
-    poly_frame_out(s, cs, out);
-    return poly_passes(s, out);
+    return sum;
 }
 
-/* Rays of the framed batch Jacobian per round: its scratch (about 3 KiB a ray for 5
- * inputs and outputs) stays in the L2 cache. */
-#define JAC_CHUNK 256
+/* d out / dy of ray r on the axis (x = y = 0, held at c = 1, s = 0): off the axis, at
+ * (r cos t, r sin t), d / dy at t = 0 is (1/r) d / dt, and turning the ray turns the
+ * outputs with it while its direction turns against the frame:
+ *   d out / dt = J f + f_u' v - f_v' u   (J (a, b) = (-b, a) for a turned pair, 0 else),
+ * f the frame view's outputs at (r, u', v'). For a rotationally symmetric lens this
+ * vanishes at r = 0, and its limit over r is the derivative of the bracket in r:
+ *   d out / dy = J f_r + f_u'r v - f_v'r u,
+ * which needs the mixed second derivatives (from the terms). Where the fit is not
+ * exactly symmetric, this is the derivative of its symmetric part: the raw one grows
+ * as 1/r towards the axis. */
+static void axis_limit(const poly_system *s, int np, const poly_chain_cols *k, size_t r)
+{
+    const size_t n = k->n;
+    const int nin = s->nin, ix = s->ix, iy = s->iy, iu = s->iu, iv = s->iv;
+    double in[POLY_MAX_INPUTS], sc[POLY_MAX_INPUTS], lim[POLY_MAX_OUTPUTS];
+    if (s->nparts == 0)
+        return;
+    for (int i = 0; i < nin; i++) {
+        in[i] = k->x[(size_t)i * n + r];
+        sc[i] = k->w[(size_t)i * n + r];
+        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
+            sc[i] = 1 / (sc[i] * sc[i]);
+        poly_scale_column(s, i, &sc[i], 1);
+    }
+    const poly_system *vf = np && s->vframe ? s->vframe : s;
+    const int p = poly_select_part(s, in);
+    const double gx = k->g[(size_t)ix * n + r], gu = k->g[(size_t)iu * n + r];
+    const double gv = k->g[(size_t)iv * n + r], u = in[iu], v = in[iv];
+    const double cu = poly_scale_chain(s, ix, poly_scale_chain(s, iu, 1)) * gx * gu;
+    const double cv = poly_scale_chain(s, ix, poly_scale_chain(s, iv, 1)) * gx * gv;
+    for (int o = 0; o < s->nout; o++)
+        if (!(np && s->plain[o])) {
+            lim[o] = second_derivative(vf, p, o, ix, iu, sc) * cu * v -
+                     second_derivative(vf, p, o, ix, iv, sc) * cv * u;
+            k->jac[(size_t)(o * nin + iy) * n + r] = lim[o];
+        }
+    for (int q = 0; q < s->npairs; q++) {
+        const int a = s->pair[2 * q], b = s->pair[2 * q + 1];
+        const double fa = k->J[(size_t)(a * nin + ix) * n + r] * gx;
+        const double fb = k->J[(size_t)(b * nin + ix) * n + r] * gx;
+        k->jac[(size_t)(a * nin + iy) * n + r] = lim[a] - fb;
+        k->jac[(size_t)(b * nin + iy) * n + r] = lim[b] + fa;
+    }
+}
 
-/* With a frame: the inputs of a chunk of rays, the cores' values and Jacobians through
- * the batch kernel (one pass per view), then the chain rule ray by ray, as
- * poly_eval_jacobian does (the same bits). Ray by ray if the views are missing. */
+/* Vector code for whole columns where the machine has it (one clone per instruction set,
+ * chosen at load time; only IEEE arithmetic, never contracted, so one ray and many give
+ * the same bits on any of them). */
+#if (defined(__x86_64__) || defined(__i386__)) && !defined(SPARSELENS_PORTABLE_KERNELS) &&   \
+    defined(__GNUC__) && !defined(__clang__)
+#define CHAIN_TARGET __attribute__((target_clones("avx512f", "avx2", "default"), optimize("O3")))
+#define IVDEP _Pragma("GCC ivdep") /* the columns of one loop never overlap */
+#else
+#define CHAIN_TARGET
+#define IVDEP
+#endif
+
+/* Chain rule: jac = d out / d in from the cores' values and Jacobians. With the frame,
+ * t depends on in through the rotation (c and s vary with x and y) and on the transforms;
+ * the outputs through the rotation back. On the axis (r = 0) the angle is undefined:
+ * there the frame is held at c = 1, s = 0 and d / dy is its limit (axis_limit). The
+ * rotation's derivatives
+ * are written out rather than multiplied as a matrix: 11 of its 25 entries are not zero.
+ * Column by column over the rays: the batch Jacobian runs it on a chunk of rays, in
+ * vector registers; poly_eval_jacobian on one. */
+CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chain_cols *k)
+{
+    const size_t n = k->n;
+    const int nin = s->nin, nout = s->nout;
+#define COL(p, i) ((p) + (size_t)(i) * n)
+    double *g = k->g, *gp = COL(g, nin), *d = COL(g, 2 * nin);
+    /* d(1/w^2)/dw at the frame's inputs w, and at in (plain view) */
+    for (int i = 0; i < nin; i++) {
+        double *gi = COL(g, i), *gpi = COL(gp, i);
+        const double *wi = COL(k->w, i), *xi = COL(k->x, i);
+        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
+            IVDEP
+            for (size_t r = 0; r < n; r++) {
+                gi[r] = -2 / (wi[r] * wi[r] * wi[r]);
+                gpi[r] = wi[r] == xi[r] ? gi[r] : -2 / (xi[r] * xi[r] * xi[r]);
+            }
+        else
+            IVDEP
+            for (size_t r = 0; r < n; r++)
+                gi[r] = gpi[r] = 1;
+    }
+    for (int o = 0; o < nout; o++) /* inputs the frame does not turn: the transforms alone */
+        for (int j = 0; j < nin && !(np && s->plain[o]); j++) {
+            double *jo = COL(k->jac, o * nin + j);
+            const double *Jo = COL(k->J, o * nin + j), *gj = COL(g, j);
+            IVDEP
+            for (size_t r = 0; r < n; r++)
+                jo[r] = Jo[r] * gj[r];
+        }
+    /* of c and s with respect to x and y, and of u', v' (d r / d (x, y) = (c, s)) */
+    double *dc0 = d, *dc1 = COL(d, 1), *ds0 = COL(d, 2), *ds1 = COL(d, 3);
+    double *dux = COL(d, 4), *duy = COL(d, 5), *dvx = COL(d, 6), *dvy = COL(d, 7);
+    double *zero = COL(d, 8);
+    const int mer = s->frame == POLY_FRAME_MERIDIONAL;
+    IVDEP
+    for (size_t r = 0; r < n; r++)
+        zero[r] = 0;
+    if (mer) {
+        const int ix = s->ix, iy = s->iy, iu = s->iu, iv = s->iv;
+        const double *u = COL(k->x, iu), *v = COL(k->x, iv), *rad = COL(k->w, ix);
+        const double *c = k->c, *sn = k->sn;
+        IVDEP
+        for (size_t r = 0; r < n; r++) {
+            const double ir = rad[r] > 0 ? 1 / rad[r] : 0; /* rotate_in's sqrt(x*x + y*y) */
+            dc0[r] = sn[r] * sn[r] * ir;
+            dc1[r] = -c[r] * sn[r] * ir;
+            ds0[r] = -c[r] * sn[r] * ir;
+            ds1[r] = c[r] * c[r] * ir;
+            dux[r] = dc0[r] * u[r] + ds0[r] * v[r];
+            duy[r] = dc1[r] * u[r] + ds1[r] * v[r];
+            dvx[r] = dc0[r] * v[r] - ds0[r] * u[r];
+            dvy[r] = dc1[r] * v[r] - ds1[r] * u[r];
+        }
+        for (int o = 0; o < nout; o++) {
+            if (np && s->plain[o])
+                continue;
+            const double *Jx = COL(k->J, o * nin + ix), *Ju = COL(k->J, o * nin + iu);
+            const double *Jv = COL(k->J, o * nin + iv);
+            const double *gx = COL(g, ix), *gu = COL(g, iu), *gv = COL(g, iv);
+            double *jx = COL(k->jac, o * nin + ix), *jy = COL(k->jac, o * nin + iy);
+            double *ju = COL(k->jac, o * nin + iu), *jv = COL(k->jac, o * nin + iv);
+            IVDEP
+            for (size_t r = 0; r < n; r++) {
+                const double Jr = Jx[r] * gx[r], Ju_ = Ju[r] * gu[r], Jv_ = Jv[r] * gv[r];
+                jx[r] = Jr * c[r] + Ju_ * dux[r] + Jv_ * dvx[r];
+                jy[r] = Jr * sn[r] + Ju_ * duy[r] + Jv_ * dvy[r];
+                ju[r] = Ju_ * c[r] - Jv_ * sn[r];
+                jv[r] = Ju_ * sn[r] + Jv_ * c[r];
+            }
+        }
+    }
+    for (int p = 0; p < s->npairs; p++) {
+        const int a = s->pair[2 * p], b = s->pair[2 * p + 1];
+        const double *A = COL(k->o, a), *B = COL(k->o, b), *c = k->c, *sn = k->sn;
+        for (int j = 0; j < nin; j++) {
+            double *ja = COL(k->jac, a * nin + j), *jb = COL(k->jac, b * nin + j);
+            const double *dcj = mer && j == s->ix ? dc0 : mer && j == s->iy ? dc1 : zero;
+            const double *dsj = mer && j == s->ix ? ds0 : mer && j == s->iy ? ds1 : zero;
+            IVDEP
+            for (size_t r = 0; r < n; r++) {
+                const double dA = ja[r], dB = jb[r];
+                ja[r] = c[r] * dA - sn[r] * dB + A[r] * dcj[r] - B[r] * dsj[r];
+                jb[r] = sn[r] * dA + c[r] * dB + A[r] * dsj[r] + B[r] * dcj[r];
+            }
+        }
+    }
+    if (mer) /* on the axis, d / dy as its limit */
+        for (size_t r = 0; r < n; r++)
+            if (COL(k->w, s->ix)[r] == 0)
+                axis_limit(s, np, k, r);
+    if (np) /* outside the frame: the transforms alone, diagonal */
+        for (int o = 0; o < nout; o++)
+            for (int j = 0; j < nin && s->plain[o]; j++) {
+                double *jo = COL(k->jac, o * nin + j);
+                const double *Jo = COL(k->Jp, o * nin + j), *gj = COL(gp, j);
+                IVDEP
+                for (size_t r = 0; r < n; r++)
+                    jo[r] = Jo[r] * gj[r];
+            }
+#undef COL
+}
+
+/* With a frame: through the batch kernel, which applies the frame and the transforms,
+ * runs the views' values and derivatives and then poly_frame_chain on each block, as
+ * poly_eval_jacobian does on one ray (the same bits). Ray by ray if the views are
+ * missing. */
 void poly_eval_jacobian_batch(const poly_system *s, size_t count, const double *in, double *jac)
 {
     if (!poly_frame_active(s)) {
         poly_eval_jacobian_batch_core(s, count, in, jac);
         return;
     }
-    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout, nj = nin * nout;
-    const int np = s->frame && s->nplain;
-    const size_t per = 3 * nin + 2 + 2 * (nout + nj); /* w, t, p, cs, out, J, op, Jp */
-    const int views = !np || (s->vframe && s->vplain);
-    double *buf = views ? malloc((JAC_CHUNK * per + 2 * nin) * sizeof *buf) : NULL;
-    if (!buf) { /* ray by ray */
-        double o[64];
-        for (size_t r = 0; r < count; r++) {
-            if (nout <= 64)
-                poly_eval_jacobian(s, in + r * nin, o, jac + r * nj);
-            else
-                for (size_t k = 0; k < nj; k++)
-                    jac[r * nj + k] = NAN;
-        }
+    if (!(s->frame && s->nplain) || (s->vframe && s->vplain)) {
+        poly_eval_jacobian_batch_frame(s, count, in, jac);
         return;
     }
-    double *W = buf, *Tin = W + JAC_CHUNK * nin, *P = Tin + JAC_CHUNK * nin;
-    double *CS = P + JAC_CHUNK * nin;
-    double *O = CS + 2 * JAC_CHUNK, *J = O + JAC_CHUNK * nout, *OP = J + JAC_CHUNK * nj;
-    double *JP = OP + JAC_CHUNK * nout, *g = JP + JAC_CHUNK * nj;
-    const poly_system *vf = np ? s->vframe : s, *vp = s->vplain;
-    for (size_t c0 = 0; c0 < count; c0 += JAC_CHUNK) {
-        const size_t n = count - c0 < JAC_CHUNK ? count - c0 : JAC_CHUNK;
-        const double *cin = in + c0 * nin;
-        for (size_t r = 0; r < n; r++)
-            jacobian_inputs(s, np, cin + r * nin, W + r * nin, Tin + r * nin, P + r * nin,
-                            CS + 2 * r);
-        poly_eval_core_batch(vf, n, Tin, O);
-        poly_eval_jacobian_batch_core(vf, n, Tin, J);
-        if (np) {
-            poly_eval_core_batch(vp, n, P, OP);
-            poly_eval_jacobian_batch_core(vp, n, P, JP);
-        }
-        for (size_t r = 0; r < n; r++)
-            frame_chain(s, np, cin + r * nin, W + r * nin, CS + 2 * r, O + r * nout, J + r * nj,
-                        OP + r * nout, JP + r * nj, g, jac + (c0 + r) * nj);
+    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout, nj = nin * nout;
+    double o[64];
+    for (size_t r = 0; r < count; r++) {
+        if (nout <= 64)
+            poly_eval_jacobian(s, in + r * nin, o, jac + r * nj);
+        else
+            for (size_t k = 0; k < nj; k++)
+                jac[r * nj + k] = NAN;
     }
-    free(buf);
 }
 
 int poly_eval_jacobian(const poly_system *s, const double *in, double *out, double *jac)
@@ -470,7 +561,7 @@ int poly_eval_jacobian(const poly_system *s, const double *in, double *out, doub
         return poly_eval_jacobian_core(s, in, out, jac);
     const int nin = s->nin, nout = s->nout, np = s->frame && s->nplain;
     const size_t nn = (size_t)nin, no = (size_t)nout;
-    double *buf = malloc((5 * nn + 2 * nn * no + no) * sizeof *buf);
+    double *buf = malloc((5 * nn + 9 + 2 * nn * no + no) * sizeof *buf);
     if (!buf) {
         for (int k = 0; k < nin * nout; k++)
             jac[k] = NAN;
@@ -478,13 +569,17 @@ int poly_eval_jacobian(const poly_system *s, const double *in, double *out, doub
             out[o] = NAN;
         return 0;
     }
-    double *w = buf, *t = w + nn, *p = t + nn, *g = p + nn, *J = g + 2 * nn, *Jp = J + nn * no;
-    double *op = Jp + nn * no, cs[2];
+    double *w = buf, *t = w + nn, *p = t + nn, *g = p + nn, *J = g + 2 * nn + 9;
+    double *Jp = J + nn * no, *op = Jp + nn * no, cs[2];
     jacobian_inputs(s, np, in, w, t, p, cs);
     poly_eval_jacobian_core(s->vframe ? s->vframe : s, t, out, J);
     if (np)
         poly_eval_jacobian_core(s->vplain ? s->vplain : s, p, op, Jp);
-    int pass = frame_chain(s, np, in, w, cs, out, J, op, Jp, g, jac);
+    const poly_chain_cols k = {1, in, w, &cs[0], &cs[1], out, J, Jp, g, jac};
+    poly_frame_chain(s, np, &k);
+    if (np)
+        take_plain(s, op, out);
+    poly_frame_out(s, cs, out);
     free(buf);
-    return pass;
+    return poly_passes(s, out);
 }

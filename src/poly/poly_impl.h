@@ -156,10 +156,32 @@ int poly_eval_values_core(const poly_system *sys, int part, const double *in, do
 void poly_eval_batch_core(const poly_system *sys, size_t count, const double *in, double *out,
                           unsigned char *pass);
 int poly_eval_jacobian_core(const poly_system *sys, const double *in, double *out, double *jac);
-/* poly_eval_part_core on many rays (bit for bit), through the batch kernel. */
-void poly_eval_core_batch(const poly_system *sys, size_t count, const double *in, double *out);
+/* poly_eval_jacobian_batch of a framed system whose views exist (when it has outputs
+ * outside the frame): the kernel applies frame and transforms, runs the frame view's
+ * values and derivatives and the plain view's derivatives, then poly_frame_chain on
+ * each block. */
+void poly_eval_jacobian_batch_frame(const poly_system *sys, size_t count, const double *in,
+                                    double *jac);
 void poly_eval_jacobian_batch_core(const poly_system *sys, size_t count, const double *in,
                                    double *jac);
+
+/* What the chain rule through the frame (poly_frame_chain, poly_frame.c) reads and
+ * writes for n rays, as columns: value k of ray r at [k * n + r] (one ray: the rows of
+ * the cores; a block of the batch kernel: its columns). */
+typedef struct {
+    size_t n;
+    const double *x;      /* nin: the inputs as given */
+    const double *w;      /* nin: rotated into the frame, not transformed */
+    const double *c, *sn; /* the rotation */
+    const double *o;      /* nout: the frame view's values (of the rotated pairs at least) */
+    const double *J, *Jp; /* nout x nin: d out_o / d t_i of the frame and plain views (Jp
+                             read only when np) */
+    double *g;            /* scratch: 2 nin + 9 columns */
+    double *jac;          /* nout x nin: d out_o / d in_i */
+} poly_chain_cols;
+/* jac = d out / d in from the cores' values and derivatives; np: the system has outputs
+ * outside the frame (the plain view's). */
+void poly_frame_chain(const poly_system *s, int np, const poly_chain_cols *k);
 
 /* Monomial tables and plans (poly_plan.c). A table's slot 0 is the constant and slots
  * 1..nin the scaled inputs; poly_mono_ensure returns the slot of monomial e, created
