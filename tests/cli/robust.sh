@@ -55,6 +55,18 @@ if [ $rc -ne 0 ] && [ "$rows" = "0 nan nan 0 " ] && grep -q '<stdin>:3: line lon
    && grep -q '<stdin>:4: NUL byte at column 4' "$T/err"; then ok stream_long_line_and_nul
 else fail stream_long_line_and_nul "rc $rc rows '$rows' $(tr '\n' '|' <"$T/err")"; fi
 
+# The design-file importers name a NUL byte with its line too (they read it as a blank,
+# so "NAME a<NUL>b" became a name and a NUL inside a keyword an unknown one). A NUL
+# character of a UTF-16 file likewise.
+printf 'VERS 190000\nNAME a\0b\n' >"$T/nul.zmx"
+err_has nul_zmx 'nul.zmx:2: NUL byte at column 7' "$BIN/lens-info" "$T/nul.zmx"
+printf 'TITLE x\nS 50\0 5\n' >"$T/nul.seq"
+err_has nul_seq 'nul.seq:2: NUL byte at column 5' "$BIN/lens-info" "$T/nul.seq"
+python3 -c 'import sys; open(sys.argv[1], "wb").write("VERS 1\nNAME a\0b\n".encode("utf-16"))' "$T/nul16.zmx"
+err_has nul_zmx_utf16 'nul16.zmx:2: NUL byte at column 7' "$BIN/lens-info" "$T/nul16.zmx"
+{ head -4 tests/data/import/test.agf; printf 'CC a\0b\n'; tail -n +5 tests/data/import/test.agf; } >"$T/nul.agf"
+err_has nul_agf 'nul.agf:5: NUL byte at column 5' "$BIN/lens-info" --glass-catalog "$T/nul.agf" lenses/lensbaby.lens
+
 # A UTF-8 byte-order mark before the first line is read as nothing, by every reader.
 bom() { printf '\xef\xbb\xbf'; cat "$1"; }
 bom "$LENS" >"$T/bom.lens"
