@@ -39,6 +39,15 @@ int poly_passes(const poly_system *s, const double *out)
     return 1;
 }
 
+int poly_circle_covers(const poly_system *s, int o)
+{
+    for (int c = 0; c < s->ncircles; c++)
+        if (isfinite(s->circles[c].radius * s->circles[c].radius) &&
+            (s->circles[c].a == o || s->circles[c].b == o))
+            return 1;
+    return 0;
+}
+
 static void fill_nan(double *out, int n)
 {
     for (int o = 0; o < n; o++)
@@ -486,14 +495,9 @@ static void batch_job_run(const poly_system *s, int what, size_t count, const do
             need[(views && s->plain[k / s->nin] ? 2 : 1) * nw + k] = 1;
     }
     job.deriv[0] = what == RUN_JAC;
-    for (int o = 0; pass && o < nout; o++) {
-        int in_circle = 0;
-        for (int c = 0; c < s->ncircles; c++)
-            in_circle |= isfinite(s->circles[c].radius * s->circles[c].radius) &&
-                         (s->circles[c].a == o || s->circles[c].b == o);
-        if (!in_circle)
+    for (int o = 0; pass && o < nout; o++)
+        if (!poly_circle_covers(s, o))
             ids[nw + job.nfinite++] = o;
-    }
     batch(s, what, count, in, out, pass, &job);
     free(ids);
     free(need);

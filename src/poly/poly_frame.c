@@ -438,19 +438,24 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
     for (int i = 0; i < nin; i++) {
         double *gi = COL(g, i), *gpi = COL(gp, i);
         const double *wi = COL(k->w, i), *xi = COL(k->x, i);
-        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
+        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE) {
             IVDEP
-            for (size_t r = 0; r < n; r++) {
+            for (size_t r = 0; r < n; r++)
                 gi[r] = -2 / (wi[r] * wi[r] * wi[r]);
-                gpi[r] = wi[r] == xi[r] ? gi[r] : -2 / (xi[r] * xi[r] * xi[r]);
-            }
-        else
+            if (np) /* the plain view's, where in differs from w */
+                IVDEP
+                for (size_t r = 0; r < n; r++)
+                    gpi[r] = wi[r] == xi[r] ? gi[r] : -2 / (xi[r] * xi[r] * xi[r]);
+        } else
             IVDEP
             for (size_t r = 0; r < n; r++)
                 gi[r] = gpi[r] = 1;
     }
+    const int mer = s->frame == POLY_FRAME_MERIDIONAL;
     for (int o = 0; o < nout; o++) /* inputs the frame does not turn: the transforms alone */
         for (int j = 0; j < nin && !(np && s->plain[o]); j++) {
+            if (mer && (j == s->ix || j == s->iy || j == s->iu || j == s->iv))
+                continue; /* below */
             double *jo = COL(k->jac, o * nin + j);
             const double *Jo = COL(k->J, o * nin + j), *gj = COL(g, j);
             IVDEP
@@ -461,7 +466,6 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
     double *dc0 = d, *dc1 = COL(d, 1), *ds0 = COL(d, 2), *ds1 = COL(d, 3);
     double *dux = COL(d, 4), *duy = COL(d, 5), *dvx = COL(d, 6), *dvy = COL(d, 7);
     double *zero = COL(d, 8);
-    const int mer = s->frame == POLY_FRAME_MERIDIONAL;
     IVDEP
     for (size_t r = 0; r < n; r++)
         zero[r] = 0;

@@ -140,6 +140,9 @@ int poly_append_meta(poly_system *s, const char *key, const char *value);
 /* The pass test on final outputs (rotated back when there is a frame, so every path,
  * scalar, batch and emitted C, agrees bit for bit): finite, and inside every circle. */
 int poly_passes(const poly_system *s, const double *out);
+/* 1 when output o is in a pass circle of finite squared radius: a*a + b*b <= r*r then
+ * fails for inf and nan, and the test needs no check of o's own for being finite. */
+int poly_circle_covers(const poly_system *s, int o);
 
 /* The part a ray at sensor radius r belongs to (the nearest one if none contains r). */
 int poly_part_for_radius(const poly_system *sys, double r);
