@@ -159,14 +159,16 @@ int poly_eval_values_core(const poly_system *sys, int part, const double *in, do
 void poly_eval_batch_core(const poly_system *sys, size_t count, const double *in, double *out,
                           unsigned char *pass);
 int poly_eval_jacobian_core(const poly_system *sys, const double *in, double *out, double *jac);
-/* poly_eval_jacobian_batch of a framed system whose views exist (when it has outputs
- * outside the frame): the kernel applies frame and transforms, runs the frame view's
- * values and derivatives and the plain view's derivatives, then poly_frame_chain on
- * each block. */
+/* The batch Jacobian, derivative sums sel[0 .. nsel - 1] (k = o * nin + i; sel NULL:
+ * all) written per ray in that order. _core: of the core alone (inputs taken as in the
+ * frame). _frame: of a framed system whose views exist (when it has outputs outside the
+ * frame): the kernel applies frame and transforms, runs the frame view's values and
+ * derivatives and the plain view's derivatives (of the outputs asked for, and their
+ * turned partners), then poly_frame_chain on each block. */
 void poly_eval_jacobian_batch_frame(const poly_system *sys, size_t count, const double *in,
-                                    double *jac);
+                                    int nsel, const int *sel, double *jac);
 void poly_eval_jacobian_batch_core(const poly_system *sys, size_t count, const double *in,
-                                   double *jac);
+                                   int nsel, const int *sel, double *jac);
 
 /* What the chain rule through the frame (poly_frame_chain, poly_frame.c) reads and
  * writes for n rays, as columns: value k of ray r at [k * n + r] (one ray: the rows of
