@@ -438,19 +438,24 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
     for (int i = 0; i < nin; i++) {
         double *gi = COL(g, i), *gpi = COL(gp, i);
         const double *wi = COL(k->w, i), *xi = COL(k->x, i);
-        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
+        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE) {
             IVDEP
-            for (size_t r = 0; r < n; r++) {
+            for (size_t r = 0; r < n; r++)
                 gi[r] = -2 / (wi[r] * wi[r] * wi[r]);
-                gpi[r] = wi[r] == xi[r] ? gi[r] : -2 / (xi[r] * xi[r] * xi[r]);
-            }
-        else
+            if (np) /* the plain view's, where in differs from w */
+                IVDEP
+                for (size_t r = 0; r < n; r++)
+                    gpi[r] = wi[r] == xi[r] ? gi[r] : -2 / (xi[r] * xi[r] * xi[r]);
+        } else
             IVDEP
             for (size_t r = 0; r < n; r++)
                 gi[r] = gpi[r] = 1;
     }
+    const int mer = s->frame == POLY_FRAME_MERIDIONAL;
     for (int o = 0; o < nout; o++) /* inputs the frame does not turn: the transforms alone */
         for (int j = 0; j < nin && !(np && s->plain[o]); j++) {
+            if (mer && (j == s->ix || j == s->iy || j == s->iu || j == s->iv))
+                continue; /* below */
             double *jo = COL(k->jac, o * nin + j);
             const double *Jo = COL(k->J, o * nin + j), *gj = COL(g, j);
             IVDEP
@@ -461,7 +466,6 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
     double *dc0 = d, *dc1 = COL(d, 1), *ds0 = COL(d, 2), *ds1 = COL(d, 3);
     double *dux = COL(d, 4), *duy = COL(d, 5), *dvx = COL(d, 6), *dvy = COL(d, 7);
     double *zero = COL(d, 8);
-    const int mer = s->frame == POLY_FRAME_MERIDIONAL;
     IVDEP
     for (size_t r = 0; r < n; r++)
         zero[r] = 0;
@@ -534,25 +538,49 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
  * runs the views' values and derivatives and then poly_frame_chain on each block, as
  * poly_eval_jacobian does on one ray (the same bits). Ray by ray if the views are
  * missing. */
+int poly_eval_jacobian_batch_outputs(const poly_system *s, size_t count, const double *in,
+                                     int nsel, const int *outputs, double *jac)
+{
+    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout, nj = nin * nout;
+    if (nsel < 0 || (nsel > 0 && !outputs))
+        return -1;
+    for (int j = 0; j < nsel; j++)
+        if (outputs[j] < 0 || outputs[j] >= s->nout)
+            return -1;
+    int *sel = malloc(((size_t)nsel * nin + 1) * sizeof *sel);
+    if (!sel) {
+        for (size_t k = 0; k < count * (size_t)nsel * nin; k++)
+            jac[k] = NAN;
+        return 0;
+    }
+    for (int j = 0; j < nsel; j++)
+        for (size_t i = 0; i < nin; i++)
+            sel[(size_t)j * nin + i] = outputs[j] * s->nin + (int)i;
+    const int ns = nsel * s->nin;
+    if (!poly_frame_active(s)) {
+        poly_eval_jacobian_batch_core(s, count, in, ns, sel, jac);
+    } else if (!(s->frame && s->nplain) || (s->vframe && s->vplain)) {
+        poly_eval_jacobian_batch_frame(s, count, in, ns, sel, jac);
+    } else {
+        double o[POLY_MAX_OUTPUTS], *j1 = malloc(nj * sizeof *j1);
+        for (size_t r = 0; r < count; r++) {
+            if (j1)
+                poly_eval_jacobian(s, in + r * nin, o, j1);
+            for (int k = 0; k < ns; k++)
+                jac[r * (size_t)ns + (size_t)k] = j1 ? j1[sel[k]] : NAN;
+        }
+        free(j1);
+    }
+    free(sel);
+    return 0;
+}
+
 void poly_eval_jacobian_batch(const poly_system *s, size_t count, const double *in, double *jac)
 {
-    if (!poly_frame_active(s)) {
-        poly_eval_jacobian_batch_core(s, count, in, jac);
-        return;
-    }
-    if (!(s->frame && s->nplain) || (s->vframe && s->vplain)) {
-        poly_eval_jacobian_batch_frame(s, count, in, jac);
-        return;
-    }
-    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout, nj = nin * nout;
-    double o[64];
-    for (size_t r = 0; r < count; r++) {
-        if (nout <= 64)
-            poly_eval_jacobian(s, in + r * nin, o, jac + r * nj);
-        else
-            for (size_t k = 0; k < nj; k++)
-                jac[r * nj + k] = NAN;
-    }
+    int all[POLY_MAX_OUTPUTS];
+    for (int o = 0; o < s->nout; o++)
+        all[o] = o;
+    poly_eval_jacobian_batch_outputs(s, count, in, s->nout, all, jac);
 }
 
 int poly_eval_jacobian(const poly_system *s, const double *in, double *out, double *jac)
