@@ -16,16 +16,10 @@ int main(int argc, char **argv)
     mtf_request rq = {.grid = (int)o.grid, .lens_method = (wavefront_method)o.wavefront,
                       .pixel_um = o.pixel_um, .steps = (int)o.steps, .focus_freq = o.through_focus,
                       .focus_range = o.focus_range, .focus_steps = (int)o.focus_steps, .png = o.im.png};
-    imaging_models models;
-    double field[IMAGING_MAX_FIELDS];
-    design_set_from_cli(prog, &o.im, &models, field, &rq.set);
-    imaging_setup setup;
-    char title[512];
-    design_set_title(&o.im, &models, &rq.set, rq.focus_freq > 0 ? "MTF through focus" : "MTF", &setup, title, sizeof title);
-    rq.title = title;
-    table_out t;
-    output_cli_begin(&o.out, &t, stdout, 6);
+    design_run r;
+    design_run_begin(prog, &r, &o.im, &o.out, 0,
+                     rq.focus_freq > 0 ? "MTF through focus" : "MTF", &rq.set);
+    rq.title = r.title;
     lens_err err;
-    int rc = mtf_run(&rq, &t, NULL, NULL, &err);
-    return design_cli_end(prog, &t, rc, &err, &setup, &models);
+    return design_run_end(prog, &r, mtf_run(&rq, &r.t, NULL, NULL, &err), &err);
 }

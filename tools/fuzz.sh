@@ -14,6 +14,9 @@
 # inputs earlier runs found (build-fuzz/corpus/<target>/, not committed); crashes, leaks
 # and timeouts are written to tests/fuzz/regressions/<target>/ to be committed as
 # regression inputs once fixed.
+# Targets run side by side, FUZZ_JOBS at once (default: the number of cores). Only the
+# library sources the targets use are compiled (found by linking them against the
+# archive `make` built), each again only when it or a header it includes changed.
 # Output: one line per target, "fuzz TARGET execs N crashes K" (or "fuzz TARGET skipped
 # (...)"), then "fuzz total execs N crashes K". FUZZ_TARGETS="a b" limits the targets.
 set -u
@@ -24,14 +27,20 @@ CLANG=${CLANG:-clang}
 SAN="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=undefined,float-cast-overflow"
 # The library flags come from the Makefile (pkg-config and its fallbacks, the x86-64
 # baseline only on x86-64); the outer make's job server is not passed on.
-makevar() { env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL "${MAKE:-make}" -s --no-print-directory "print-$1"; }
-CFLAGS="-std=c11 -O1 -g -fno-omit-frame-pointer -fopenmp $(makevar ARCH_FLAGS) -Wall -Wextra $(makevar CPPFLAGS) $(makevar CAIRO_CFLAGS) -Itests/fuzz -D_GNU_SOURCE"
-LIBS="$(makevar CAIRO_LIBS) $(makevar EXR_LIBS) $(makevar PROJ_LIBS) $(makevar LAPACK_LIBS) -lm"
+# One make run prints them all, a line each.
+{ read -r ARCH_FLAGS; read -r CPPFLAGS; read -r CAIRO_CFLAGS; read -r CAIRO_LIBS; read -r EXR_LIBS
+  read -r PROJ_LIBS; read -r LAPACK_LIBS; read -r BUILD_DIR; } < <(env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL \
+  "${MAKE:-make}" -s --no-print-directory print-ARCH_FLAGS print-CPPFLAGS print-CAIRO_CFLAGS \
+  print-CAIRO_LIBS print-EXR_LIBS print-PROJ_LIBS print-LAPACK_LIBS print-BUILD)
+CFLAGS="-std=c11 -O1 -g -fno-omit-frame-pointer -fopenmp $ARCH_FLAGS -Wall -Wextra $CPPFLAGS $CAIRO_CFLAGS -Itests/fuzz -D_GNU_SOURCE"
+LIBS="$CAIRO_LIBS $EXR_LIBS $PROJ_LIBS $LAPACK_LIBS -lm"
 export SPARSELENS_GLASS_CATALOG=${SPARSELENS_GLASS_CATALOG:-lenses/glass.catalog}
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 
+# The probe is kept: a later run skips it.
 have_libfuzzer() {
+  [ -x "$OUT/probe" ] && return 0
   command -v "$CLANG" >/dev/null || return 1
   printf 'int LLVMFuzzerTestOneInput(const char *d, long n) { (void)d; (void)n; return 0; }\n' \
     >"$OUT/probe.c"
@@ -55,23 +64,61 @@ missing_needs() {
   done
 }
 
-# Library objects: every src/<stage>/*.c, rebuilt when it or any header is newer than its object.
-build_lib() {
+# Whether OBJ must be built again: missing, or older than a file its .d (clang -MMD)
+# names, its source among them.
+stale() { # OBJ
+  [ -f "$1" ] && [ -f "$1.d" ] || return 0
+  local dep
+  for dep in $(sed -e 's/^[^:]*://' -e 's/\\$//' "$1.d"); do [ "$dep" -nt "$1" ] && return 0; done
+  return 1
+}
+
+# The library sources the targets use: the linker says which members of the archive that
+# `make` built ($BUILD/liblens.a, gcc's, same sources) a program made of all the targets
+# pulls in (about a third of the library: the parsers and what they call). Without that
+# archive, or when that link fails: every source.
+lib_sources() {
+  local lib=$BUILD_DIR/liblens.a t objs=() members
+  if [ -f "$lib" ]; then
+    mkdir -p "$OUT/closure"
+    for t in $(targets); do
+      [ -z "$(missing_needs "$t")" ] || continue
+      ${CC:-cc} $CPPFLAGS -Itests/fuzz -D_GNU_SOURCE -std=c11 -fopenmp -c "tests/fuzz/fuzz_$t.c" \
+        -o "$OUT/closure/$t.o" 2>/dev/null && objs+=("$OUT/closure/$t.o")
+    done
+    printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n);\n%s\n' \
+      'int main(void) { return LLVMFuzzerTestOneInput(0, 0); }' >"$OUT/closure/main.c"
+    if ${CC:-cc} -fopenmp "$OUT/closure/main.c" "${objs[@]}" -Wl,--allow-multiple-definition "$lib" \
+         $LIBS -lstdc++ -Wl,-Map="$OUT/closure/map" -o "$OUT/closure/all" 2>/dev/null; then
+      # the map's lines "ARCHIVE(MEMBER.o)  FILE (SYMBOL)", the member first
+      grep -oE '^[^ ]*liblens\.a\([^)]*\.o\)' "$OUT/closure/map" | sed -E 's/.*\((.*)\.o\)$/\1/' |
+        sort -u | while read -r m; do ls src/*/"$m".c; done
+      return
+    fi
+  fi
+  ls src/*/*.c
+}
+
+# Library objects, each rebuilt when its source or a header it includes changed.
+build_lib() { # SOURCES...
   mkdir -p "$OUT/obj"
-  local newest_h src obj pids=() rc=0
-  newest_h=$(ls -t include/sparselens/*.h src/*/*.h | head -1)
-  for src in src/*/*.c; do
+  local src obj pids=() rc=0 built=0
+  for src in "$@"; do
     obj=$OUT/obj/$(basename "$src" .c).o
-    if [ ! -f "$obj" ] || [ "$src" -nt "$obj" ] || [ "$newest_h" -nt "$obj" ]; then
-      "$CLANG" $CFLAGS $SAN -fsanitize=fuzzer-no-link -c "$src" -o "$obj" &
-      pids+=($!)
+    if stale "$obj"; then
+      "$CLANG" $CFLAGS $SAN -fsanitize=fuzzer-no-link -MMD -MF "$obj.d" -c "$src" -o "$obj" &
+      pids+=($!) built=1
       if [ ${#pids[@]} -ge 4 ]; then wait "${pids[0]}" || rc=1; pids=("${pids[@]:1}"); fi
     fi
   done
   for p in "${pids[@]}"; do wait "$p" || rc=1; done
   [ $rc -eq 0 ] || { echo "fuzz: building the library with clang failed" >&2; return 1; }
   # Objects of sources that were removed must not linger in the archive.
-  for obj in "$OUT"/obj/*.o; do compgen -G "src/*/$(basename "$obj" .o).c" >/dev/null || rm -f "$obj"; done
+  for obj in "$OUT"/obj/*.o; do
+    [ -e "$obj" ] || continue
+    compgen -G "src/*/$(basename "$obj" .o).c" >/dev/null || { rm -f "$obj" "$obj.d"; built=1; }
+  done
+  [ $built = 0 ] && [ -f "$OUT/liblens.a" ] && return 0
   rm -f "$OUT/liblens.a"
   ar rcs "$OUT/liblens.a" "$OUT"/obj/*.o
 }
@@ -82,13 +129,20 @@ build_targets() {
     miss=$(missing_needs "$t")
     [ -z "$miss" ] || continue
     bin=$OUT/fuzz_$t
-    if [ ! -x "$bin" ] || [ "tests/fuzz/fuzz_$t.c" -nt "$bin" ] || [ "$OUT/liblens.a" -nt "$bin" ] \
-       || [ -n "$(find tests/fuzz -name '*.h' -newer "$bin")" ]; then
-      "$CLANG" $CFLAGS $SAN -fsanitize=fuzzer "tests/fuzz/fuzz_$t.c" "$OUT/liblens.a" $LIBS \
-        -o "$bin" || { echo "fuzz: building fuzz_$t failed" >&2; rc=1; }
+    if stale "$bin" || [ "$OUT/liblens.a" -nt "$bin" ]; then
+      "$CLANG" $CFLAGS $SAN -fsanitize=fuzzer -MMD -MF "$bin.d" "tests/fuzz/fuzz_$t.c" \
+        "$OUT/liblens.a" $LIBS -o "$bin" 2>"$OUT/link-$t.log" || { rc=1; cat "$OUT/link-$t.log" >&2; }
     fi
   done
   return $rc
+}
+
+# The sources the targets need; when a target does not link with them (the archive
+# `make` built was older than the sources), with every source.
+build() {
+  build_lib $(lib_sources) && build_targets 2>/dev/null && return 0
+  echo "fuzz: building with every library source" >&2
+  build_lib src/*/*.c && build_targets
 }
 
 mkdir -p "$OUT"
@@ -96,7 +150,7 @@ if ! have_libfuzzer; then
   echo "fuzz: clang with libFuzzer not found; nothing built" >&2
   exit 77
 fi
-build_lib && build_targets || exit 1
+build || exit 1
 [ "$mode" = --build ] && exit 0
 
 if [ "$mode" = --replay ]; then
@@ -120,12 +174,10 @@ fi
 
 seconds=$mode
 case $seconds in ''|*[!0-9]*) echo "usage: tools/fuzz.sh SECONDS | --build | --replay" >&2; exit 2;; esac
-total=0 crashes=0
-for t in $(targets); do
-  miss=$(missing_needs "$t")
-  if [ -n "$miss" ]; then echo "fuzz $t skipped (not on this branch: $miss)"; continue; fi
+# One target's run: its report line (and what a crash said) in $OUT/result-TARGET.
+fuzz_one() { # TARGET
+  local t=$1 log=$OUT/fuzz-$1.log before after found execs rc seeds
   mkdir -p "$OUT/corpus/$t" "tests/fuzz/regressions/$t" "tests/fuzz/corpus/$t"
-  log=$OUT/fuzz-$t.log
   before=$(ls "tests/fuzz/regressions/$t" | wc -l)
   seeds=("tests/fuzz/corpus/$t")
   [ -d "tests/fuzz/corpus/fuzz_$t" ] && seeds+=("tests/fuzz/corpus/fuzz_$t")
@@ -137,9 +189,27 @@ for t in $(targets); do
   after=$(ls "tests/fuzz/regressions/$t" | wc -l)
   found=$((after - before))
   [ $rc -eq 0 ] || [ $found -gt 0 ] || found=1 # a failure that left no artifact still counts
-  total=$((total + ${execs:-0})) crashes=$((crashes + found))
   echo "fuzz $t execs ${execs:-0} crashes $found"
   if [ $found -gt 0 ]; then grep -m5 -E 'ERROR|runtime error|invariant|Test unit written' "$log" | sed 's/^/  /'; fi
+}
+
+# The targets run side by side, FUZZ_JOBS at once (default: the cores); each gets its
+# SECONDS, and the reports come out in the order of the targets.
+jobs=${FUZZ_JOBS:-$(nproc 2>/dev/null || echo 2)}
+running=0 ran=()
+for t in $(targets); do
+  miss=$(missing_needs "$t")
+  if [ -n "$miss" ]; then echo "fuzz $t skipped (not on this branch: $miss)"; continue; fi
+  fuzz_one "$t" >"$OUT/result-$t" &
+  ran+=("$t") running=$((running + 1))
+  if [ $running -ge "$jobs" ]; then wait -n; running=$((running - 1)); fi
+done
+wait
+total=0 crashes=0
+for t in "${ran[@]}"; do
+  cat "$OUT/result-$t"
+  read -r _ _ _ execs _ found <"$OUT/result-$t"
+  total=$((total + execs)) crashes=$((crashes + found))
 done
 echo "fuzz total execs $total crashes $crashes"
 [ $crashes -eq 0 ]

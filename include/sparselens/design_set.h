@@ -7,6 +7,7 @@
 #include <stdio.h>
 
 #include "sparselens/imaging_cli.h"
+#include "sparselens/output_cli.h"
 #include "sparselens/spot_run.h"
 #include "sparselens/table_out.h"
 
@@ -49,22 +50,27 @@ void design_set_print_difference(table_out *t, const design_set *ds, const char 
 /* The field unit of the set's columns: "deg" (object at infinity) or "mm". */
 const char *design_set_field_unit(const design_set *ds);
 
-/* For the commands: loads the models imaging_cli_parse was given, parses --fields (or
- * takes the default fields) into field[IMAGING_MAX_FIELDS], fills ds and moves the sensor
- * plane (design_set_focus); the primary wavelength is the middle one. Fatal errors print
- * "prog: ..." and exit 1. */
-void design_set_from_cli(const char *prog, imaging_cli *a, imaging_models *models, double *field,
-                         design_set *ds);
+/* A designer command's run around its job (cmd/lens-fan.c and the like): the models,
+ * fields, setup and picture title it works with, and the output table. */
+typedef struct {
+    imaging_models models;
+    double field[IMAGING_MAX_FIELDS];
+    imaging_setup setup;        /* what the numbers were taken with (imaging_cli_setup) */
+    char title[512];            /* the lens's name (or the input's), WHAT, the setup */
+    table_out t;
+} design_run;
 
-/* What the numbers were taken with (f-number, object, sensor: imaging_cli_setup), and a
- * picture title: the lens's name (or the input's file name), what is shown, the setup. */
-void design_set_title(const imaging_cli *a, const imaging_models *models, const design_set *ds,
-                      const char *what, imaging_setup *setup, char *title, size_t size);
+/* Loads the models of a, takes the fields of --fields, or without it the default fields
+ * (imaging_default_fields; with spread > 0, spread fields evenly from 0 to the largest
+ * of them), fills set (the middle wavelength primary), moves the sensor plane
+ * (design_set_focus), makes the title for `what` and begins the output (--json,
+ * --precision, 6 digits by default). Fatal errors print "prog: ..." and exit 1. */
+void design_run_begin(const char *prog, design_run *r, imaging_cli *a, const output_cli *out,
+                      int spread, const char *what, design_set *set);
 
-/* The end of a designer command: the setup (when the job succeeded), the end of the
- * output (valid JSON even after an error), the error on stderr; frees the models.
- * Returns the exit status. */
-int design_cli_end(const char *prog, table_out *t, int rc, const lens_err *err,
-                   const imaging_setup *setup, imaging_models *models);
+/* The end of a designer command whose job returned rc: the setup (when the job
+ * succeeded), the end of the output (valid JSON even after an error), the error on
+ * stderr; frees the models. Returns the exit status. */
+int design_run_end(const char *prog, design_run *r, int rc, const lens_err *err);
 
 #endif

@@ -53,6 +53,14 @@ int poly_eval_batch_outputs(const poly_system *sys, size_t count, const double *
  * (noutputs x ninputs), row r holding d out_o / d in_i at [o * ninputs + i]. */
 void poly_eval_jacobian_batch(const poly_system *sys, size_t count, const double *in,
                               double *jac);
+/* poly_eval_jacobian_batch for outputs outputs[0 .. nsel - 1] alone: jac is count x
+ * (nsel x ninputs), row r holding d out_{outputs[j]} / d in_i at [j * ninputs + i], the
+ * same values; the other outputs' derivatives are not computed (a renderer's or a
+ * solver's four outer-pupil outputs of a system with passage outputs: a fraction of the
+ * work). Returns 0, or -1 (and writes nothing) for a negative nsel or an output out of
+ * range. */
+int poly_eval_jacobian_batch_outputs(const poly_system *sys, size_t count, const double *in,
+                                     int nsel, const int *outputs, double *jac);
 /* Evaluates part `part` whatever the radius of in (to compare parts at a boundary);
  * returns the pass flag as poly_eval does. */
 int poly_eval_part(const poly_system *sys, int part, const double *in, double *out);

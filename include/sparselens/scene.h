@@ -74,6 +74,12 @@ typedef struct {
 /* Nearest hit of o + t d (d unit) with tmin < t < tmax; 1 if any. */
 int scene_intersect(const scene_t *s, const double o[3], const double d[3], double tmin,
                     double tmax, scene_hit *hit);
+/* scene_intersect when only an emitter matters (a BSDF sample's light): 1 and the hit
+ * when the nearest hit is an emitter, else 0 (what scene_intersect finds then, with
+ * only the emitters tested in full and the rest tested for blocking up to the nearest
+ * emitter: most such rays meet no emitter and cost one loop over the emitters). */
+int scene_intersect_emitter(const scene_t *s, const double o[3], const double d[3],
+                            double tmin, scene_hit *hit);
 /* The same over the objects that are not spheres and the listed spheres only
  * (scene_cull.c chooses them). */
 int scene_intersect_listed(const scene_t *s, const int *spheres, int nlisted, const double o[3],

@@ -46,6 +46,10 @@ void table_out_int(table_out *t, long long v);
  * the units as a table of their own). */
 void table_out_unit(table_out *t, const char *unit);
 void table_out_row_end(table_out *t);
+/* A whole key-value row: the key, one value, the row's end. */
+void table_out_key_str(table_out *t, const char *key, const char *value);
+void table_out_key_num(table_out *t, const char *key, double v);
+void table_out_key_int(table_out *t, const char *key, long long v);
 /* Ends the output: in JSON, "warnings": [...] with the lines given (may be 0) and "}". */
 void table_out_end(table_out *t, const char *const *warnings, int nwarnings);
 

@@ -57,21 +57,15 @@ void design_set_print_footer(table_out *t, const design_set *ds, const char *wha
         return;
     }
     table_out_keys(t, "sensor", NULL);
-    table_out_str(t, "shift_mm");
-    table_out_num(t, ds->sensor_shift, 0);
-    table_out_row_end(t);
+    table_out_key_num(t, "shift_mm", ds->sensor_shift);
     table_out_keys(t, "time", NULL);
     for (int m = 0; m < ds->nmodels; m++) {
         char key[32];
         snprintf(key, sizeof key, "%s_s", ds->names[m]);
-        table_out_str(t, key);
-        table_out_num(t, ds->seconds[m], 0);
-        table_out_row_end(t);
+        table_out_key_num(t, key, ds->seconds[m]);
     }
     if (ds->nmodels > 1) {
-        table_out_str(t, "ratio");
-        table_out_num(t, ratio, 0);
-        table_out_row_end(t);
+        table_out_key_num(t, "ratio", ratio);
     }
 }
 
@@ -84,9 +78,7 @@ void design_set_print_difference(table_out *t, const design_set *ds, const char 
     }
     table_out_keys(t, "difference", NULL);
     for (int i = 0; i < n; i++) {
-        table_out_str(t, keys[i]);
-        table_out_num(t, values[i], 0);
-        table_out_row_end(t);
+        table_out_key_num(t, keys[i], values[i]);
     }
 }
 
@@ -104,43 +96,54 @@ int design_set_chief(const design_set *ds, int m, double field, double lambda, d
     return -1;
 }
 
-void design_set_from_cli(const char *prog, imaging_cli *a, imaging_models *models, double *field,
-                         design_set *ds)
+/* The fields: --fields, or the default ones (spread: that many from 0 to the largest). */
+static int fields_from_cli(const imaging_cli *a, const imaging *im, int spread, double *field,
+                           lens_err *err)
+{
+    if (a->fields)
+        return numbers_parse(a->fields, "field", field, IMAGING_MAX_FIELDS, err);
+    int n = imaging_default_fields(im, a->lambda, a->nl, field, err);
+    if (n <= 0 || spread <= 0)
+        return n;
+    double top = field[n - 1];
+    n = top > 0 ? spread : 1;
+    for (int i = 0; i < n; i++)
+        field[i] = top * i / (spread - 1.0);
+    return n;
+}
+
+void design_run_begin(const char *prog, design_run *r, imaging_cli *a, const output_cli *out,
+                      int spread, const char *what, design_set *ds)
 {
     memset(ds, 0, sizeof *ds);
-    ds->nmodels = imaging_cli_load(prog, a, models, ds->im, ds->names);
+    ds->nmodels = imaging_cli_load(prog, a, &r->models, ds->im, ds->names);
     ds->lambda = a->lambda, ds->nl = a->nl, ds->primary = a->nl / 2;
     ds->focus = a->focus_mode;
     lens_err err;
-    int nf = a->fields ? numbers_parse(a->fields, "field", field, IMAGING_MAX_FIELDS, &err)
-                       : imaging_default_fields(&ds->im[0], a->lambda, a->nl, field, &err);
+    int nf = fields_from_cli(a, &ds->im[0], spread, r->field, &err);
     if (nf < 0) {
-        imaging_models_free(models);
+        imaging_models_free(&r->models);
         diag_die(prog, "%s%s", a->fields ? "--fields: " : "", err.msg);
     }
-    ds->field = field, ds->nfields = nf;
+    ds->field = r->field, ds->nfields = nf;
     if (design_set_focus(ds, &err) != 0) {
-        imaging_models_free(models);
+        imaging_models_free(&r->models);
         diag_die(prog, "%s", err.msg);
     }
+    imaging_cli_setup(a, &r->models, ds->lambda[ds->primary], ds->sensor_shift, &r->setup);
+    snprintf(r->title, sizeof r->title, "%s  %s  %s",
+             r->models.lens.name[0] ? r->models.lens.name : imaging_cli_basename(a), what,
+             r->setup.text);
+    output_cli_begin(out, &r->t, stdout, 6);
 }
 
-void design_set_title(const imaging_cli *a, const imaging_models *models, const design_set *ds,
-                      const char *what, imaging_setup *setup, char *title, size_t size)
-{
-    imaging_cli_setup(a, models, ds->lambda[ds->primary], ds->sensor_shift, setup);
-    snprintf(title, size, "%s  %s  %s", models->lens.name[0] ? models->lens.name : imaging_cli_basename(a),
-             what, setup->text);
-}
-
-int design_cli_end(const char *prog, table_out *t, int rc, const lens_err *err,
-                   const imaging_setup *setup, imaging_models *models)
+int design_run_end(const char *prog, design_run *r, int rc, const lens_err *err)
 {
     if (rc == 0)
-        imaging_setup_print(t, setup, models);
-    table_out_end(t, NULL, 0);
+        imaging_setup_print(&r->t, &r->setup, &r->models);
+    table_out_end(&r->t, NULL, 0);
     if (rc != 0)
         diag_print(prog, err);
-    imaging_models_free(models);
+    imaging_models_free(&r->models);
     return rc != 0;
 }

@@ -85,15 +85,9 @@ int distort_cli_run(distort_cli *o, FILE *out, FILE *log, const char *prog, lens
                    rep.grid, rep.grid, rep.sensor_w, rep.sensor_h, factor);
         } else {
             table_out_keys(&t, "grid_map", NULL);
-            table_out_str(&t, "file");
-            table_out_str(&t, png);
-            table_out_row_end(&t);
-            table_out_str(&t, "points_per_side");
-            table_out_int(&t, rep.grid);
-            table_out_row_end(&t);
-            table_out_str(&t, "exaggeration");
-            table_out_num(&t, factor, 0);
-            table_out_row_end(&t);
+            table_out_key_str(&t, "file", png);
+            table_out_key_int(&t, "points_per_side", rep.grid);
+            table_out_key_num(&t, "exaggeration", factor);
         }
     }
     /* a field a model cannot image: the table is whole (nan rows), the status says so */

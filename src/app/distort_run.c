@@ -153,12 +153,8 @@ static void print_comments_json(table_out *t, const distort_request *rq, const d
     table_out_str(t, rep->finite ? "magnification" : "focal_length_mm");
     table_out_fmt(t, rep->scale, 0, "%.9g");
     table_out_row_end(t);
-    table_out_str(t, "lambda_um");
-    table_out_num(t, rq->lambda, 0);
-    table_out_row_end(t);
-    table_out_str(t, "sensor_shift_mm");
-    table_out_num(t, rep->sensor_shift, 0);
-    table_out_row_end(t);
+    table_out_key_num(t, "lambda_um", rq->lambda);
+    table_out_key_num(t, "sensor_shift_mm", rep->sensor_shift);
     if (!rep->finite) {
         static const char *const cols[] = {"model", "mapping", "rms_pct"};
         table_out_table(t, "best_mapping", NULL, cols, 3);

@@ -168,18 +168,10 @@ void imaging_setup_print(table_out *t, const imaging_setup *s, const imaging_mod
         return;
     }
     table_out_keys(t, "setup", NULL);
-    table_out_str(t, "lens");
-    table_out_str(t, m->lens.name);
-    table_out_row_end(t);
-    table_out_str(t, "fnumber");
-    table_out_num(t, s->fnumber, 0);
-    table_out_row_end(t);
-    table_out_str(t, "file_focus_distance_mm");
-    table_out_num(t, s->file_focus_distance, 0);
-    table_out_row_end(t);
-    table_out_str(t, "description");
-    table_out_str(t, s->text);
-    table_out_row_end(t);
+    table_out_key_str(t, "lens", m->lens.name);
+    table_out_key_num(t, "fnumber", s->fnumber);
+    table_out_key_num(t, "file_focus_distance_mm", s->file_focus_distance);
+    table_out_key_str(t, "description", s->text);
 }
 
 void imaging_cli_end_table(table_out *t, FILE *log, const char *prog,

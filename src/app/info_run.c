@@ -143,9 +143,7 @@ void info_report_print(FILE *f, const lens_t *lens, const info_report *rep, cons
     table_out_keys(&t, NULL, NULL);
     /* lengths that cancel to round-off are zero on the scale of the whole lens */
     double L = isfinite(p->total_track) ? fabs(p->total_track) : 1;
-    table_out_str(&t, "name");
-    table_out_str(&t, lens->name[0] ? lens->name : "-");
-    table_out_row_end(&t);
+    table_out_key_str(&t, "name", lens->name[0] ? lens->name : "-");
     key(&t, "wavelength", rep->lambda, 0, "um");
     key(&t, "efl", p->efl, L, "mm");
     key(&t, "bfl", p->bfl, L, "mm");
@@ -181,9 +179,7 @@ void info_report_print(FILE *f, const lens_t *lens, const info_report *rep, cons
     if (out->json) {
         table_out_keys(&t, "units", NULL);
         for (size_t k = 0; k < sizeof info_keys / sizeof info_keys[0]; k++) {
-            table_out_str(&t, info_keys[k].name);
-            table_out_str(&t, info_keys[k].unit);
-            table_out_row_end(&t);
+            table_out_key_str(&t, info_keys[k].name, info_keys[k].unit);
         }
     }
     const char *w[8];

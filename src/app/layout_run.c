@@ -13,9 +13,7 @@ static void surface_row(table_out *t, long i, double z, double radius, double co
     table_out_fmt(t, conic, 0, "%.6g");
     table_out_fmt(t, sd, 0, "%.6g");
     table_out_fmt(t, sag, 1e-3, "%.6g");
-    table_out_str(t, material);
-    table_out_int(t, stop);
-    table_out_row_end(t);
+    table_out_key_int(t, material, stop);
 }
 
 static void print_surfaces(table_out *t, const lens_t *lens)
@@ -49,12 +47,8 @@ int layout_run(layout_request *rq, table_out *out, lens_err *err)
         fprintf(out->f, "# rays at %.7g um: %d of %d reach the sensor\n", ds->lambda[ds->primary], d.passed, d.rays);
     } else {
         table_out_keys(out, "rays", NULL);
-        table_out_str(out, "launched");
-        table_out_int(out, d.rays);
-        table_out_row_end(out);
-        table_out_str(out, "reach_sensor");
-        table_out_int(out, d.passed);
-        table_out_row_end(out);
+        table_out_key_int(out, "launched", d.rays);
+        table_out_key_int(out, "reach_sensor", d.passed);
     }
     if (sys_im) {
         /* the rays' times: the lens's and the system's for the same rays */
@@ -72,9 +66,7 @@ int layout_run(layout_request *rq, table_out *out, lens_err *err)
         fprintf(out->f, "# sensor plane moved %.9g mm along the axis\n", ds->sensor_shift);
     } else if (out->json) {
         table_out_keys(out, "sensor", NULL);
-        table_out_str(out, "shift_mm");
-        table_out_num(out, ds->sensor_shift, 0);
-        table_out_row_end(out);
+        table_out_key_num(out, "shift_mm", ds->sensor_shift);
     }
     int rc = 0;
     if (rq->png && layout_write_png(&d, rq->png, rq->width, err) != 0)

@@ -234,18 +234,11 @@ int mtf_run(mtf_request *rq, table_out *out, mtf_row **rows_out, size_t *nrows_o
                 rq->lens_method == WAVEFRONT_PATH ? "path lengths" : "ray errors");
     } else {
         table_out_keys(out, "sampling", NULL);
-        table_out_str(out, "pixel_um");
-        table_out_num(out, rq->pixel_um, 0);
-        table_out_row_end(out);
-        table_out_str(out, "nyquist_cyc_mm");
-        table_out_num(out, 1000 / (2 * rq->pixel_um), 0);
-        table_out_row_end(out);
-        table_out_str(out, "pupil_grid");
-        table_out_int(out, rq->grid);
-        table_out_row_end(out);
-        table_out_str(out, "lens_wavefront");
-        table_out_str(out, rq->lens_method == WAVEFRONT_PATH ? "path" : "rays");
-        table_out_row_end(out);
+        table_out_key_num(out, "pixel_um", rq->pixel_um);
+        table_out_key_num(out, "nyquist_cyc_mm", 1000 / (2 * rq->pixel_um));
+        table_out_key_int(out, "pupil_grid", rq->grid);
+        table_out_key_str(out, "lens_wavefront",
+                          rq->lens_method == WAVEFRONT_PATH ? "path" : "rays");
     }
     design_set_print_footer(out, ds, "the wavefronts");
     if (ds->nmodels > 1)

@@ -63,15 +63,9 @@ int spot_cli_run(spot_cli *o, FILE *out, FILE *log, const char *prog, lens_err *
                    exr, panel, panel, um_px);
         } else {
             table_out_keys(&t, "exr", NULL);
-            table_out_str(&t, "file");
-            table_out_str(&t, exr);
-            table_out_row_end(&t);
-            table_out_str(&t, "panel_px");
-            table_out_int(&t, panel);
-            table_out_row_end(&t);
-            table_out_str(&t, "um_per_px");
-            table_out_num(&t, um_px, 0);
-            table_out_row_end(&t);
+            table_out_key_str(&t, "file", exr);
+            table_out_key_int(&t, "panel_px", panel);
+            table_out_key_num(&t, "um_per_px", um_px);
         }
     }
     /* a field a model cannot image: the table is whole (nan rows), the status says so */

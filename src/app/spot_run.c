@@ -163,12 +163,8 @@ void spot_report_print(table_out *t, const spot_request *rq, const spot_report *
         return;
     }
     table_out_keys(t, "sensor", NULL);
-    table_out_str(t, "focus");
-    table_out_str(t, focus_name);
-    table_out_row_end(t);
-    table_out_str(t, "shift_mm");
-    table_out_num(t, rep->sensor_shift, 0);
-    table_out_row_end(t);
+    table_out_key_str(t, "focus", focus_name);
+    table_out_key_num(t, "shift_mm", rep->sensor_shift);
 }
 
 int focus_mode_parse(const char *s, focus_mode *mode)

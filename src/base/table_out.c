@@ -219,3 +219,24 @@ void table_out_end(table_out *t, const char *const *warnings, int nwarnings)
     }
     fputs("]\n}\n", t->f);
 }
+
+void table_out_key_str(table_out *t, const char *key, const char *value)
+{
+    table_out_str(t, key);
+    table_out_str(t, value);
+    table_out_row_end(t);
+}
+
+void table_out_key_num(table_out *t, const char *key, double v)
+{
+    table_out_str(t, key);
+    table_out_num(t, v, 0);
+    table_out_row_end(t);
+}
+
+void table_out_key_int(table_out *t, const char *key, long long v)
+{
+    table_out_str(t, key);
+    table_out_int(t, v);
+    table_out_row_end(t);
+}

@@ -39,6 +39,15 @@ int poly_passes(const poly_system *s, const double *out)
     return 1;
 }
 
+int poly_circle_covers(const poly_system *s, int o)
+{
+    for (int c = 0; c < s->ncircles; c++)
+        if (isfinite(s->circles[c].radius * s->circles[c].radius) &&
+            (s->circles[c].a == o || s->circles[c].b == o))
+            return 1;
+    return 0;
+}
+
 static void fill_nan(double *out, int n)
 {
     for (int o = 0; o < n; o++)
@@ -450,7 +459,7 @@ static void batch_job_run(const poly_system *s, int what, size_t count, const do
     if (count == 0)
         return;
     int *ids = malloc((2 * (size_t)nw + 1) * sizeof(int));
-    unsigned char *need = calloc(3 * (size_t)nw + 1, 1);
+    unsigned char *need = calloc(4 * (size_t)nw + 1, 1); /* 3 plans, and scratch */
     if (!ids || !need) {
         job_fail(sel ? nsel : nw, count, out, pass);
         free(ids);
@@ -475,25 +484,31 @@ static void batch_job_run(const poly_system *s, int what, size_t count, const do
         }
     }
     if (what == RUN_JACF) { /* values of the turned pairs, derivatives of each view */
-        memset(need, 0, 3 * (size_t)nw);
+        unsigned char *outs = need + 3 * nw; /* the outputs asked for, and their partners */
+        for (int o = 0; o < nout; o++)
+            outs[o] = need[o * s->nin];
+        for (int k = 0; k < s->npairs; k++)
+            outs[s->pair[2 * k]] = outs[s->pair[2 * k + 1]] =
+                outs[s->pair[2 * k]] || outs[s->pair[2 * k + 1]];
+        memset(need, 0, (size_t)nw); /* of nw >= nout + 1 */
         for (int k = 0; k < 2 * s->npairs; k++)
-            need[s->pair[k]] = 1;
+            need[s->pair[k]] = outs[s->pair[k]];
+        for (int k = 0; k < nj; k++)
+            need[nw + k] = outs[k / s->nin];
+        for (int k = 0; k < nj; k++) {
+            const int plain = views && s->plain[k / s->nin];
+            need[2 * nw + k] = plain && need[nw + k];
+            need[nw + k] = !plain && need[nw + k];
+        }
         job.deriv[1] = job.deriv[2] = 1;
         job.roff[1] = nout;
         job.kind[2] = 1;
         job.roff[2] = nout + nj;
-        for (int k = 0; k < nj; k++)
-            need[(views && s->plain[k / s->nin] ? 2 : 1) * nw + k] = 1;
     }
     job.deriv[0] = what == RUN_JAC;
-    for (int o = 0; pass && o < nout; o++) {
-        int in_circle = 0;
-        for (int c = 0; c < s->ncircles; c++)
-            in_circle |= isfinite(s->circles[c].radius * s->circles[c].radius) &&
-                         (s->circles[c].a == o || s->circles[c].b == o);
-        if (!in_circle)
+    for (int o = 0; pass && o < nout; o++)
+        if (!poly_circle_covers(s, o))
             ids[nw + job.nfinite++] = o;
-    }
     batch(s, what, count, in, out, pass, &job);
     free(ids);
     free(need);
@@ -518,15 +533,15 @@ int poly_eval_batch_outputs(const poly_system *s, size_t count, const double *in
 }
 
 void poly_eval_jacobian_batch_frame(const poly_system *s, size_t count, const double *in,
-                                    double *jac)
+                                    int nsel, const int *sel, double *jac)
 {
-    batch_job_run(s, RUN_JACF, count, in, 0, NULL, jac, NULL);
+    batch_job_run(s, RUN_JACF, count, in, nsel, sel, jac, NULL);
 }
 
 void poly_eval_jacobian_batch_core(const poly_system *s, size_t count, const double *in,
-                              double *jac)
+                                   int nsel, const int *sel, double *jac)
 {
-    batch_job_run(s, RUN_JAC, count, in, 0, NULL, jac, NULL);
+    batch_job_run(s, RUN_JAC, count, in, nsel, sel, jac, NULL);
 }
 
 int poly_eval_jacobian_core(const poly_system *s, const double *in, double *out, double *jac)

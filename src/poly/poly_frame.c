@@ -11,7 +11,7 @@
  * Every path (scalar, batch, Jacobian, emitted C) computes the same expressions in the
  * same order (the batch path in its kernel, poly_eval_kernel.h, on columns of rays): r = sqrt(x*x + y*y), c = x * (1 / r), s = y * (1 / r) (c = 1, s = 0 on the axis),
  * u' = c*u + s*v, v' = c*v - s*u; outputs a = c*a' - s*b', b = s*a' + c*b'. The pass
- * test is made on the frame outputs (the rotation keeps the length of a pair). */
+ * test is made on the final outputs, rotated back, in every path. */
 #include "poly/poly_impl.h"
 
 #include <math.h>
@@ -343,6 +343,71 @@ static void jacobian_inputs(const poly_system *s, int np, const double *in, doub
         plain_in(s, in, p);
 }
 
+/* d^2 out_o / d s_i d s_j of part p of v at the scaled inputs sc, term by term (only for
+ * rays on the axis, where speed does not matter). */
+static double second_derivative(const poly_system *v, int p, int o, int i, int j,
+                                const double *sc)
+{
+    const poly_out_terms *ot = &v->parts[p].out[o];
+    double sum = 0;
+    for (int t = 0; t < ot->nterms; t++) {
+        const int *e = ot->exps + (size_t)t * (size_t)v->nin;
+        if (!e[i] || !e[j])
+            continue;
+        double m = ot->coef[t] * e[i] * e[j];
+        for (int q = 0; q < v->nin; q++)
+            for (int k = e[q] - (q == i) - (q == j); k > 0; k--)
+                m *= sc[q];
+        sum += m;
+    }
+    return sum;
+}
+
+/* d out / dy of ray r on the axis (x = y = 0, held at c = 1, s = 0): off the axis, at
+ * (r cos t, r sin t), d / dy at t = 0 is (1/r) d / dt, and turning the ray turns the
+ * outputs with it while its direction turns against the frame:
+ *   d out / dt = J f + f_u' v - f_v' u   (J (a, b) = (-b, a) for a turned pair, 0 else),
+ * f the frame view's outputs at (r, u', v'). For a rotationally symmetric lens this
+ * vanishes at r = 0, and its limit over r is the derivative of the bracket in r:
+ *   d out / dy = J f_r + f_u'r v - f_v'r u,
+ * which needs the mixed second derivatives (from the terms). Where the fit is not
+ * exactly symmetric, this is the derivative of its symmetric part: the raw one grows
+ * as 1/r towards the axis. */
+static void axis_limit(const poly_system *s, int np, const poly_chain_cols *k, size_t r)
+{
+    const size_t n = k->n;
+    const int nin = s->nin, ix = s->ix, iy = s->iy, iu = s->iu, iv = s->iv;
+    double in[POLY_MAX_INPUTS], sc[POLY_MAX_INPUTS], lim[POLY_MAX_OUTPUTS];
+    if (s->nparts == 0)
+        return;
+    for (int i = 0; i < nin; i++) {
+        in[i] = k->x[(size_t)i * n + r];
+        sc[i] = k->w[(size_t)i * n + r];
+        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
+            sc[i] = 1 / (sc[i] * sc[i]);
+        poly_scale_column(s, i, &sc[i], 1);
+    }
+    const poly_system *vf = np && s->vframe ? s->vframe : s;
+    const int p = poly_select_part(s, in);
+    const double gx = k->g[(size_t)ix * n + r], gu = k->g[(size_t)iu * n + r];
+    const double gv = k->g[(size_t)iv * n + r], u = in[iu], v = in[iv];
+    const double cu = poly_scale_chain(s, ix, poly_scale_chain(s, iu, 1)) * gx * gu;
+    const double cv = poly_scale_chain(s, ix, poly_scale_chain(s, iv, 1)) * gx * gv;
+    for (int o = 0; o < s->nout; o++)
+        if (!(np && s->plain[o])) {
+            lim[o] = second_derivative(vf, p, o, ix, iu, sc) * cu * v -
+                     second_derivative(vf, p, o, ix, iv, sc) * cv * u;
+            k->jac[(size_t)(o * nin + iy) * n + r] = lim[o];
+        }
+    for (int q = 0; q < s->npairs; q++) {
+        const int a = s->pair[2 * q], b = s->pair[2 * q + 1];
+        const double fa = k->J[(size_t)(a * nin + ix) * n + r] * gx;
+        const double fb = k->J[(size_t)(b * nin + ix) * n + r] * gx;
+        k->jac[(size_t)(a * nin + iy) * n + r] = lim[a] - fb;
+        k->jac[(size_t)(b * nin + iy) * n + r] = lim[b] + fa;
+    }
+}
+
 /* Vector code for whole columns where the machine has it (one clone per instruction set,
  * chosen at load time; only IEEE arithmetic, never contracted, so one ray and many give
  * the same bits on any of them). */
@@ -358,7 +423,8 @@ static void jacobian_inputs(const poly_system *s, int np, const double *in, doub
 /* Chain rule: jac = d out / d in from the cores' values and Jacobians. With the frame,
  * t depends on in through the rotation (c and s vary with x and y) and on the transforms;
  * the outputs through the rotation back. On the axis (r = 0) the angle is undefined:
- * there the frame is held fixed (the derivative along +x). The rotation's derivatives
+ * there the frame is held at c = 1, s = 0 and d / dy is its limit (axis_limit). The
+ * rotation's derivatives
  * are written out rather than multiplied as a matrix: 11 of its 25 entries are not zero.
  * Column by column over the rays: the batch Jacobian runs it on a chunk of rays, in
  * vector registers; poly_eval_jacobian on one. */
@@ -372,19 +438,24 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
     for (int i = 0; i < nin; i++) {
         double *gi = COL(g, i), *gpi = COL(gp, i);
         const double *wi = COL(k->w, i), *xi = COL(k->x, i);
-        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
+        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE) {
             IVDEP
-            for (size_t r = 0; r < n; r++) {
+            for (size_t r = 0; r < n; r++)
                 gi[r] = -2 / (wi[r] * wi[r] * wi[r]);
-                gpi[r] = wi[r] == xi[r] ? gi[r] : -2 / (xi[r] * xi[r] * xi[r]);
-            }
-        else
+            if (np) /* the plain view's, where in differs from w */
+                IVDEP
+                for (size_t r = 0; r < n; r++)
+                    gpi[r] = wi[r] == xi[r] ? gi[r] : -2 / (xi[r] * xi[r] * xi[r]);
+        } else
             IVDEP
             for (size_t r = 0; r < n; r++)
                 gi[r] = gpi[r] = 1;
     }
+    const int mer = s->frame == POLY_FRAME_MERIDIONAL;
     for (int o = 0; o < nout; o++) /* inputs the frame does not turn: the transforms alone */
         for (int j = 0; j < nin && !(np && s->plain[o]); j++) {
+            if (mer && (j == s->ix || j == s->iy || j == s->iu || j == s->iv))
+                continue; /* below */
             double *jo = COL(k->jac, o * nin + j);
             const double *Jo = COL(k->J, o * nin + j), *gj = COL(g, j);
             IVDEP
@@ -395,7 +466,6 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
     double *dc0 = d, *dc1 = COL(d, 1), *ds0 = COL(d, 2), *ds1 = COL(d, 3);
     double *dux = COL(d, 4), *duy = COL(d, 5), *dvx = COL(d, 6), *dvy = COL(d, 7);
     double *zero = COL(d, 8);
-    const int mer = s->frame == POLY_FRAME_MERIDIONAL;
     IVDEP
     for (size_t r = 0; r < n; r++)
         zero[r] = 0;
@@ -448,6 +518,10 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
             }
         }
     }
+    if (mer) /* on the axis, d / dy as its limit */
+        for (size_t r = 0; r < n; r++)
+            if (COL(k->w, s->ix)[r] == 0)
+                axis_limit(s, np, k, r);
     if (np) /* outside the frame: the transforms alone, diagonal */
         for (int o = 0; o < nout; o++)
             for (int j = 0; j < nin && s->plain[o]; j++) {
@@ -464,25 +538,49 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
  * runs the views' values and derivatives and then poly_frame_chain on each block, as
  * poly_eval_jacobian does on one ray (the same bits). Ray by ray if the views are
  * missing. */
+int poly_eval_jacobian_batch_outputs(const poly_system *s, size_t count, const double *in,
+                                     int nsel, const int *outputs, double *jac)
+{
+    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout, nj = nin * nout;
+    if (nsel < 0 || (nsel > 0 && !outputs))
+        return -1;
+    for (int j = 0; j < nsel; j++)
+        if (outputs[j] < 0 || outputs[j] >= s->nout)
+            return -1;
+    int *sel = malloc(((size_t)nsel * nin + 1) * sizeof *sel);
+    if (!sel) {
+        for (size_t k = 0; k < count * (size_t)nsel * nin; k++)
+            jac[k] = NAN;
+        return 0;
+    }
+    for (int j = 0; j < nsel; j++)
+        for (size_t i = 0; i < nin; i++)
+            sel[(size_t)j * nin + i] = outputs[j] * s->nin + (int)i;
+    const int ns = nsel * s->nin;
+    if (!poly_frame_active(s)) {
+        poly_eval_jacobian_batch_core(s, count, in, ns, sel, jac);
+    } else if (!(s->frame && s->nplain) || (s->vframe && s->vplain)) {
+        poly_eval_jacobian_batch_frame(s, count, in, ns, sel, jac);
+    } else {
+        double o[POLY_MAX_OUTPUTS], *j1 = malloc(nj * sizeof *j1);
+        for (size_t r = 0; r < count; r++) {
+            if (j1)
+                poly_eval_jacobian(s, in + r * nin, o, j1);
+            for (int k = 0; k < ns; k++)
+                jac[r * (size_t)ns + (size_t)k] = j1 ? j1[sel[k]] : NAN;
+        }
+        free(j1);
+    }
+    free(sel);
+    return 0;
+}
+
 void poly_eval_jacobian_batch(const poly_system *s, size_t count, const double *in, double *jac)
 {
-    if (!poly_frame_active(s)) {
-        poly_eval_jacobian_batch_core(s, count, in, jac);
-        return;
-    }
-    if (!(s->frame && s->nplain) || (s->vframe && s->vplain)) {
-        poly_eval_jacobian_batch_frame(s, count, in, jac);
-        return;
-    }
-    const size_t nin = (size_t)s->nin, nout = (size_t)s->nout, nj = nin * nout;
-    double o[64];
-    for (size_t r = 0; r < count; r++) {
-        if (nout <= 64)
-            poly_eval_jacobian(s, in + r * nin, o, jac + r * nj);
-        else
-            for (size_t k = 0; k < nj; k++)
-                jac[r * nj + k] = NAN;
-    }
+    int all[POLY_MAX_OUTPUTS];
+    for (int o = 0; o < s->nout; o++)
+        all[o] = o;
+    poly_eval_jacobian_batch_outputs(s, count, in, s->nout, all, jac);
 }
 
 int poly_eval_jacobian(const poly_system *s, const double *in, double *out, double *jac)

@@ -31,7 +31,7 @@
 /* camera samples per lens batch: a block runs across a row's pixels, so that a system's
  * batch kernel meets hundreds of rays a call whatever the spp (its set-up per call costs
  * about as much as 30 rays) */
-#define BLOCK 256
+#define BLOCK 512
 #define MAX_WAVE (RENDER_HERO > 3 ? RENDER_HERO : 3)
 
 /* sample dimensions (render_samples.h): pairs and singles are numbered apart */

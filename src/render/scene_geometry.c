@@ -83,6 +83,28 @@ int scene_intersect(const scene_t *s, const double o[3], const double d[3], doub
     return 1;
 }
 
+int scene_intersect_emitter(const scene_t *s, const double o[3], const double d[3],
+                            double tmin, scene_hit *hit)
+{
+    double best = INFINITY;
+    int which = -1;
+    for (size_t i = 0; i < s->nobj; i++) {
+        if (!scene_is_emitter(&s->obj[i])) continue;
+        double t = hit_object(&s->obj[i], o, d, tmin);
+        if (t < best) best = t, which = (int)i;
+    }
+    if (which < 0) return 0;
+    /* an object in front of it, the first found: an emitter there would have been nearer
+     * (an equal t keeps the lower index, as scene_intersect does) */
+    for (size_t i = 0; i < s->nobj; i++) {
+        if (scene_is_emitter(&s->obj[i])) continue;
+        double t = hit_object(&s->obj[i], o, d, tmin);
+        if (t < best || (t == best && (int)i < which)) return 0;
+    }
+    fill_hit(s, which, best, o, d, hit);
+    return 1;
+}
+
 int scene_intersect_listed(const scene_t *s, const int *spheres, int nlisted, const double o[3],
                            const double d[3], double tmin, double tmax, scene_hit *hit)
 {

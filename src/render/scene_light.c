@@ -146,10 +146,10 @@ void scene_direct_mis(const scene_t *s, const scene_hit *h, const double u[5],
     frame_of(h->n, tt, bb);
     for (int k = 0; k < 3; k++) w[k] = ct * h->n[k] + r * (cos(phi) * tt[k] + sin(phi) * bb[k]);
     scene_hit g;
-    if (!(ct > 0) || !scene_intersect(s, h->p, w, EPS_T, INFINITY, &g)) return;
+    if (!(ct > 0) || !scene_intersect_emitter(s, h->p, w, EPS_T, &g)) return;
     const scene_object *o = &s->obj[g.obj];
     double back[3] = {-w[0], -w[1], -w[2]}, le[3];
-    if (!scene_is_emitter(o) || !scene_emitted(s, g.obj, g.p, back, le)) return;
+    if (!scene_emitted(s, g.obj, g.p, back, le)) return;
     double pl = 0;
     if (total > 0 && o->kind != OBJ_PLANE)
         for (size_t j = 0; j < ne; j++)

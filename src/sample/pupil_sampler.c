@@ -24,15 +24,19 @@ typedef struct {
 } pupil_run;
 
 /* The occupied cells are kept as a bitmap (the density test: a bit a cell) and as runs
- * (drawing the k-th occupied cell: a binary search over the runs, no division): both a
- * few kB a set, so that a render's accesses, spread over every set a row of pixels
- * meets, stay in the cache (a list of cell indices was 4 bytes a cell, random access). */
+ * (drawing the k-th occupied cell: a guide table gives a run at or just before it, no
+ * search, no division): both a few kB a set, so that a render's accesses, spread over
+ * every set a row of pixels meets, stay in the cache (a list of cell indices was 4
+ * bytes a cell, random access). */
+enum { GUIDE = 256 };
 typedef struct {
     double u0, v0, du, dv; /* grid origin (lower corner) and cell size */
     int g;                 /* cells per side */
     uint64_t *occ;         /* g*g occupancy bits, row v, column u: bit c of word c / 64 */
-    pupil_run *runs;
+    pupil_run *runs;       /* nruns + 1 (a sentinel with cum = count) */
     int nruns;
+    int guide[GUIDE];      /* the run holding cell m count / GUIDE */
+    double guide_scale;    /* GUIDE / count */
     int count;   /* occupied cells */
     double area; /* count * du * dv */
 } pupil_set;
@@ -64,22 +68,29 @@ static int set_finish(pupil_set *set)
         }
     set->runs[r] = (pupil_run){set->count, 0, 0}; /* a sentinel: the end of the last run */
     set->area = set->count * set->du * set->dv;
+    set->guide_scale = set->count ? (double)GUIDE / set->count : 0;
+    for (int m = 0, q = 0; m < GUIDE && set->count; m++) {
+        long k = (long)m * set->count / GUIDE;
+        while (set->runs[q + 1].cum <= k)
+            q++;
+        set->guide[m] = q;
+    }
     return 0;
 }
 
-/* The k-th occupied cell (0 <= k < count), column i and row j. */
+/* The k-th occupied cell (0 <= k < count), column i and row j: from the guide's run,
+ * a step or two either way (the runs are longer than a guide's stride, and the scale's
+ * rounding may land one bucket off). */
 static void set_cell(const pupil_set *set, int k, int *i, int *j)
 {
-    int lo = 0, hi = set->nruns - 1; /* the last run with cum <= k */
-    while (lo < hi) {
-        int mid = (lo + hi + 1) / 2;
-        if (set->runs[mid].cum <= k)
-            lo = mid;
-        else
-            hi = mid - 1;
-    }
-    *i = set->runs[lo].i0 + (k - set->runs[lo].cum);
-    *j = set->runs[lo].j;
+    int m = (int)(k * set->guide_scale);
+    int r = set->guide[m < GUIDE ? m : GUIDE - 1];
+    while (set->runs[r].cum > k)
+        r--;
+    while (set->runs[r + 1].cum <= k)
+        r++;
+    *i = set->runs[r].i0 + (k - set->runs[r].cum);
+    *j = set->runs[r].j;
 }
 
 struct pupil_sampler {

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # make install PREFIX=... DESTDIR=...: the commands, man pages (sections 1, 5, 7),
 # lenses (with the reference prescriptions) and scenes land where they should; the
-# installed man pages name no source-tree path; and the installed commands, from an
-# empty directory with nothing but the staged prefix, run every installed man page's
-# examples, lenses and scenes named by their short names.
+# installed man pages name no source-tree path, and every installed file they name is
+# there; and the installed commands, from an empty directory with nothing but the staged
+# prefix, find every lens and scene the installed pages' examples name by its short name.
+# (The examples themselves run once, in tests/cli/docs_examples.sh, with the built
+# commands: they are the same programs but for the data directory compiled in.)
 . "$(dirname "$0")/lib.sh"
 [ -f "$BUILD/liblens.a" ] || { ok "install (skipped: not built)"; exit 0; }
 dest=$T/dest prefix=/opt/sparselens
@@ -36,5 +38,35 @@ mkdir -p "$T/elsewhere"
 efl=$(cd "$T/elsewhere" && PATH="$root/bin:$PATH" run lens-info dgauss.50mm 2>/dev/null | value efl)
 if near "${efl:-0}" 50.358 0.01; then ok "installed lens-info dgauss.50mm by short name"
 else fail "installed lens-info dgauss.50mm by short name" "efl '$efl'"; fi
-(cd "$root/share/man" && PATH="$root/bin:$PATH" "$TOP/tools/doc-examples.sh" --run "$T/elsewhere" man*/*)
+
+pages=("$root"/share/man/man*/*)
+set -f # the paths, globs among them, are expanded only by compgen
+named=$(grep -ohE "$prefix/share/sparselens/[^ )\"'\\]*" "${pages[@]}" | sed 's/[.,;:]$//' | sort -u)
+absent=""
+for f in $named; do compgen -G "$dest$f" >/dev/null || absent="$absent $f"; done
+set +f
+if [ -z "$absent" ]; then ok "installed man pages name installed files ($(wc -w <<<"$named") paths)"
+else fail "installed man pages name installed files" "not installed:$absent"; fi
+
+# The short names of the examples: the first operand of a lens command, unless an
+# example writes that file itself (after '>' or -o); a lens must load, a scene render.
+(cd "$root/share/man" && "$TOP/tools/doc-examples.sh" --list man*/*) | grep -v '^#@' >"$T/examples"
+made=$(grep -oE '(>|-o) *[^ |;&)>]+' "$T/examples" | sed -E 's/^(>|-o) *//' | sort -u)
+operands() { # COMMAND-PATTERN: the operands after it, not made by an example
+  grep -oE "(^|[|;&(] *)lens-($1) +[^ -][^ ]*" "$T/examples" | awk '{ print $NF }' | sort -u |
+    grep -vxF -f <(printf '%s\n' $made) || true
+}
+lenses=$(operands 'info|trace|spot|distort|fan|field|mtf|layout') scenes=$(operands render)
+bad=""
+for name in $lenses; do
+  (cd "$T/elsewhere" && PATH="$root/bin:$PATH" run lens-info "$name" >/dev/null 2>&1) || bad="$bad $name"
+done
+for name in $scenes; do
+  (cd "$T/elsewhere" && PATH="$root/bin:$PATH" run lens-render "$name" -o scene.exr --exact --spp 1 -q \
+    >/dev/null 2>&1) || bad="$bad $name"
+done
+n=$(($(wc -w <<<"$lenses") + $(wc -w <<<"$scenes")))
+if [ -z "$bad" ] && [ "$(wc -w <<<"$scenes")" -gt 0 ]; then
+  ok "installed commands find the lenses and scenes the examples name ($n: $(echo $lenses $scenes))"
+else fail "installed commands find the lenses and scenes the examples name" "not found:$bad (of $n)"; fi
 exit 0

@@ -193,6 +193,64 @@ static void test_jacobian_fd(void **st)
     poly_free(s);
 }
 
+/* The meridional frame's Jacobian on the axis (x = y = 0), where the frame's angle is
+ * undefined, against central differences of poly_eval across it, on a system that is
+ * exactly rotationally symmetric (so the outputs are smooth there): in the frame
+ * out_x = A r + B u', out_y = B v' with A = 0.7 + 0.3 r^2, B = 1.2 + 0.05 r^2 + 0.4 r u',
+ * out_eta = 0.9 - 0.01 r^2 - 0.2 (u'^2 + v'^2) + 0.3 r u'; out_u, out_v outside the frame
+ * (1/lambda^2 as lens-fit writes it). Before the limit was taken there, d out_y / dy came
+ * out 0.7 short (and d out_eta / dy missing 0.3 v). Also just off the axis, and the
+ * batch Jacobian the same bits. */
+static void test_jacobian_axis(void **st)
+{
+    (void)st;
+    poly_system *s = poly_new("sym", 5, fixture_inputs, 5, fixture_outputs);
+    assert_int_equal(poly_add_part(s, 0, INFINITY), 0);
+    static const struct { int o, e[5]; double c; } terms[] = {
+        {0, {1, 0, 0, 0, 0}, 0.7},  {0, {3, 0, 0, 0, 0}, 0.3},  {0, {0, 0, 1, 0, 0}, 1.2},
+        {0, {2, 0, 1, 0, 0}, 0.05}, {0, {1, 0, 2, 0, 0}, 0.4},  {1, {0, 0, 0, 1, 0}, 1.2},
+        {1, {2, 0, 0, 1, 0}, 0.05}, {1, {1, 0, 1, 1, 0}, 0.4},  {4, {0, 0, 0, 0, 0}, 0.9},
+        {4, {2, 0, 0, 0, 0}, -0.01}, {4, {0, 0, 2, 0, 0}, -0.2}, {4, {0, 0, 0, 2, 0}, -0.2},
+        {4, {1, 0, 1, 0, 0}, 0.3},  {4, {0, 0, 0, 0, 1}, 0.1},  {2, {1, 0, 0, 0, 0}, 0.02},
+        {2, {0, 0, 1, 0, 1}, 0.9},  {3, {0, 1, 0, 0, 0}, 0.02}, {3, {0, 0, 0, 1, 1}, 0.9}};
+    for (size_t t = 0; t < sizeof terms / sizeof terms[0]; t++)
+        assert_int_equal(poly_add_term(s, 0, terms[t].o, terms[t].e, terms[t].c), 0);
+    assert_int_equal(poly_set_frame(s, POLY_FRAME_MERIDIONAL), 0);
+    assert_int_equal(poly_set_output_plain(s, 2, 1), 0);
+    assert_int_equal(poly_set_output_plain(s, 3, 1), 0);
+    assert_int_equal(poly_set_transform(s, 4, POLY_XFORM_INVERSE_SQUARE), 0);
+    poly_set_scaling(s, 0, 0, 2);
+    poly_set_scaling(s, 2, 0, 0.5); /* u', v' alike: the symmetry holds in s too */
+    poly_set_scaling(s, 3, 0, 0.5);
+    poly_set_scaling(s, 4, 4.25, 2.0);
+    const double rays[3][5] = {{0, 0, 0.2, -0.1, 0.55}, {0, 0, -0.3, 0.25, 0.45},
+                               {1e-3, -2e-3, 0.1, 0.2, 0.6}};
+    double jb[3 * 25];
+    poly_eval_jacobian_batch(s, 3, &rays[0][0], jb);
+    for (int r = 0; r < 3; r++) {
+        double out[5], jac[25];
+        poly_eval_jacobian(s, rays[r], out, jac);
+        assert_memory_equal(jac, jb + 25 * r, sizeof jac);
+        for (int i = 0; i < 5; i++) {
+            const double h = 1e-5;
+            double a[5], b[5], op[5], om[5];
+            memcpy(a, rays[r], sizeof a);
+            memcpy(b, rays[r], sizeof b);
+            a[i] += h;
+            b[i] -= h;
+            poly_eval(s, a, op);
+            poly_eval(s, b, om);
+            for (int o = 0; o < 5; o++) {
+                const double fd = (op[o] - om[o]) / (2 * h);
+                if (fabs(fd - jac[o * 5 + i]) > 1e-7 * (1 + fabs(fd)))
+                    fail_msg("ray %d: d out%d / d in%d: %.10g vs fd %.10g", r, o, i,
+                             jac[o * 5 + i], fd);
+            }
+        }
+    }
+    poly_free(s);
+}
+
 /* Part 0 says 1, part 1 says 2, on [0, 5) and [5, 10); beyond 10 the nearest part. */
 static void test_part_selection(void **st)
 {
@@ -257,9 +315,12 @@ static void test_pass_and_domain(void **st)
  * rays whose 1/lambda^2 is infinite (they must not pass). */
 /* poly_eval_batch_outputs against poly_eval_batch's outb and pb on the same n rays:
  * the columns asked for and the pass flags bit for bit, with and without the pass test,
- * five columns (the kernel's row transpose) or three, none; bad selections refused. */
+ * five columns (the kernel's row transpose) or three, none; bad selections refused. And
+ * poly_eval_jacobian_batch_outputs against the whole Jacobian jb (of a turned pair one
+ * output alone too, whose derivative needs its partner's). */
 static void check_selected_outputs(const poly_system *s, int n, const double *in,
-                                   const double *outb, const unsigned char *pb)
+                                   const double *outb, const unsigned char *pb,
+                                   const double *jb)
 {
     static const int sel5[5] = {4, 3, 2, 1, 0}, sel3[3] = {4, 0, 1}, bad[2] = {0, 5};
     double *o = malloc((size_t)n * 5 * sizeof *o);
@@ -279,6 +340,19 @@ static void check_selected_outputs(const poly_system *s, int n, const double *in
     }
     assert_int_equal(poly_eval_batch_outputs(s, 1, in, 2, bad, o, p), -1);
     assert_int_equal(poly_eval_batch_outputs(s, 1, in, -1, sel3, o, p), -1);
+    double *js = malloc((size_t)n * 15 * sizeof *js);
+    assert_non_null(js);
+    static const int sel1[1] = {1};
+    for (int k = 0; k < 2; k++) {
+        const int ns = k ? 1 : 3, *sel = k ? sel1 : sel3;
+        assert_int_equal(poly_eval_jacobian_batch_outputs(s, (size_t)n, in, ns, sel, js), 0);
+        for (int r = 0; r < n; r++)
+            for (int j = 0; j < ns; j++)
+                assert_memory_equal(js + (r * ns + j) * 5, jb + r * 25 + sel[j] * 5,
+                                    5 * sizeof *js);
+    }
+    assert_int_equal(poly_eval_jacobian_batch_outputs(s, 1, in, 2, bad, js), -1);
+    free(js);
     free(o);
     free(p);
 }
@@ -329,7 +403,7 @@ static void test_batch_frame_layouts(void **st)
         if (layout != 1)
             assert_int_equal(pb[9], 0);
         assert_true(npass > N / 2);
-        check_selected_outputs(s, N, in, outb, pb);
+        check_selected_outputs(s, N, in, outb, pb, jb);
         poly_free(s);
     }
     free(in);
@@ -342,7 +416,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_builder_rejects), cmocka_unit_test(test_closed_form),
         cmocka_unit_test(test_batch_one_part),  cmocka_unit_test(test_batch_three_parts),
-        cmocka_unit_test(test_jacobian_fd),     cmocka_unit_test(test_part_selection),
+        cmocka_unit_test(test_jacobian_fd), cmocka_unit_test(test_jacobian_axis),     cmocka_unit_test(test_part_selection),
         cmocka_unit_test(test_pass_and_domain), cmocka_unit_test(test_batch_frame_layouts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -4,6 +4,7 @@
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -197,12 +198,58 @@ static void test_image_texture(void **state)
     remove(dir);
 }
 
+/* scene_intersect_emitter is scene_intersect kept only where the nearest hit emits:
+ * rays from inside a box of emitters and blockers, in every direction. */
+static void test_intersect_emitter(void **state)
+{
+    (void)state;
+    scene_t s;
+    lens_err err = {{0}};
+    assert_int_equal(scene_parse("camera a.lens\n"
+                                 "plane 0 -100 0  0 1 0  albedo 0.5\n"
+                                 "plane 0 100 0  0 -1 0  emit 1\n"
+                                 "sphere 30 0 60 20 albedo 0.8\n"
+                                 "sphere 30 0 120 25 emit 5\n"
+                                 "disk -40 50 80 0 -1 0 30 emit 3\n"
+                                 "sphere -40 -20 70 10 albedo 0.3\n",
+                                 "t.scene", &s, &err), 0);
+    uint64_t st = 3;
+    int emitting = 0;
+    for (int i = 0; i < 20000; i++) {
+        double d[3], o[3] = {0, 0, 0};
+        for (;;) {
+            for (int k = 0; k < 3; k++) {
+                st = st * 6364136223846793005ull + 1442695040888963407ull;
+                d[k] = (double)(st >> 11) * 0x1.0p-52 - 1;
+            }
+            double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            if (l > 0.1 && l <= 1) {
+                for (int k = 0; k < 3; k++) d[k] /= l;
+                break;
+            }
+        }
+        scene_hit a, b;
+        int ha = scene_intersect(&s, o, d, 1e-6, INFINITY, &a);
+        int want = ha && scene_is_emitter(&s.obj[a.obj]);
+        int hb = scene_intersect_emitter(&s, o, d, 1e-6, &b);
+        assert_int_equal(hb, want);
+        if (hb) {
+            assert_int_equal(b.obj, a.obj);
+            assert_true(b.t == a.t && b.p[0] == a.p[0] && b.n[1] == a.n[1]);
+            emitting++;
+        }
+    }
+    assert_true(emitting > 4000 && emitting < 16000); /* both outcomes are common */
+    scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_parse_good),   cmocka_unit_test(test_parse_errors),
         cmocka_unit_test(test_intersect),    cmocka_unit_test(test_direct_light),
         cmocka_unit_test(test_checker),      cmocka_unit_test(test_image_texture),
+        cmocka_unit_test(test_intersect_emitter),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
