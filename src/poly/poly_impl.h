@@ -87,6 +87,10 @@ typedef struct {
     poly_out_terms *dout; /* noutputs x ninputs; exps unused */
     poly_mono dmono;
     poly_plan dplan;
+    /* 0: the tables above are the system's shared empty ones (poly_system.empty), read
+     * only: a part costs no table of its own (about 48 bytes per input and output for
+     * the derivative sums) until its first term. 1: its own. */
+    int own;
 } poly_part;
 
 typedef struct {
@@ -120,6 +124,7 @@ struct poly_system {
     int *pair;      /* npairs x 2: outputs (a, b) = (..._x, ..._y) or (..._u, ..._v) */
     int nparts;
     poly_part *parts;
+    poly_part *empty; /* the tables of every part without terms, made with the first part */
     int ncircles;
     poly_circle *circles;
     int nmeta;
