@@ -83,25 +83,27 @@ typedef struct {
 } solver;
 
 /* Residual F(s) = sys(s) - target, and (unless j is NULL) its Jacobian
- * d F / d (x, y, u, v). Without j only the values are evaluated: poly_eval gives the
- * bits of poly_eval_jacobian's outputs at a quarter of its cost. */
+ * d F / d (x, y, u, v). With j, of out_x .. out_v alone (poly_eval_jacobian_outputs: the
+ * passage outputs' derivatives are most of a whole Jacobian's cost); without, only the
+ * values, by poly_eval (with its pass flag): the same bits either way. */
 static double residual(solver *sv, const double s[4], double f[4], double j[4][4], int *pass)
 {
     int ni = poly_ninputs(sv->sys);
     for (int i = 0; i < 4; i++)
         sv->buf_in[sv->in[i]] = s[i];
     sv->buf_in[sv->in[4]] = sv->lambda;
-    int p = j ? poly_eval_jacobian(sv->sys, sv->buf_in, sv->buf_out, sv->jac)
+    double val[4];
+    int p = j ? poly_eval_jacobian_outputs(sv->sys, sv->buf_in, 4, sv->out, val, sv->jac)
               : poly_eval(sv->sys, sv->buf_in, sv->buf_out);
     if (pass)
         *pass = p;
     double nrm = 0;
     for (int o = 0; o < 4; o++) {
-        f[o] = sv->buf_out[sv->out[o]] - sv->target[o];
+        f[o] = (j ? val[o] : sv->buf_out[sv->out[o]]) - sv->target[o];
         nrm = fmax(nrm, fabs(f[o]));
         if (j)
             for (int i = 0; i < 4; i++)
-                j[o][i] = sv->jac[sv->out[o] * ni + sv->in[i]];
+                j[o][i] = sv->jac[o * ni + sv->in[i]];
     }
     return isfinite(nrm) ? nrm : INFINITY;
 }

@@ -117,22 +117,8 @@ expect_error fit_frame_needs_xyuv 'meridional needs inputs x, y, u, v' \
 # --emit c of a system with the frame: the compiled function gives lens-eval's bits
 run $F --terms 12 --degree 5 -q $T/det.txt --emit c --name fr_eval -o $T/fr.c
 run $F --terms 12 --degree 5 -q $T/det.txt -o $T/fr.poly
-cat >$T/frmain.c <<'C'
-#include <stdio.h>
-int fr_eval(const double in[5], double out[5]);
-int main(void) {
-    char line[1024];
-    double in[5], out[5];
-    while (fgets(line, sizeof line, stdin)) {
-        if (line[0] == '#' || sscanf(line, "%lf %lf %lf %lf %lf", &in[0], &in[1], &in[2], &in[3], &in[4]) != 5)
-            continue;
-        int p = fr_eval(in, out);
-        printf("%d %.17g %.17g %.17g %.17g %.17g\n", p, out[0], out[1], out[2], out[3], out[4]);
-    }
-    return 0;
-}
-C
-if ${CC:-cc} -std=c99 -O2 -Wall -Werror $T/fr.c $T/frmain.c -o $T/fr -lm 2>$T/cc.err; then
+if ${CC:-cc} -std=c99 -O2 -Wall -Werror $T/fr.c tests/data/emitted_main.c -DLENS_FN=fr_eval -o $T/fr -lm \
+     2>$T/cc.err; then
   $T/fr <$T/rot.txt | awk '{ $1 = ""; print }' >$T/frc.txt
   run $E $T/fr.poly $T/rot.txt --raw 2>/dev/null | grep -v '^#' | awk '{ printf " %.17g %.17g %.17g %.17g %.17g\n", $6, $7, $8, $9, $10 }' >$T/fre.txt
   if cmp -s $T/frc.txt $T/fre.txt && [ -s $T/frc.txt ]; then ok fit_frame_emit_c
