@@ -29,6 +29,7 @@
  *   naive             each term's powers from scratch (the textbook baseline)
  *   jacobian, jacobian_batch  poly_eval_jacobian one ray at a time, and
  *                     poly_eval_jacobian_batch (5 derivatives of every output)
+ *   jacobian_batch_optics  poly_eval_jacobian_batch_outputs of the five optical outputs
  *   emitted_c, emitted_c_native  the C of poly_emit_c compiled now with $CC (or cc),
  *                     -O2 and -O3 -march=native, one call per ray
  *   emitted_c_batch, emitted_c_batch_native  its NAME_batch function on all rays
@@ -146,12 +147,13 @@ static void flatten(const poly_system *s, flat *F)
 
 enum {
     M_TRACE, M_TRACE_PASSING, M_BATCH, M_BATCH_PASSING, M_BATCH_OPTICS, M_BATCH_NOFRAME, M_BATCH_COLD,
-    M_SCALAR, M_NAIVE, M_JAC, M_JAC_BATCH, M_EMIT, M_EMIT_NATIVE, M_EMIT_BATCH,
+    M_SCALAR, M_NAIVE, M_JAC, M_JAC_BATCH, M_JAC_BATCH_OPTICS, M_EMIT, M_EMIT_NATIVE, M_EMIT_BATCH,
     M_EMIT_BATCH_NATIVE, M_COUNT
 };
 static const char *const names[M_COUNT] = {
     "trace",    "trace_passing",  "batch",     "batch_passing",    "batch_optics", "batch_noframe",
     "batch_cold", "scalar",       "naive",     "jacobian",         "jacobian_batch",
+    "jacobian_batch_optics",
     "emitted_c", "emitted_c_native", "emitted_c_batch", "emitted_c_batch_native"};
 
 typedef struct {
@@ -204,6 +206,11 @@ static double run(const bench_ctx *c, int m, size_t n, const double *in)
     case M_JAC_BATCH:
         poly_eval_jacobian_batch(c->s, n, in, c->jac);
         break;
+    case M_JAC_BATCH_OPTICS: {
+        static const int optics[5] = {0, 1, 2, 3, 4};
+        poly_eval_jacobian_batch_outputs(c->s, n, in, 5, optics, c->jac);
+        break;
+    }
     case M_EMIT:
     case M_EMIT_NATIVE:
         for (size_t r = 0; r < n; r++)
@@ -370,6 +377,7 @@ int main(int argc, char **argv)
     /* how many times the second's time the first's is (> 1: the second is faster) */
     const int pairs[][2] = {{M_TRACE_PASSING, M_BATCH_PASSING}, {M_SCALAR, M_BATCH},
                             {M_JAC_BATCH, M_BATCH},             {M_JAC, M_JAC_BATCH},
+                            {M_JAC_BATCH_OPTICS, M_BATCH},
                             {M_NAIVE, M_BATCH},                 {M_BATCH, M_BATCH_NOFRAME},
                             {M_BATCH_COLD, M_BATCH},             {M_BATCH, M_BATCH_OPTICS},
                             {M_EMIT, M_SCALAR},                 {M_EMIT_NATIVE, M_SCALAR},

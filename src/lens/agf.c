@@ -56,12 +56,13 @@ static int flush(pending *p, const char *path, agf_add_fn add, void *ctx, lens_e
 int agf_parse(const char *data, size_t len, const char *path, agf_add_fn add, void *ctx,
               lens_err *err)
 {
-    char *text = import_decode(data, len);
+    size_t text_len;
+    char *text = import_decode(data, len, &text_len);
     if (!text) {
         lens_errf(err, path, 0, "out of memory");
         return -1;
     }
-    if (import_check_lines(text, path, err) != 0) {
+    if (import_check_lines(text, text_len, path, err) != 0) {
         free(text);
         return -1;
     }

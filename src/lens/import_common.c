@@ -44,7 +44,7 @@ static size_t put_utf8(unsigned long c, char *o)
     return 4;
 }
 
-static char *decode_utf16(const unsigned char *d, size_t len, int big_endian)
+static char *decode_utf16(const unsigned char *d, size_t len, int big_endian, size_t *out_len)
 {
     size_t nunits = len / 2;
     /* Each code unit becomes at most 3 bytes (a surrogate pair, 2 units, 4 bytes). */
@@ -63,31 +63,30 @@ static char *decode_utf16(const unsigned char *d, size_t len, int big_endian)
                 i++;
             }
         }
-        if (u == 0)
-            u = ' '; /* a NUL inside a text file would end it early */
         o += put_utf8(u, out + o);
     }
     out[o] = '\0';
+    *out_len = o;
     return out;
 }
 
-char *import_decode(const char *data, size_t len)
+char *import_decode(const char *data, size_t len, size_t *out_len)
 {
     const unsigned char *d = (const unsigned char *)data;
     if (len >= 2 && d[0] == 0xFF && d[1] == 0xFE)
-        return decode_utf16(d + 2, len - 2, 0);
+        return decode_utf16(d + 2, len - 2, 0, out_len);
     if (len >= 2 && d[0] == 0xFE && d[1] == 0xFF)
-        return decode_utf16(d + 2, len - 2, 1);
+        return decode_utf16(d + 2, len - 2, 1, out_len);
     /* UTF-16 LE without a BOM: ASCII text with every second byte zero. */
     if (len >= 4 && d[0] != 0 && d[1] == 0 && d[2] != 0 && d[3] == 0)
-        return decode_utf16(d, len, 0);
+        return decode_utf16(d, len, 0, out_len);
     size_t skip = (len >= 3 && d[0] == 0xEF && d[1] == 0xBB && d[2] == 0xBF) ? 3 : 0;
     char *out = malloc(len - skip + 1);
     if (!out)
         return NULL;
-    for (size_t i = skip; i < len; i++)
-        out[i - skip] = d[i] ? (char)d[i] : ' ';
+    memcpy(out, d + skip, len - skip);
     out[len - skip] = '\0';
+    *out_len = len - skip;
     return out;
 }
 
@@ -143,19 +142,18 @@ int import_read_file(const char *path, char **data, size_t *len, lens_err *err)
     return rc;
 }
 
-int import_check_lines(const char *text, const char *path, lens_err *err)
+int import_check_lines(const char *text, size_t len, const char *path, lens_err *err)
 {
-    long line = 1;
-    for (const char *p = text;; line++) {
-        size_t n = strcspn(p, "\r\n");
-        if (n > LINE_MAX_BYTES) {
-            lens_errf(err, path, line, "line longer than %d bytes", LINE_MAX_BYTES);
+    const char *p = text, *end = text + len;
+    for (long line = 1;; line++) {
+        const char *e = p;
+        while (e < end && *e != '\r' && *e != '\n')
+            e++;
+        if (line_check(p, (size_t)(e - p), LINE_MAX_BYTES, path, line, err) != LINE_OK)
             return -1;
-        }
-        p += n;
-        if (!*p)
+        if (e == end)
             return 0;
-        p += (p[0] == '\r' && p[1] == '\n') ? 2 : 1;
+        p = e + ((e[0] == '\r' && e + 1 < end && e[1] == '\n') ? 2 : 1);
     }
 }
 

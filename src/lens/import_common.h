@@ -12,14 +12,17 @@
 #include "sparselens/lens.h"
 #include "lens/lens_material.h"
 
-/* Decodes data into a fresh NUL-terminated 8-bit/UTF-8 buffer (caller frees).
- * UTF-16 LE/BE with BOM, or LE without BOM when it is plainly so, become UTF-8; a
- * UTF-8 BOM is dropped; anything else is taken byte for byte. NULL when out of memory. */
-char *import_decode(const char *data, size_t len);
+/* Decodes data into a fresh NUL-terminated 8-bit/UTF-8 buffer of *out_len bytes (caller
+ * frees). UTF-16 LE/BE with BOM, or LE without BOM when it is plainly so, become UTF-8;
+ * a UTF-8 BOM is dropped; anything else is taken byte for byte. A NUL byte (or NUL
+ * character) in the file stays in the buffer, for import_check_lines to name. NULL when
+ * out of memory. */
+char *import_decode(const char *data, size_t len, size_t *out_len);
 
-/* -1 (err at path:line) when a line of decoded text is longer than LINE_MAX_BYTES
- * (base/line_reader.h): the limit every reader states. */
-int import_check_lines(const char *text, const char *path, lens_err *err);
+/* -1 (err at path:line) when a line of the decoded text (len bytes) is longer than
+ * LINE_MAX_BYTES (base/line_reader.h: the limit every reader states) or holds a NUL
+ * byte: what the other readers say of such lines. */
+int import_check_lines(const char *text, size_t len, const char *path, lens_err *err);
 
 /* Reads a whole file or stream (at most 64 MB; path names it in messages). 0 on success. */
 int import_read_file(const char *path, char **data, size_t *len, lens_err *err);

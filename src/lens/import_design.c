@@ -24,10 +24,11 @@ char *import_begin(const char *data, size_t len, const char *path, const char *p
     snprintf(lens->path, sizeof lens->path, "%s", path);
     const char *base = strrchr(path, '/');
     snprintf(lens->source, sizeof lens->source, "%s file %s", program, base ? base + 1 : path);
-    char *text = import_decode(data, len);
+    size_t text_len;
+    char *text = import_decode(data, len, &text_len);
     if (!text)
         lens_errf(err, path, 0, "out of memory");
-    else if (import_check_lines(text, path, err) != 0) {
+    else if (import_check_lines(text, text_len, path, err) != 0) {
         free(text);
         text = NULL;
     }

@@ -111,6 +111,8 @@ poly_system *poly_new(const char *lens_name, int ninputs, const char *const *inp
 
 static void free_part(poly_part *p, int nin, int nout)
 {
+    if (!p->own)
+        return; /* the shared empty tables: freed with the system */
     poly_terms_free(p->out, nout);
     poly_terms_free(p->dout, nout * nin);
     poly_mono_free(&p->mono);
@@ -126,6 +128,9 @@ void poly_free(poly_system *s)
     for (int p = 0; p < s->nparts; p++)
         free_part(&s->parts[p], s->nin, s->nout);
     free(s->parts);
+    if (s->empty)
+        free_part(s->empty, s->nin, s->nout);
+    free(s->empty);
     if (s->inputs)
         for (int i = 0; i < s->nin; i++)
             free(s->inputs[i]);
@@ -197,6 +202,39 @@ void poly_set_domain(poly_system *s, int i, double lo, double hi)
     s->hi[i] = hi;
 }
 
+/* Tables for a part without terms: no terms, the monomial tables with the constant and
+ * the inputs, empty plans. 0, or -1 when out of memory (nothing left allocated). */
+static int part_tables(const poly_system *s, poly_part *p)
+{
+    memset(p, 0, sizeof *p);
+    p->own = 1;
+    p->out = calloc((size_t)s->nout, sizeof *p->out);
+    p->dout = calloc((size_t)s->nout * (size_t)s->nin, sizeof *p->dout);
+    if (!p->out || !p->dout || poly_mono_init(&p->mono, s->nin) != 0 ||
+        poly_mono_init(&p->dmono, s->nin) != 0 ||
+        poly_plan_build(&p->plan, &p->mono, s->nin, s->nout, p->out) != 0 ||
+        poly_plan_build(&p->dplan, &p->dmono, s->nin, s->nout * s->nin, p->dout) != 0) {
+        free_part(p, s->nin, s->nout);
+        return -1;
+    }
+    return 0;
+}
+
+/* A part's own tables, made at its first term: until then it reads the shared empty
+ * ones, so parts a file declares cost memory only with the terms they hold. */
+static int own_tables(const poly_system *s, poly_part *p)
+{
+    if (p->own)
+        return 0;
+    poly_part q;
+    if (part_tables(s, &q) != 0)
+        return -1;
+    q.rmin = p->rmin;
+    q.rmax = p->rmax;
+    *p = q;
+    return 0;
+}
+
 int poly_add_part(poly_system *s, double rmin, double rmax)
 {
     if (!(rmin >= 0) || !(rmax > rmin) || isinf(rmin))
@@ -208,23 +246,23 @@ int poly_add_part(poly_system *s, double rmin, double rmax)
     for (int q = 0; q < s->nparts; q++)
         if (rmin < s->parts[q].rmax && s->parts[q].rmin < rmax)
             return -1;
+    if (!s->empty) {
+        poly_part *e = malloc(sizeof *e);
+        if (!e || part_tables(s, e) != 0) {
+            free(e);
+            return -1;
+        }
+        s->empty = e;
+    }
     poly_part *np = realloc(s->parts, (size_t)(s->nparts + 1) * sizeof *np);
     if (!np)
         return -1;
     s->parts = np;
     poly_part *p = &s->parts[s->nparts];
-    memset(p, 0, sizeof *p);
+    *p = *s->empty;
+    p->own = 0;
     p->rmin = rmin;
     p->rmax = rmax;
-    p->out = calloc((size_t)s->nout, sizeof *p->out);
-    p->dout = calloc((size_t)s->nout * (size_t)s->nin, sizeof *p->dout);
-    if (!p->out || !p->dout || poly_mono_init(&p->mono, s->nin) != 0 ||
-        poly_mono_init(&p->dmono, s->nin) != 0 ||
-        poly_plan_build(&p->plan, &p->mono, s->nin, s->nout, p->out) != 0 ||
-        poly_plan_build(&p->dplan, &p->dmono, s->nin, s->nout * s->nin, p->dout) != 0) {
-        free_part(p, s->nin, s->nout);
-        return -1;
-    }
     s->nparts++;
     if (!s->bulk)
         poly_frame_on_change(s);
@@ -245,6 +283,8 @@ int poly_add_term(poly_system *s, int part, int output, const int *exps, double 
     if (deg > POLY_MAX_DEGREE)
         return -1;
     poly_part *p = &s->parts[part];
+    if (own_tables(s, p) != 0)
+        return -1;
     poly_out_terms *ot = &p->out[output];
     const int nin = s->nin;
     size_t n = (size_t)nin;
@@ -305,6 +345,8 @@ int poly_bulk_end(poly_system *s)
     s->bulk = 0;
     for (int q = 0; q < s->nparts; q++) {
         poly_part *p = &s->parts[q];
+        if (!p->own)
+            continue; /* the shared empty plans are built */
         if (poly_plan_build(&p->plan, &p->mono, s->nin, s->nout, p->out) != 0 ||
             poly_plan_build(&p->dplan, &p->dmono, s->nin, s->nout * s->nin, p->dout) != 0)
             return -1;

@@ -317,8 +317,9 @@ static int emit_batch(FILE *f, const poly_system *s, const char *func)
         for (int o = 0; o < nout; o++)
             fprintf(f, "            o[%d] = y%d[r];\n", o, o);
         fputs("            if (pass)\n                pass[b + r] = (unsigned char)(1", f);
-        for (int o = 0; o < nout; o++)
-            fprintf(f, " && isfinite(o[%d])", o);
+        for (int o = 0; o < nout; o++) /* the circles test the others */
+            if (!poly_circle_covers(s, o))
+                fprintf(f, " && isfinite(o[%d])", o);
         for (int c = 0; c < s->ncircles; c++) {
             fputs("\n                    && ", f);
             emit_circle(f, s, c, "o");

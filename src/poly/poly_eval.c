@@ -39,6 +39,15 @@ int poly_passes(const poly_system *s, const double *out)
     return 1;
 }
 
+int poly_circle_covers(const poly_system *s, int o)
+{
+    for (int c = 0; c < s->ncircles; c++)
+        if (isfinite(s->circles[c].radius * s->circles[c].radius) &&
+            (s->circles[c].a == o || s->circles[c].b == o))
+            return 1;
+    return 0;
+}
+
 static void fill_nan(double *out, int n)
 {
     for (int o = 0; o < n; o++)
@@ -88,11 +97,15 @@ static void values_one(const poly_system *s, const poly_plan *pl, const double *
     } while (0)
 
 /* The plan's sums for one ray (the same additions as the batch kernel's). */
-static void sums_one(const poly_plan *pl, const double *v, double *out)
+static void sums_one(const poly_plan *pl, const double *v, const unsigned char *need, double *out)
 {
     const double *c = pl->coef;
     const int *fa = pl->fa, *fb = pl->fb;
     for (int o = 0; o < pl->nout; o++) {
+        if (need && !need[o]) {
+            out[o] = 0;
+            continue;
+        }
         const int t0 = pl->start[o], ns = pl->nsingle[o];
         const int nq = pl->nquad[o], np = pl->npair[o];
         const int nl = pl->start[o + 1] - t0 - ns - 4 * nq - 2 * np;
@@ -112,15 +125,17 @@ static void sums_one(const poly_plan *pl, const double *v, double *out)
 #undef LONE_ONE
 #undef RUN_ONE
 
-/* Runs plan pl on one ray: out[pl->nout]. Returns -1 when out of memory. */
-static int run_one(const poly_system *s, const poly_plan *pl, const double *in, double *out)
+/* Runs plan pl on one ray: out[pl->nout], the sums need says (NULL: all; the others 0).
+ * Returns -1 when out of memory. */
+static int run_one(const poly_system *s, const poly_plan *pl, const double *in,
+                   const unsigned char *need, double *out)
 {
     double buf[512];
     double *v = pl->nvals <= 512 ? buf : malloc((size_t)pl->nvals * sizeof(double));
     if (!v)
         return -1;
     values_one(s, pl, in, v);
-    sums_one(pl, v, out);
+    sums_one(pl, v, need, out);
     if (v != buf)
         free(v);
     return 0;
@@ -128,7 +143,7 @@ static int run_one(const poly_system *s, const poly_plan *pl, const double *in, 
 
 int poly_eval_values_core(const poly_system *s, int part, const double *in, double *out)
 {
-    if (part < 0 || part >= s->nparts || run_one(s, &s->parts[part].plan, in, out) != 0) {
+    if (part < 0 || part >= s->nparts || run_one(s, &s->parts[part].plan, in, NULL, out) != 0) {
         fill_nan(out, s->nout);
         return -1;
     }
@@ -450,7 +465,7 @@ static void batch_job_run(const poly_system *s, int what, size_t count, const do
     if (count == 0)
         return;
     int *ids = malloc((2 * (size_t)nw + 1) * sizeof(int));
-    unsigned char *need = calloc(3 * (size_t)nw + 1, 1);
+    unsigned char *need = calloc(4 * (size_t)nw + 1, 1); /* 3 plans, and scratch */
     if (!ids || !need) {
         job_fail(sel ? nsel : nw, count, out, pass);
         free(ids);
@@ -475,25 +490,31 @@ static void batch_job_run(const poly_system *s, int what, size_t count, const do
         }
     }
     if (what == RUN_JACF) { /* values of the turned pairs, derivatives of each view */
-        memset(need, 0, 3 * (size_t)nw);
+        unsigned char *outs = need + 3 * nw; /* the outputs asked for, and their partners */
+        for (int o = 0; o < nout; o++)
+            outs[o] = need[o * s->nin];
+        for (int k = 0; k < s->npairs; k++)
+            outs[s->pair[2 * k]] = outs[s->pair[2 * k + 1]] =
+                outs[s->pair[2 * k]] || outs[s->pair[2 * k + 1]];
+        memset(need, 0, (size_t)nw); /* of nw >= nout + 1 */
         for (int k = 0; k < 2 * s->npairs; k++)
-            need[s->pair[k]] = 1;
+            need[s->pair[k]] = outs[s->pair[k]];
+        for (int k = 0; k < nj; k++)
+            need[nw + k] = outs[k / s->nin];
+        for (int k = 0; k < nj; k++) {
+            const int plain = views && s->plain[k / s->nin];
+            need[2 * nw + k] = plain && need[nw + k];
+            need[nw + k] = !plain && need[nw + k];
+        }
         job.deriv[1] = job.deriv[2] = 1;
         job.roff[1] = nout;
         job.kind[2] = 1;
         job.roff[2] = nout + nj;
-        for (int k = 0; k < nj; k++)
-            need[(views && s->plain[k / s->nin] ? 2 : 1) * nw + k] = 1;
     }
     job.deriv[0] = what == RUN_JAC;
-    for (int o = 0; pass && o < nout; o++) {
-        int in_circle = 0;
-        for (int c = 0; c < s->ncircles; c++)
-            in_circle |= isfinite(s->circles[c].radius * s->circles[c].radius) &&
-                         (s->circles[c].a == o || s->circles[c].b == o);
-        if (!in_circle)
+    for (int o = 0; pass && o < nout; o++)
+        if (!poly_circle_covers(s, o))
             ids[nw + job.nfinite++] = o;
-    }
     batch(s, what, count, in, out, pass, &job);
     free(ids);
     free(need);
@@ -518,27 +539,34 @@ int poly_eval_batch_outputs(const poly_system *s, size_t count, const double *in
 }
 
 void poly_eval_jacobian_batch_frame(const poly_system *s, size_t count, const double *in,
-                                    double *jac)
+                                    int nsel, const int *sel, double *jac)
 {
-    batch_job_run(s, RUN_JACF, count, in, 0, NULL, jac, NULL);
+    batch_job_run(s, RUN_JACF, count, in, nsel, sel, jac, NULL);
 }
 
 void poly_eval_jacobian_batch_core(const poly_system *s, size_t count, const double *in,
-                              double *jac)
+                                   int nsel, const int *sel, double *jac)
 {
-    batch_job_run(s, RUN_JAC, count, in, 0, NULL, jac, NULL);
+    batch_job_run(s, RUN_JAC, count, in, nsel, sel, jac, NULL);
 }
 
-int poly_eval_jacobian_core(const poly_system *s, const double *in, double *out, double *jac)
+int poly_eval_jacobian_core(const poly_system *s, const double *in, const unsigned char *needv,
+                            const unsigned char *needd, double *out, double *jac)
 {
-    const int nin = s->nin, nout = s->nout;
-    int pass = poly_eval_part_core(s, s->nparts ? poly_select_part(s, in) : -1, in, out);
-    if (s->nparts == 0 ||
-        run_one(s, &s->parts[poly_select_part(s, in)].dplan, in, jac) != 0) {
+    const int nin = s->nin, nout = s->nout, part = s->nparts ? poly_select_part(s, in) : -1;
+    int pass = 0;
+    if (needv) {
+        if (part < 0 || run_one(s, &s->parts[part].plan, in, needv, out) != 0)
+            fill_nan(out, nout);
+    } else {
+        pass = poly_eval_part_core(s, part, in, out);
+    }
+    if (part < 0 || run_one(s, &s->parts[part].dplan, in, needd, jac) != 0) {
         fill_nan(jac, nin * nout);
         return 0;
     }
     for (int k = 0; k < nin * nout; k++)
-        jac[k] = poly_scale_chain(s, k % nin, jac[k]);
+        if (!needd || needd[k])
+            jac[k] = poly_scale_chain(s, k % nin, jac[k]);
     return pass;
 }

@@ -87,6 +87,10 @@ typedef struct {
     poly_out_terms *dout; /* noutputs x ninputs; exps unused */
     poly_mono dmono;
     poly_plan dplan;
+    /* 0: the tables above are the system's shared empty ones (poly_system.empty), read
+     * only: a part costs no table of its own (about 48 bytes per input and output for
+     * the derivative sums) until its first term. 1: its own. */
+    int own;
 } poly_part;
 
 typedef struct {
@@ -120,6 +124,7 @@ struct poly_system {
     int *pair;      /* npairs x 2: outputs (a, b) = (..._x, ..._y) or (..._u, ..._v) */
     int nparts;
     poly_part *parts;
+    poly_part *empty; /* the tables of every part without terms, made with the first part */
     int ncircles;
     poly_circle *circles;
     int nmeta;
@@ -140,6 +145,9 @@ int poly_append_meta(poly_system *s, const char *key, const char *value);
 /* The pass test on final outputs (rotated back when there is a frame, so every path,
  * scalar, batch and emitted C, agrees bit for bit): finite, and inside every circle. */
 int poly_passes(const poly_system *s, const double *out);
+/* 1 when output o is in a pass circle of finite squared radius: a*a + b*b <= r*r then
+ * fails for inf and nan, and the test needs no check of o's own for being finite. */
+int poly_circle_covers(const poly_system *s, int o);
 
 /* The part a ray at sensor radius r belongs to (the nearest one if none contains r). */
 int poly_part_for_radius(const poly_system *sys, double r);
@@ -155,15 +163,21 @@ int poly_eval_part_core(const poly_system *sys, int part, const double *in, doub
 int poly_eval_values_core(const poly_system *sys, int part, const double *in, double *out);
 void poly_eval_batch_core(const poly_system *sys, size_t count, const double *in, double *out,
                           unsigned char *pass);
-int poly_eval_jacobian_core(const poly_system *sys, const double *in, double *out, double *jac);
-/* poly_eval_jacobian_batch of a framed system whose views exist (when it has outputs
- * outside the frame): the kernel applies frame and transforms, runs the frame view's
- * values and derivatives and the plain view's derivatives, then poly_frame_chain on
- * each block. */
+/* The core's values and derivatives at one ray: the values needv says (NULL: all, and
+ * the pass test; else no pass test, 0) and the derivative sums needd says (NULL: all);
+ * the others come out 0. */
+int poly_eval_jacobian_core(const poly_system *sys, const double *in, const unsigned char *needv,
+                            const unsigned char *needd, double *out, double *jac);
+/* The batch Jacobian, derivative sums sel[0 .. nsel - 1] (k = o * nin + i; sel NULL:
+ * all) written per ray in that order. _core: of the core alone (inputs taken as in the
+ * frame). _frame: of a framed system whose views exist (when it has outputs outside the
+ * frame): the kernel applies frame and transforms, runs the frame view's values and
+ * derivatives and the plain view's derivatives (of the outputs asked for, and their
+ * turned partners), then poly_frame_chain on each block. */
 void poly_eval_jacobian_batch_frame(const poly_system *sys, size_t count, const double *in,
-                                    double *jac);
+                                    int nsel, const int *sel, double *jac);
 void poly_eval_jacobian_batch_core(const poly_system *sys, size_t count, const double *in,
-                                   double *jac);
+                                   int nsel, const int *sel, double *jac);
 
 /* What the chain rule through the frame (poly_frame_chain, poly_frame.c) reads and
  * writes for n rays, as columns: value k of ray r at [k * n + r] (one ray: the rows of
@@ -178,6 +192,8 @@ typedef struct {
                              read only when np) */
     double *g;            /* scratch: 2 nin + 9 columns */
     double *jac;          /* nout x nin: d out_o / d in_i */
+    const unsigned char *outs; /* the outputs asked for (with their turned partners),
+                                  NULL: all; the others' derivatives are not written */
 } poly_chain_cols;
 /* jac = d out / d in from the cores' values and derivatives; np: the system has outputs
  * outside the frame (the plain view's). */
@@ -206,8 +222,10 @@ void poly_frame_on_term(poly_system *s, int part, int output, const int *exps, d
 /* 1 when evaluation needs the frame or a transform around the core. */
 static inline int poly_frame_active(const poly_system *s) { return s->frame != 0 || s->nxform > 0; }
 
-/* The version the .poly writer writes and the reader accepts ("lens-poly 1"). */
-#define POLY_FORMAT_VERSION 1
+/* The version the .poly writer writes; the reader accepts 1 to it. 2: the outer pupil's
+ * out_u, out_v in the tangent frame that turns with the ray (ray_frames.h); version 1
+ * systems without both of those outputs read alike (poly_io.c refuses the others). */
+#define POLY_FORMAT_VERSION 2
 
 /* Shortest decimal that reads back as v ("inf" / "-inf" for infinities); buf >= 32. */
 void poly_format_number(char *buf, size_t len, double v);

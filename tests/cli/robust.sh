@@ -55,6 +55,18 @@ if [ $rc -ne 0 ] && [ "$rows" = "0 nan nan 0 " ] && grep -q '<stdin>:3: line lon
    && grep -q '<stdin>:4: NUL byte at column 4' "$T/err"; then ok stream_long_line_and_nul
 else fail stream_long_line_and_nul "rc $rc rows '$rows' $(tr '\n' '|' <"$T/err")"; fi
 
+# The design-file importers name a NUL byte with its line too (they read it as a blank,
+# so "NAME a<NUL>b" became a name and a NUL inside a keyword an unknown one). A NUL
+# character of a UTF-16 file likewise.
+printf 'VERS 190000\nNAME a\0b\n' >"$T/nul.zmx"
+err_has nul_zmx 'nul.zmx:2: NUL byte at column 7' "$BIN/lens-info" "$T/nul.zmx"
+printf 'TITLE x\nS 50\0 5\n' >"$T/nul.seq"
+err_has nul_seq 'nul.seq:2: NUL byte at column 5' "$BIN/lens-info" "$T/nul.seq"
+python3 -c 'import sys; open(sys.argv[1], "wb").write("VERS 1\nNAME a\0b\n".encode("utf-16"))' "$T/nul16.zmx"
+err_has nul_zmx_utf16 'nul16.zmx:2: NUL byte at column 7' "$BIN/lens-info" "$T/nul16.zmx"
+{ head -4 tests/data/import/test.agf; printf 'CC a\0b\n'; tail -n +5 tests/data/import/test.agf; } >"$T/nul.agf"
+err_has nul_agf 'nul.agf:5: NUL byte at column 5' "$BIN/lens-info" --glass-catalog "$T/nul.agf" lenses/lensbaby.lens
+
 # A UTF-8 byte-order mark before the first line is read as nothing, by every reader.
 bom() { printf '\xef\xbb\xbf'; cat "$1"; }
 bom "$LENS" >"$T/bom.lens"
@@ -202,3 +214,26 @@ run "$BIN/lens-info" --format lens "$T/sub.lens" 2>/dev/null | grep -q '1e-310' 
 # not finite", from its 1/lambda^2).
 printf '# columns: x y u v lambda out_x out_y out_u out_v out_eta\n0 0 0 0 0.5 0 0 0 0 1\n1 0 0 0 0 0 0 0 0 1\n' >"$T/lam0.txt"
 err_has fit_lambda_zero_named 'lam0.txt:3: input lambda is 0: a wavelength must be > 0 um' "$BIN/lens-fit" "$T/lam0.txt"
+
+# A .poly's parts cost memory for the terms they hold, not for the inputs x outputs
+# tables of each declared part (64 inputs, 64 outputs and 64 parts, 1.2 KB, took 9 MB
+# more than one part; every part now shares one set of empty tables until its first
+# term). Peak RSS of lens-eval reading it, against the same header with one part.
+poly_header() {
+  echo 'lens-poly 1'; echo 'lens t'
+  printf 'inputs x y'; for k in $(seq 62); do printf ' i%d' "$k"; done; echo
+  printf 'outputs'; for k in $(seq 64); do printf ' o%d' "$k"; done; echo
+}
+{ poly_header; echo 'part 0 inf'; echo end; } >"$T/one.poly"
+{ poly_header; for k in $(seq 0 62); do echo "part $k $((k + 1))"; for o in $(seq 64); do echo "output o$o 0"; done; done
+  echo 'part 63 inf'; echo end; } >"$T/parts.poly"
+poly_rss() { # peak RSS (kB) of lens-eval reading $1 (it then stops at the empty stream)
+  ASAN_OPTIONS="${ASAN_OPTIONS:-}:quarantine_size_mb=0:thread_local_quarantine_size_kb=0" \
+    /usr/bin/time -f %M -o "$T/rss" "$BIN/lens-eval" "$1" </dev/null >/dev/null 2>&1
+  tail -1 "$T/rss"
+}
+if [ -x /usr/bin/time ]; then
+  a=$(poly_rss "$T/one.poly") b=$(poly_rss "$T/parts.poly")
+  [ "$b" -le $((a + 2048)) ] && ok "poly_parts_memory (64 declared parts: $b kB, one part: $a kB)" ||
+    fail poly_parts_memory "64 declared parts: $b kB, one part: $a kB"
+else ok "poly_parts_memory (skipped: /usr/bin/time not installed)"; fi

@@ -133,45 +133,49 @@ static char *poly_text(const poly_system *p)
     return buf;
 }
 
-static void run_lens(const char *path, double xmax, int small)
-{
+/* One lens's cases share its samples and the degree-9 fit the harder fits are held to. */
+typedef struct {
+    const char *base; /* the lens file's name, in the check names */
     lens_t L;
-    lens_err e;
-    if (lens_load(path, NULL, &L, &e) != 0) {
-        fail("hard_fit_load", e.msg);
-        return;
-    }
-    char n[160], why[512];
-    size_t ntrain = small ? 600 : 2000, ntest = small ? 300 : 1000;
-    set train = make_set(&L, ntrain, 0, xmax), test = make_set(&L, ntest, 0, xmax);
-    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    double xmax;      /* the sensor half-width the samples span */
+    size_t ntrain, ntest;
+    set train, test;
+    poly_system *p9;  /* degree 9, 30 terms */
+    double e9;        /* its held-out max error (mm) */
+} hard_lens;
 
-    /* degree 9 vs 13..15 */
-    poly_system *p9 = fit(&train, 9, 30, 1, 0, 0, &e);
-    double e9 = p9 ? max_err(p9, &test) : NAN;
-    printf("hard-metric %s fit_deg9_max_err_mm %.3g\n", base, e9);
+/* Degree 13..15 candidates, against the degree-9 fit. */
+static void high_degrees(hard_lens *h)
+{
+    char n[160], why[512];
+    lens_err e;
     for (int d = 13; d <= 15; d++) {
-        snprintf(n, sizeof n, "hard_fit_degree%d_%s", d, base);
-        poly_system *p = fit(&train, d, 30, 1, 0, 0, &e);
+        snprintf(n, sizeof n, "hard_fit_degree%d_%s", d, h->base);
+        poly_system *p = fit(&h->train, d, 30, 1, 0, 0, &e);
         if (!p) {
             fail(n, e.msg);
             continue;
         }
         double rms;
-        double ed = max_err_rms(p, &test, &rms);
-        printf("hard-metric %s fit_deg%d_max_err_mm %.3g\n", base, d, ed);
-        printf("hard-metric %s fit_deg%d_rms_err_mm %.3g\n", base, d, rms);
-        snprintf(why, sizeof why, "max error %.3g mm vs %.3g at degree 9, rms %.3g mm", ed, e9, rms);
-        if (isfinite(ed) && isfinite(e9) && ed <= 1.5 * e9 + 1e-9 && rms < 0.01 * xmax)
+        double ed = max_err_rms(p, &h->test, &rms);
+        printf("hard-metric %s fit_deg%d_max_err_mm %.3g\n", h->base, d, ed);
+        printf("hard-metric %s fit_deg%d_rms_err_mm %.3g\n", h->base, d, rms);
+        snprintf(why, sizeof why, "max error %.3g mm vs %.3g at degree 9, rms %.3g mm", ed, h->e9,
+                 rms);
+        if (isfinite(ed) && isfinite(h->e9) && ed <= 1.5 * h->e9 + 1e-9 && rms < 0.01 * h->xmax)
             ok(n, why);
         else
             fail(n, why);
         poly_free(p);
     }
+}
 
-    /* clustered samples */
-    snprintf(n, sizeof n, "hard_fit_clustered_%s", base);
-    set cl = make_set(&L, ntrain / 2, 0, 1), clt = make_set(&L, ntest / 2, 0, 1);
+static void clustered(hard_lens *h)
+{
+    char n[160], why[512];
+    lens_err e;
+    snprintf(n, sizeof n, "hard_fit_clustered_%s", h->base);
+    set cl = make_set(&h->L, h->ntrain / 2, 0, 1), clt = make_set(&h->L, h->ntest / 2, 0, 1);
     poly_system *pc = fit(&cl, 9, 30, 1, 0, 0, &e);
     if (!pc) {
         fail(n, e.msg);
@@ -179,10 +183,10 @@ static void run_lens(const char *path, double xmax, int small)
         double ec = max_err(pc, &clt);
         double outside[3] = {5, 0, 0.55}, inside[3];
         memcpy(inside, clt.in, sizeof inside);
-        printf("hard-metric %s fit_clustered_max_err_mm %.3g\n", base, ec);
+        printf("hard-metric %s fit_clustered_max_err_mm %.3g\n", h->base, ec);
         snprintf(why, sizeof why, "max error %.3g mm inside the cluster; in_domain(x=5) = %d",
                  ec, poly_in_domain(pc, outside));
-        if (isfinite(ec) && ec <= 2 * fmax(e9, 1e-6) && !poly_in_domain(pc, outside) &&
+        if (isfinite(ec) && ec <= 2 * fmax(h->e9, 1e-6) && !poly_in_domain(pc, outside) &&
             poly_in_domain(pc, inside))
             ok(n, why);
         else
@@ -191,43 +195,60 @@ static void run_lens(const char *path, double xmax, int small)
     }
     free_set(&cl);
     free_set(&clt);
+}
 
-    /* near-duplicates */
-    snprintf(n, sizeof n, "hard_fit_near_duplicates_%s", base);
-    set dup = {2 * train.n, malloc(2 * train.n * 3 * sizeof(double)),
-               malloc(2 * train.n * 2 * sizeof(double))};
-    for (size_t i = 0; i < train.n; i++)
+static void near_duplicates(hard_lens *h)
+{
+    char n[160], why[512];
+    lens_err e;
+    const set *train = &h->train;
+    snprintf(n, sizeof n, "hard_fit_near_duplicates_%s", h->base);
+    set dup = {2 * train->n, malloc(2 * train->n * 3 * sizeof(double)),
+               malloc(2 * train->n * 2 * sizeof(double))};
+    for (size_t i = 0; i < train->n; i++)
         for (int c = 0; c < 2; c++) {
-            memcpy(dup.in + (2 * i + c) * 3, train.in + i * 3, 3 * sizeof(double));
-            memcpy(dup.out + (2 * i + c) * 2, train.out + i * 2, 2 * sizeof(double));
+            memcpy(dup.in + (2 * i + c) * 3, train->in + i * 3, 3 * sizeof(double));
+            memcpy(dup.out + (2 * i + c) * 2, train->out + i * 2, 2 * sizeof(double));
             dup.in[(2 * i + c) * 3] *= 1 + c * 1e-13;
         }
     poly_system *pd = fit(&dup, 9, 30, 1, 0, 0, &e);
-    double ed = pd ? max_err(pd, &test) : NAN;
-    printf("hard-metric %s fit_near_duplicates_max_err_mm %.3g\n", base, ed);
-    snprintf(why, sizeof why, "max error %.3g mm vs %.3g without duplicates%s%s", ed, e9,
+    double ed = pd ? max_err(pd, &h->test) : NAN;
+    printf("hard-metric %s fit_near_duplicates_max_err_mm %.3g\n", h->base, ed);
+    snprintf(why, sizeof why, "max error %.3g mm vs %.3g without duplicates%s%s", ed, h->e9,
              pd ? "" : ": ", pd ? "" : e.msg);
-    if (pd && isfinite(ed) && ed <= 1.5 * e9 + 1e-9)
+    if (pd && isfinite(ed) && ed <= 1.5 * h->e9 + 1e-9)
         ok(n, why);
     else
         fail(n, why);
     poly_free(pd);
     free_set(&dup);
+}
 
-    /* fewer samples than candidates: 30 rows, C(14, 3) = 364 candidates at degree 11,
-     * 20 terms asked for */
-    snprintf(n, sizeof n, "hard_fit_few_samples_%s", base);
-    set few = {30, train.in, train.out};
+/* A fit that refused passes when it says why in one line. */
+static void refused_cleanly(const char *n, const lens_err *e)
+{
+    char why[512];
+    snprintf(why, sizeof why, "(refused: %s)", e->msg);
+    if (e->msg[0] && !strchr(e->msg, '\n'))
+        ok(n, why);
+    else
+        fail(n, why);
+}
+
+/* Fewer samples than candidates: 30 rows, C(14, 3) = 364 candidates at degree 11, 20
+ * terms asked for. */
+static void few_samples(hard_lens *h)
+{
+    char n[160], why[512];
+    lens_err e;
+    snprintf(n, sizeof n, "hard_fit_few_samples_%s", h->base);
+    set few = {30, h->train.in, h->train.out};
     poly_system *pf = fit(&few, 11, 20, 1, 0, 0, &e);
     if (!pf) {
-        snprintf(why, sizeof why, "(refused: %s)", e.msg);
-        if (strchr(e.msg, '\n') == NULL && e.msg[0])
-            ok(n, why);
-        else
-            fail(n, why);
+        refused_cleanly(n, &e);
     } else {
         int terms = poly_nterms(pf, 0, 0);
-        double ef = max_err(pf, &test);
+        double ef = max_err(pf, &h->test);
         snprintf(why, sizeof why, "(%d terms from 30 rows, held-out max error %.3g mm)", terms, ef);
         if (terms < 30 && isfinite(ef))
             ok(n, why);
@@ -235,19 +256,19 @@ static void run_lens(const char *path, double xmax, int small)
             fail(n, why);
         poly_free(pf);
     }
+}
 
-    /* partitions with few samples */
-    snprintf(n, sizeof n, "hard_fit_partitions_few_samples_%s", base);
-    set pp = {150, train.in, train.out};
+static void partitions_few_samples(hard_lens *h)
+{
+    char n[160], why[512];
+    lens_err e;
+    snprintf(n, sizeof n, "hard_fit_partitions_few_samples_%s", h->base);
+    set pp = {150, h->train.in, h->train.out};
     poly_system *pparts = fit(&pp, 7, 20, 4, 1e-12, 0, &e);
     if (!pparts) {
-        snprintf(why, sizeof why, "(refused: %s)", e.msg);
-        if (e.msg[0] && !strchr(e.msg, '\n'))
-            ok(n, why);
-        else
-            fail(n, why);
+        refused_cleanly(n, &e);
     } else {
-        double ep = max_err(pparts, &test);
+        double ep = max_err(pparts, &h->test);
         snprintf(why, sizeof why, "(%d parts, held-out max error %.3g mm)", poly_nparts(pparts), ep);
         if (isfinite(ep))
             ok(n, why);
@@ -255,31 +276,40 @@ static void run_lens(const char *path, double xmax, int small)
             fail(n, why);
         poly_free(pparts);
     }
+}
 
-    /* just outside the training domain */
-    snprintf(n, sizeof n, "hard_fit_extrapolation_reported_%s", base);
-    if (p9) {
-        double lo[3], hi[3];
-        for (int i = 0; i < 3; i++)
-            poly_get_domain(p9, i, &lo[i], &hi[i]);
-        int bad = 0;
-        for (int i = 0; i < 3; i++) {
-            double pt[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
-            bad += !poly_in_domain(p9, pt);
-            pt[i] = hi[i] + 1e-9 * fmax(1, fabs(hi[i]));
-            bad += poly_in_domain(p9, pt);
-            pt[i] = lo[i] - 1e-9 * fmax(1, fabs(lo[i]));
-            bad += poly_in_domain(p9, pt);
-        }
-        if (bad == 0)
-            ok(n, NULL);
-        else
-            fail(n, "poly_in_domain does not tell the training range from just outside it");
+/* Just outside the training domain of the degree-9 fit. */
+static void extrapolation_reported(hard_lens *h)
+{
+    char n[160];
+    snprintf(n, sizeof n, "hard_fit_extrapolation_reported_%s", h->base);
+    if (!h->p9)
+        return;
+    double lo[3], hi[3];
+    for (int i = 0; i < 3; i++)
+        poly_get_domain(h->p9, i, &lo[i], &hi[i]);
+    int bad = 0;
+    for (int i = 0; i < 3; i++) {
+        double pt[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+        bad += !poly_in_domain(h->p9, pt);
+        pt[i] = hi[i] + 1e-9 * fmax(1, fabs(hi[i]));
+        bad += poly_in_domain(h->p9, pt);
+        pt[i] = lo[i] - 1e-9 * fmax(1, fabs(lo[i]));
+        bad += poly_in_domain(h->p9, pt);
     }
+    if (bad == 0)
+        ok(n, NULL);
+    else
+        fail(n, "poly_in_domain does not tell the training range from just outside it");
+}
 
-    /* threads: bit-identical systems */
-    snprintf(n, sizeof n, "hard_fit_threads_bit_identical_%s", base);
-    poly_system *t1 = fit(&train, 11, 30, 2, 1e-6, 1, &e), *t2 = fit(&train, 11, 30, 2, 1e-6, 2, &e);
+static void threads_bit_identical(hard_lens *h)
+{
+    char n[160];
+    lens_err e;
+    snprintf(n, sizeof n, "hard_fit_threads_bit_identical_%s", h->base);
+    poly_system *t1 = fit(&h->train, 11, 30, 2, 1e-6, 1, &e);
+    poly_system *t2 = fit(&h->train, 11, 30, 2, 1e-6, 2, &e);
     if (!t1 || !t2) {
         fail(n, e.msg);
     } else {
@@ -293,10 +323,32 @@ static void run_lens(const char *path, double xmax, int small)
     }
     poly_free(t1);
     poly_free(t2);
-    poly_free(p9);
-    free_set(&train);
-    free_set(&test);
-    lens_free(&L);
+}
+
+static void run_lens(const char *path, double xmax, int small)
+{
+    hard_lens h = {.xmax = xmax, .ntrain = small ? 600 : 2000, .ntest = small ? 300 : 1000};
+    lens_err e;
+    if (lens_load(path, NULL, &h.L, &e) != 0) {
+        fail("hard_fit_load", e.msg);
+        return;
+    }
+    h.train = make_set(&h.L, h.ntrain, 0, xmax), h.test = make_set(&h.L, h.ntest, 0, xmax);
+    h.base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    h.p9 = fit(&h.train, 9, 30, 1, 0, 0, &e);
+    h.e9 = h.p9 ? max_err(h.p9, &h.test) : NAN;
+    printf("hard-metric %s fit_deg9_max_err_mm %.3g\n", h.base, h.e9);
+    high_degrees(&h);
+    clustered(&h);
+    near_duplicates(&h);
+    few_samples(&h);
+    partitions_few_samples(&h);
+    extrapolation_reported(&h);
+    threads_bit_identical(&h);
+    poly_free(h.p9);
+    free_set(&h.train);
+    free_set(&h.test);
+    lens_free(&h.L);
 }
 
 /* An output that is almost constant: 0.7 + 1e-15 x. */

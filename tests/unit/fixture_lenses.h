@@ -36,10 +36,10 @@ static inline int fixture_build(lens_t *lens, const char *name, const fixture_ro
     return lens_finish(lens, &err);
 }
 
-/* Paraxial y-nu trace from an axial object at infinity at the d line: the back focal
- * distance (last surface to focus). Written here so the tests do not depend on
- * src/lens/paraxial.c. */
-static inline double fixture_bfl(const lens_t *lens)
+/* Paraxial y-nu trace from an axial object at infinity at the d line (y = 1 on the first
+ * surface): the height y on the last surface, and the slope nu and index n after it.
+ * Written here so the tests do not depend on src/lens/paraxial.c. */
+static inline void fixture_ynu(const lens_t *lens, double *y_out, double *nu_out, double *n_out)
 {
     double y = 1, nu = 0, n1 = 1;
     for (size_t i = 0; i < lens->nsurf; i++) {
@@ -51,23 +51,35 @@ static inline double fixture_bfl(const lens_t *lens)
             y += s->thickness * nu / n2;
         n1 = n2;
     }
-    return -y / (nu / n1);
+    *y_out = y, *nu_out = nu, *n_out = n1;
 }
 
-/* Effective focal length at the d line (same y-nu trace). */
+/* The back focal distance (last surface to focus). */
+static inline double fixture_bfl(const lens_t *lens)
+{
+    double y, nu, n;
+    fixture_ynu(lens, &y, &nu, &n);
+    return -y / (nu / n);
+}
+
+/* Effective focal length at the d line. */
 static inline double fixture_efl(const lens_t *lens)
 {
-    double y = 1, nu = 0, n1 = 1;
-    for (size_t i = 0; i < lens->nsurf; i++) {
-        const lens_surface *s = &lens->surf[i];
-        double c = isfinite(s->radius) ? 1.0 / s->radius : 0;
-        double n2 = glass_index_unchecked(&s->medium, GLASS_D_LINE);
-        nu -= y * c * (n2 - n1);
-        if (i + 1 < lens->nsurf)
-            y += s->thickness * nu / n2;
-        n1 = n2;
-    }
+    double y, nu, n;
+    fixture_ynu(lens, &y, &nu, &n);
     return -1.0 / nu;
+}
+
+/* Appends a spherical surface (n 1: air after it) to a lens being built by hand. */
+static inline void fixture_add(lens_t *l, double r, double t, double n, double sd, int stop)
+{
+    lens_surface *s = lens_add_surface(l);
+    s->radius = r;
+    s->thickness = t;
+    s->semi_diameter = sd;
+    s->is_stop = stop;
+    if (n != 1.0)
+        s->medium = glass_constant(n);
 }
 
 static inline int fixture_fisheye_ii(lens_t *lens)

@@ -11,18 +11,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "fixture_lenses.h"
 #include "sparselens/info_run.h"
-
-static void add(lens_t *l, double r, double t, double n, double sd, int stop)
-{
-    lens_surface *s = lens_add_surface(l);
-    s->radius = r;
-    s->thickness = t;
-    s->semi_diameter = sd;
-    s->is_stop = stop;
-    if (n != 1.0)
-        s->medium = glass_constant(n);
-}
 
 static void near(double got, double want, double tol)
 {
@@ -36,8 +26,8 @@ static void refocus_follows_gaussian_imaging(void **state)
     const double n = 1.5168, r1 = 50, r2 = -80, d = 6, object = 1000;
     lens_t l;
     lens_init(&l);
-    add(&l, r1, d, n, 10, 1);
-    add(&l, r2, 90, 1.0, 10, 0);
+    fixture_add(&l, r1, d, n, 10, 1);
+    fixture_add(&l, r2, 90, 1.0, 10, 0);
     snprintf(l.notes, sizeof l.notes, "focus set for infinity\nskipped a coating");
     lens_err err;
     assert_int_equal(lens_finish(&l, &err), 0);
@@ -73,7 +63,7 @@ static void bare_stop_field_of_view(void **state)
     const double distance = 20, w = 36, h = 24;
     lens_t l;
     lens_init(&l);
-    add(&l, INFINITY, distance, 1.0, 5, 1);
+    fixture_add(&l, INFINITY, distance, 1.0, 5, 1);
     lens_err err;
     assert_int_equal(lens_finish(&l, &err), 0);
 

@@ -6,18 +6,8 @@
 #include <stddef.h>
 #include <cmocka.h>
 
+#include "fixture_lenses.h"
 #include "sparselens/paraxial.h"
-
-static void add(lens_t *l, double r, double t, double n, double sd, int stop)
-{
-    lens_surface *s = lens_add_surface(l);
-    s->radius = r;
-    s->thickness = t;
-    s->semi_diameter = sd;
-    s->is_stop = stop;
-    if (n != 1.0)
-        s->medium = glass_constant(n);
-}
 
 static void near(double got, double want, double tol)
 {
@@ -31,8 +21,8 @@ static void test_thick_singlet_lensmaker(void **state)
     const double n = 1.5168, r1 = 50, r2 = -80, d = 6, sd = 10;
     lens_t l;
     lens_init(&l);
-    add(&l, r1, d, n, sd, 1);
-    add(&l, r2, 90, 1.0, sd, 0);
+    fixture_add(&l, r1, d, n, sd, 1);
+    fixture_add(&l, r2, 90, 1.0, sd, 0);
     lens_err err;
     assert_int_equal(lens_finish(&l, &err), 0);
     paraxial_data p;
@@ -61,10 +51,10 @@ static void test_two_thin_lenses(void **state)
     const double r1 = 2 * (n - 1) * f1, r2 = 2 * (n - 1) * f2, eps = 1e-6;
     lens_t l;
     lens_init(&l);
-    add(&l, r1, eps, n, sd, 1);
-    add(&l, -r1, sep, 1.0, sd, 0);
-    add(&l, r2, eps, n, sd, 0);
-    add(&l, -r2, 40, 1.0, sd, 0);
+    fixture_add(&l, r1, eps, n, sd, 1);
+    fixture_add(&l, -r1, sep, 1.0, sd, 0);
+    fixture_add(&l, r2, eps, n, sd, 0);
+    fixture_add(&l, -r2, 40, 1.0, sd, 0);
     lens_err err;
     assert_int_equal(lens_finish(&l, &err), 0);
     paraxial_data p;
@@ -87,8 +77,8 @@ static void test_focus_distance_gaussian(void **state)
     const double n = 1.5, f = 50, r = 2 * (n - 1) * f, d = 1000;
     lens_t l;
     lens_init(&l);
-    add(&l, r, 1e-7, n, 0.2, 1); /* faces that do not cross: sd^2 / r within 1e-3 mm */
-    add(&l, -r, 50, 1.0, 0.2, 0);
+    fixture_add(&l, r, 1e-7, n, 0.2, 1); /* faces that do not cross: sd^2 / r within 1e-3 mm */
+    fixture_add(&l, -r, 50, 1.0, 0.2, 0);
     lens_err err;
     assert_int_equal(lens_finish(&l, &err), 0);
     double t;

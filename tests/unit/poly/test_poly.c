@@ -315,9 +315,13 @@ static void test_pass_and_domain(void **st)
  * rays whose 1/lambda^2 is infinite (they must not pass). */
 /* poly_eval_batch_outputs against poly_eval_batch's outb and pb on the same n rays:
  * the columns asked for and the pass flags bit for bit, with and without the pass test,
- * five columns (the kernel's row transpose) or three, none; bad selections refused. */
+ * five columns (the kernel's row transpose) or three, none; bad selections refused. And
+ * poly_eval_jacobian_batch_outputs and poly_eval_jacobian_outputs against the whole
+ * Jacobian jb (of a turned pair one output alone too, whose derivative needs its
+ * partner's). */
 static void check_selected_outputs(const poly_system *s, int n, const double *in,
-                                   const double *outb, const unsigned char *pb)
+                                   const double *outb, const unsigned char *pb,
+                                   const double *jb)
 {
     static const int sel5[5] = {4, 3, 2, 1, 0}, sel3[3] = {4, 0, 1}, bad[2] = {0, 5};
     double *o = malloc((size_t)n * 5 * sizeof *o);
@@ -337,6 +341,26 @@ static void check_selected_outputs(const poly_system *s, int n, const double *in
     }
     assert_int_equal(poly_eval_batch_outputs(s, 1, in, 2, bad, o, p), -1);
     assert_int_equal(poly_eval_batch_outputs(s, 1, in, -1, sel3, o, p), -1);
+    double *js = malloc((size_t)n * 15 * sizeof *js);
+    assert_non_null(js);
+    static const int sel1[1] = {1};
+    for (int k = 0; k < 2; k++) {
+        const int ns = k ? 1 : 3, *sel = k ? sel1 : sel3;
+        assert_int_equal(poly_eval_jacobian_batch_outputs(s, (size_t)n, in, ns, sel, js), 0);
+        for (int r = 0; r < n; r++)
+            for (int j = 0; j < ns; j++)
+                assert_memory_equal(js + (r * ns + j) * 5, jb + r * 25 + sel[j] * 5,
+                                    5 * sizeof *js);
+    }
+    assert_int_equal(poly_eval_jacobian_batch_outputs(s, 1, in, 2, bad, js), -1);
+    for (int r = 0; r < n; r++) { /* one ray: poly_eval_jacobian_outputs, the same bits */
+        double v1[1], j1[5];
+        assert_int_equal(poly_eval_jacobian_outputs(s, in + 5 * r, 1, sel1, v1, j1), 0);
+        assert_memory_equal(v1, outb + 5 * r + 1, sizeof v1);
+        assert_memory_equal(j1, jb + r * 25 + 5, sizeof j1);
+    }
+    assert_int_equal(poly_eval_jacobian_outputs(s, in, 2, bad, js, js), -1);
+    free(js);
     free(o);
     free(p);
 }
@@ -387,7 +411,7 @@ static void test_batch_frame_layouts(void **st)
         if (layout != 1)
             assert_int_equal(pb[9], 0);
         assert_true(npass > N / 2);
-        check_selected_outputs(s, N, in, outb, pb);
+        check_selected_outputs(s, N, in, outb, pb, jb);
         poly_free(s);
     }
     free(in);

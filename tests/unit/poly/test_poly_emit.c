@@ -83,6 +83,8 @@ static void check_emitted(poly_system *s, int nrays, unsigned long seed, const c
             in[5 * r] *= 3;
         if (r == 3) /* on the axis: the frame's angle is undefined there */
             in[5 * r] = in[5 * r + 1] = 0;
+        if (r == 5) /* with 1/lambda^2: outputs not finite, in a whole block of 8 */
+            in[5 * r + 4] = 0;
         for (int i = 0; i < 5; i++)
             fprintf(f, "%.17g%c", in[5 * r + i], i == 4 ? '\n' : ' ');
     }
@@ -103,7 +105,8 @@ static void check_emitted(poly_system *s, int nrays, unsigned long seed, const c
         for (int o = 0; o < 5; o++) {
             got[o] = strtod(tok[o], NULL);
             double scale = fabs(want[o]) > 1e-300 ? fabs(want[o]) : 1;
-            if (!(fabs(got[o] - want[o]) <= 1e-12 * scale))
+            if (!(fabs(got[o] - want[o]) <= 1e-12 * scale) &&
+                !(isnan(got[o]) && isnan(want[o])))
                 fail_msg("ray %d output %d: emitted %.17g, poly_eval %.17g", r, o, got[o],
                          want[o]);
             same &= memcmp(&got[o], &want[o], sizeof got[o]) == 0;
