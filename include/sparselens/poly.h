@@ -36,6 +36,12 @@ int poly_output_index(const poly_system *sys, const char *name); /* -1 if absent
 int poly_eval(const poly_system *sys, const double *in, double *out);
 /* Outputs and their partial derivatives: jac[o * ninputs + i] = d out_o / d in_i. */
 int poly_eval_jacobian(const poly_system *sys, const double *in, double *out, double *jac);
+/* poly_eval_jacobian of outputs outputs[0 .. nsel - 1] alone, the same values: out[nsel],
+ * jac nsel x ninputs (jac[j * ninputs + i] = d out_{outputs[j]} / d in_i); no pass test
+ * (the other outputs, the passage's, are not computed). Returns 0, or -1 (and writes
+ * nothing) for a negative nsel or an output out of range. */
+int poly_eval_jacobian_outputs(const poly_system *sys, const double *in, int nsel,
+                               const int *outputs, double *out, double *jac);
 /* count rays; in row-major count x ninputs, out count x noutputs; pass may be NULL.
  * Several times faster per ray than poly_eval (rays go through in vector blocks):
  * use it wherever rays come in bulk. */

@@ -97,11 +97,15 @@ static void values_one(const poly_system *s, const poly_plan *pl, const double *
     } while (0)
 
 /* The plan's sums for one ray (the same additions as the batch kernel's). */
-static void sums_one(const poly_plan *pl, const double *v, double *out)
+static void sums_one(const poly_plan *pl, const double *v, const unsigned char *need, double *out)
 {
     const double *c = pl->coef;
     const int *fa = pl->fa, *fb = pl->fb;
     for (int o = 0; o < pl->nout; o++) {
+        if (need && !need[o]) {
+            out[o] = 0;
+            continue;
+        }
         const int t0 = pl->start[o], ns = pl->nsingle[o];
         const int nq = pl->nquad[o], np = pl->npair[o];
         const int nl = pl->start[o + 1] - t0 - ns - 4 * nq - 2 * np;
@@ -121,15 +125,17 @@ static void sums_one(const poly_plan *pl, const double *v, double *out)
 #undef LONE_ONE
 #undef RUN_ONE
 
-/* Runs plan pl on one ray: out[pl->nout]. Returns -1 when out of memory. */
-static int run_one(const poly_system *s, const poly_plan *pl, const double *in, double *out)
+/* Runs plan pl on one ray: out[pl->nout], the sums need says (NULL: all; the others 0).
+ * Returns -1 when out of memory. */
+static int run_one(const poly_system *s, const poly_plan *pl, const double *in,
+                   const unsigned char *need, double *out)
 {
     double buf[512];
     double *v = pl->nvals <= 512 ? buf : malloc((size_t)pl->nvals * sizeof(double));
     if (!v)
         return -1;
     values_one(s, pl, in, v);
-    sums_one(pl, v, out);
+    sums_one(pl, v, need, out);
     if (v != buf)
         free(v);
     return 0;
@@ -137,7 +143,7 @@ static int run_one(const poly_system *s, const poly_plan *pl, const double *in, 
 
 int poly_eval_values_core(const poly_system *s, int part, const double *in, double *out)
 {
-    if (part < 0 || part >= s->nparts || run_one(s, &s->parts[part].plan, in, out) != 0) {
+    if (part < 0 || part >= s->nparts || run_one(s, &s->parts[part].plan, in, NULL, out) != 0) {
         fill_nan(out, s->nout);
         return -1;
     }
@@ -544,16 +550,23 @@ void poly_eval_jacobian_batch_core(const poly_system *s, size_t count, const dou
     batch_job_run(s, RUN_JAC, count, in, nsel, sel, jac, NULL);
 }
 
-int poly_eval_jacobian_core(const poly_system *s, const double *in, double *out, double *jac)
+int poly_eval_jacobian_core(const poly_system *s, const double *in, const unsigned char *needv,
+                            const unsigned char *needd, double *out, double *jac)
 {
-    const int nin = s->nin, nout = s->nout;
-    int pass = poly_eval_part_core(s, s->nparts ? poly_select_part(s, in) : -1, in, out);
-    if (s->nparts == 0 ||
-        run_one(s, &s->parts[poly_select_part(s, in)].dplan, in, jac) != 0) {
+    const int nin = s->nin, nout = s->nout, part = s->nparts ? poly_select_part(s, in) : -1;
+    int pass = 0;
+    if (needv) {
+        if (part < 0 || run_one(s, &s->parts[part].plan, in, needv, out) != 0)
+            fill_nan(out, nout);
+    } else {
+        pass = poly_eval_part_core(s, part, in, out);
+    }
+    if (part < 0 || run_one(s, &s->parts[part].dplan, in, needd, jac) != 0) {
         fill_nan(jac, nin * nout);
         return 0;
     }
     for (int k = 0; k < nin * nout; k++)
-        jac[k] = poly_scale_chain(s, k % nin, jac[k]);
+        if (!needd || needd[k])
+            jac[k] = poly_scale_chain(s, k % nin, jac[k]);
     return pass;
 }

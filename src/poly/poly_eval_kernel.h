@@ -243,7 +243,7 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
             const poly_chain_cols k = {KBLK, raw, wcol, cb, sb, resbuf,
                                        resbuf + (size_t)job->roff[1] * KBLK,
                                        nview > 2 ? resbuf + (size_t)job->roff[2] * KBLK : NULL,
-                                       gcol, jcol};
+                                       gcol, jcol, NULL};
             poly_frame_chain(s, nview > 2, &k);
             res = (vn *)jcol;
         } else if (nview > 1) /* the outputs outside the frame from view 1 */

@@ -433,6 +433,7 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
     const size_t n = k->n;
     const int nin = s->nin, nout = s->nout;
 #define COL(p, i) ((p) + (size_t)(i) * n)
+#define ON(o) (!k->outs || k->outs[o]) /* an output asked for */
     double *g = k->g, *gp = COL(g, nin), *d = COL(g, 2 * nin);
     /* d(1/w^2)/dw at the frame's inputs w, and at in (plain view) */
     for (int i = 0; i < nin; i++) {
@@ -453,7 +454,7 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
     }
     const int mer = s->frame == POLY_FRAME_MERIDIONAL;
     for (int o = 0; o < nout; o++) /* inputs the frame does not turn: the transforms alone */
-        for (int j = 0; j < nin && !(np && s->plain[o]); j++) {
+        for (int j = 0; j < nin && !(np && s->plain[o]) && ON(o); j++) {
             if (mer && (j == s->ix || j == s->iy || j == s->iu || j == s->iv))
                 continue; /* below */
             double *jo = COL(k->jac, o * nin + j);
@@ -486,7 +487,7 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
             dvy[r] = dc1[r] * v[r] - ds1[r] * u[r];
         }
         for (int o = 0; o < nout; o++) {
-            if (np && s->plain[o])
+            if ((np && s->plain[o]) || !ON(o))
                 continue;
             const double *Jx = COL(k->J, o * nin + ix), *Ju = COL(k->J, o * nin + iu);
             const double *Jv = COL(k->J, o * nin + iv);
@@ -505,6 +506,8 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
     }
     for (int p = 0; p < s->npairs; p++) {
         const int a = s->pair[2 * p], b = s->pair[2 * p + 1];
+        if (!ON(a))
+            continue; /* partners are asked for together */
         const double *A = COL(k->o, a), *B = COL(k->o, b), *c = k->c, *sn = k->sn;
         for (int j = 0; j < nin; j++) {
             double *ja = COL(k->jac, a * nin + j), *jb = COL(k->jac, b * nin + j);
@@ -524,7 +527,7 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
                 axis_limit(s, np, k, r);
     if (np) /* outside the frame: the transforms alone, diagonal */
         for (int o = 0; o < nout; o++)
-            for (int j = 0; j < nin && s->plain[o]; j++) {
+            for (int j = 0; j < nin && s->plain[o] && ON(o); j++) {
                 double *jo = COL(k->jac, o * nin + j);
                 const double *Jo = COL(k->Jp, o * nin + j), *gj = COL(gp, j);
                 IVDEP
@@ -532,6 +535,7 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
                     jo[r] = Jo[r] * gj[r];
             }
 #undef COL
+#undef ON
 }
 
 /* With a frame: through the batch kernel, which applies the frame and the transforms,
@@ -583,31 +587,86 @@ void poly_eval_jacobian_batch(const poly_system *s, size_t count, const double *
     poly_eval_jacobian_batch_outputs(s, count, in, s->nout, all, jac);
 }
 
-int poly_eval_jacobian(const poly_system *s, const double *in, double *out, double *jac)
+/* poly_eval_jacobian, of the outputs outs says alone (NULL: all, with the pass flag;
+ * else 0, and the other outputs' values and derivatives come out 0). outs must hold the
+ * turned partner of every output it holds. */
+static int jacobian_one(const poly_system *s, const double *in, const unsigned char *outs,
+                        double *out, double *jac)
 {
-    if (!poly_frame_active(s))
-        return poly_eval_jacobian_core(s, in, out, jac);
     const int nin = s->nin, nout = s->nout, np = s->frame && s->nplain;
     const size_t nn = (size_t)nin, no = (size_t)nout;
     double *buf = malloc((5 * nn + 9 + 2 * nn * no + no) * sizeof *buf);
-    if (!buf) {
+    unsigned char *need = outs ? malloc(4 * (nn + 1) * no) : NULL;
+    if (!buf || (outs && !need)) {
         for (int k = 0; k < nin * nout; k++)
             jac[k] = NAN;
         for (int o = 0; o < nout; o++)
             out[o] = NAN;
+        free(buf);
+        free(need);
         return 0;
     }
-    double *w = buf, *t = w + nn, *p = t + nn, *g = p + nn, *J = g + 2 * nn + 9;
-    double *Jp = J + nn * no, *op = Jp + nn * no, cs[2];
-    jacobian_inputs(s, np, in, w, t, p, cs);
-    poly_eval_jacobian_core(s->vframe ? s->vframe : s, t, out, J);
-    if (np)
-        poly_eval_jacobian_core(s->vplain ? s->vplain : s, p, op, Jp);
-    const poly_chain_cols k = {1, in, w, &cs[0], &cs[1], out, J, Jp, g, jac};
-    poly_frame_chain(s, np, &k);
-    if (np)
-        take_plain(s, op, out);
-    poly_frame_out(s, cs, out);
+    /* values and derivative sums of the frame view, then of the plain view */
+    unsigned char *nv[2] = {NULL, NULL}, *nd[2] = {NULL, NULL};
+    for (int v = 0; outs && v < 2; v++) {
+        nv[v] = need + (size_t)v * (nn + 1) * no;
+        nd[v] = nv[v] + no;
+        for (int o = 0; o < nout; o++) {
+            nv[v][o] = outs[o] && (np && s->plain[o]) == v;
+            for (int i = 0; i < nin; i++)
+                nd[v][o * nin + i] = nv[v][o];
+        }
+    }
+    int pass = 0;
+    if (!poly_frame_active(s)) {
+        pass = poly_eval_jacobian_core(s, in, nv[0], nd[0], out, jac);
+    } else {
+        double *w = buf, *t = w + nn, *p = t + nn, *g = p + nn, *J = g + 2 * nn + 9;
+        double *Jp = J + nn * no, *op = Jp + nn * no, cs[2];
+        jacobian_inputs(s, np, in, w, t, p, cs);
+        poly_eval_jacobian_core(s->vframe ? s->vframe : s, t, nv[0], nd[0], out, J);
+        if (np)
+            poly_eval_jacobian_core(s->vplain ? s->vplain : s, p, nv[1], nd[1], op, Jp);
+        const poly_chain_cols k = {1, in, w, &cs[0], &cs[1], out, J, Jp, g, jac, outs};
+        poly_frame_chain(s, np, &k);
+        if (np)
+            take_plain(s, op, out);
+        poly_frame_out(s, cs, out);
+        pass = !outs && poly_passes(s, out);
+    }
     free(buf);
-    return poly_passes(s, out);
+    free(need);
+    return pass;
+}
+
+int poly_eval_jacobian(const poly_system *s, const double *in, double *out, double *jac)
+{
+    return jacobian_one(s, in, NULL, out, jac);
+}
+
+int poly_eval_jacobian_outputs(const poly_system *s, const double *in, int nsel,
+                               const int *outputs, double *out, double *jac)
+{
+    const size_t nin = (size_t)s->nin, nj = nin * (size_t)s->nout;
+    unsigned char outs[POLY_MAX_OUTPUTS] = {0};
+    if (nsel < 0 || (nsel > 0 && !outputs))
+        return -1;
+    for (int j = 0; j < nsel; j++) {
+        if (outputs[j] < 0 || outputs[j] >= s->nout)
+            return -1;
+        outs[outputs[j]] = 1;
+    }
+    for (int k = 0; k < s->npairs; k++) /* a turned output's derivative needs its partner */
+        outs[s->pair[2 * k]] = outs[s->pair[2 * k + 1]] =
+            outs[s->pair[2 * k]] || outs[s->pair[2 * k + 1]];
+    double o[POLY_MAX_OUTPUTS], *j1 = malloc(nj * sizeof *j1);
+    if (j1)
+        jacobian_one(s, in, outs, o, j1);
+    for (int j = 0; j < nsel; j++) {
+        out[j] = j1 ? o[outputs[j]] : NAN;
+        for (size_t i = 0; i < nin; i++)
+            jac[(size_t)j * nin + i] = j1 ? j1[(size_t)outputs[j] * nin + i] : NAN;
+    }
+    free(j1);
+    return 0;
 }

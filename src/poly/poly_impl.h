@@ -163,7 +163,11 @@ int poly_eval_part_core(const poly_system *sys, int part, const double *in, doub
 int poly_eval_values_core(const poly_system *sys, int part, const double *in, double *out);
 void poly_eval_batch_core(const poly_system *sys, size_t count, const double *in, double *out,
                           unsigned char *pass);
-int poly_eval_jacobian_core(const poly_system *sys, const double *in, double *out, double *jac);
+/* The core's values and derivatives at one ray: the values needv says (NULL: all, and
+ * the pass test; else no pass test, 0) and the derivative sums needd says (NULL: all);
+ * the others come out 0. */
+int poly_eval_jacobian_core(const poly_system *sys, const double *in, const unsigned char *needv,
+                            const unsigned char *needd, double *out, double *jac);
 /* The batch Jacobian, derivative sums sel[0 .. nsel - 1] (k = o * nin + i; sel NULL:
  * all) written per ray in that order. _core: of the core alone (inputs taken as in the
  * frame). _frame: of a framed system whose views exist (when it has outputs outside the
@@ -188,6 +192,8 @@ typedef struct {
                              read only when np) */
     double *g;            /* scratch: 2 nin + 9 columns */
     double *jac;          /* nout x nin: d out_o / d in_i */
+    const unsigned char *outs; /* the outputs asked for (with their turned partners),
+                                  NULL: all; the others' derivatives are not written */
 } poly_chain_cols;
 /* jac = d out / d in from the cores' values and derivatives; np: the system has outputs
  * outside the frame (the plain view's). */
@@ -216,8 +222,10 @@ void poly_frame_on_term(poly_system *s, int part, int output, const int *exps, d
 /* 1 when evaluation needs the frame or a transform around the core. */
 static inline int poly_frame_active(const poly_system *s) { return s->frame != 0 || s->nxform > 0; }
 
-/* The version the .poly writer writes and the reader accepts ("lens-poly 1"). */
-#define POLY_FORMAT_VERSION 1
+/* The version the .poly writer writes; the reader accepts 1 to it. 2: the outer pupil's
+ * out_u, out_v in the tangent frame that turns with the ray (ray_frames.h); version 1
+ * systems without both of those outputs read alike (poly_io.c refuses the others). */
+#define POLY_FORMAT_VERSION 2
 
 /* Shortest decimal that reads back as v ("inf" / "-inf" for infinities); buf >= 32. */
 void poly_format_number(char *buf, size_t len, double v);

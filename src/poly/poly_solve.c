@@ -83,25 +83,27 @@ typedef struct {
 } solver;
 
 /* Residual F(s) = sys(s) - target, and (unless j is NULL) its Jacobian
- * d F / d (x, y, u, v). Without j only the values are evaluated: poly_eval gives the
- * bits of poly_eval_jacobian's outputs at a quarter of its cost. */
+ * d F / d (x, y, u, v). With j, of out_x .. out_v alone (poly_eval_jacobian_outputs: the
+ * passage outputs' derivatives are most of a whole Jacobian's cost); without, only the
+ * values, by poly_eval (with its pass flag): the same bits either way. */
 static double residual(solver *sv, const double s[4], double f[4], double j[4][4], int *pass)
 {
     int ni = poly_ninputs(sv->sys);
     for (int i = 0; i < 4; i++)
         sv->buf_in[sv->in[i]] = s[i];
     sv->buf_in[sv->in[4]] = sv->lambda;
-    int p = j ? poly_eval_jacobian(sv->sys, sv->buf_in, sv->buf_out, sv->jac)
+    double val[4];
+    int p = j ? poly_eval_jacobian_outputs(sv->sys, sv->buf_in, 4, sv->out, val, sv->jac)
               : poly_eval(sv->sys, sv->buf_in, sv->buf_out);
     if (pass)
         *pass = p;
     double nrm = 0;
     for (int o = 0; o < 4; o++) {
-        f[o] = sv->buf_out[sv->out[o]] - sv->target[o];
+        f[o] = (j ? val[o] : sv->buf_out[sv->out[o]]) - sv->target[o];
         nrm = fmax(nrm, fabs(f[o]));
         if (j)
             for (int i = 0; i < 4; i++)
-                j[o][i] = sv->jac[sv->out[o] * ni + sv->in[i]];
+                j[o][i] = sv->jac[o * ni + sv->in[i]];
     }
     return isfinite(nrm) ? nrm : INFINITY;
 }
@@ -144,6 +146,12 @@ int poly_solve_sensor(const poly_system *sys, double lambda, const double outer[
     double s[4] = {0, 0, 0, 0};
     if (guess)
         memcpy(s, guess, sizeof s);
+    /* On the axis a meridional system's Jacobian has no y column (poly_frame.c holds the
+     * frame, whose angle is undefined there, fixed): with every outer output in the frame
+     * Newton could not leave the axis sideways (lens-mtf seeds on-axis bundles with the
+     * chief ray, (0, 0, 0, 0)). A nanometre off the axis the angle is defined. */
+    if (s[0] == 0 && s[1] == 0 && poly_get_frame(sys) != POLY_FRAME_NONE)
+        s[0] = 1e-6;
     double f[4], j[4][4];
     double r = residual(&sv, s, f, j, NULL);
     double tol = 1e-9 * (1 + fmax(fmax(fabs(outer[0]), fabs(outer[1])), 1.0));

@@ -5,7 +5,6 @@
 source "$(dirname "$0")/lib.sh"
 TR=$BIN/lens-trace
 F=$BIN/lens-fit
-E=$BIN/lens-eval
 L=tests/data/clip.lens
 # The same lens with surface 5 as wide as the others: nothing but the stop vignettes.
 awk '!/^#/ && NF >= 4 && ++s == 5 { $4 = 12 } { print }' $L >$T/wide.lens
@@ -62,10 +61,8 @@ read -r only5 outside < <(paste -d' ' <(grep -v '^#' $T/test.txt | cut -d' ' -f1
   awk '$1 == 0 && $2 > 0 { n++; if ($3 * $3 + $4 * $4 > 16) o++ } END { print n + 0, o + 0 }')
 if [ "$only5" -gt 0 ] && [ "$only5" = "$outside" ]; then ok clip_blocked_outside_rim
 else fail clip_blocked_outside_rim "$outside of $only5 rays blocked only by surface 5 hit it outside 4 mm"; fi
-counts() { run $E "$1" --report <$T/test.txt 2>/dev/null |
-  awk '$1 == "false_pass" { p = $2 } $1 == "false_block" { b = $2 } END { print p + 0, b + 0 }'; }
-read -r fp1 fb1 < <(counts $T/clip.poly)
-read -r fp0 fb0 < <(counts $T/stop.poly)
+read -r fp1 fb1 < <(passage_errors $T/clip.poly $T/test.txt)
+read -r fp0 fb0 < <(passage_errors $T/stop.poly $T/test.txt)
 echo "# clip_columns: $n test rays, $only5 blocked only by surface 5: stop circle only" \
      "false_pass $fp0 false_block $fb0; with the s5 circle false_pass $fp1 false_block $fb1"
 if [ "$fp0" -ge $((only5 / 2)) ] && [ $((2 * fp1)) -lt "$fp0" ] && [ $((fp1 + fb1)) -lt $((fp0 + fb0)) ]

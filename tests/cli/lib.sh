@@ -30,3 +30,9 @@ expect_error() {
 makevar() { env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL "${MAKE:-make}" -s --no-print-directory -C "$TOP" "print-$1"; }
 # value KEY < key-value lines
 value() { awk -v k="$1" '$1 == k { print $2; exit }'; }
+# passage_errors SYSTEM RAYS: "false_pass false_block" of lens-eval --report for the
+# system on the rays (0 0 when the report has none).
+passage_errors() {
+  run "$BIN/lens-eval" "$1" --report <"$2" 2>/dev/null |
+    awk '$1 == "false_pass" { p = $2 } $1 == "false_block" { b = $2 } END { print p + 0, b + 0 }'
+}

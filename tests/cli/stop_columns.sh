@@ -58,10 +58,8 @@ if ! grep -q 'ap_x' $T/nostop.poly; then ok fit_outputs_explicit; else fail fit_
 # Passage on rays of another seed. The circle only adds a condition, and the other
 # outputs are fitted alike, so false passes can only drop; with rays blocked at the
 # stop in the test set they must drop, and the misclassified total with them.
-counts() { run $E "$1" --report <$T/test.txt 2>/dev/null |
-  awk '$1 == "false_pass" { p = $2 } $1 == "false_block" { b = $2 } END { print p + 0, b + 0 }'; }
-read -r fp1 fb1 < <(counts $T/stop.poly)
-read -r fp0 fb0 < <(counts $T/nostop.poly)
+read -r fp1 fb1 < <(passage_errors $T/stop.poly $T/test.txt)
+read -r fp0 fb0 < <(passage_errors $T/nostop.poly $T/test.txt)
 echo "# stop_columns: $n test rays: without the stop circle false_pass $fp0 false_block $fb0;" \
      "with it false_pass $fp1 false_block $fb1"
 if [ "$fp1" -lt "$fp0" ] && [ $((fp1 + fb1)) -lt $((fp0 + fb0)) ]; then ok stop_fewer_false

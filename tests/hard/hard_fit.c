@@ -224,6 +224,17 @@ static void near_duplicates(hard_lens *h)
     free_set(&dup);
 }
 
+/* A fit that refused passes when it says why in one line. */
+static void refused_cleanly(const char *n, const lens_err *e)
+{
+    char why[512];
+    snprintf(why, sizeof why, "(refused: %s)", e->msg);
+    if (e->msg[0] && !strchr(e->msg, '\n'))
+        ok(n, why);
+    else
+        fail(n, why);
+}
+
 /* Fewer samples than candidates: 30 rows, C(14, 3) = 364 candidates at degree 11, 20
  * terms asked for. */
 static void few_samples(hard_lens *h)
@@ -234,11 +245,7 @@ static void few_samples(hard_lens *h)
     set few = {30, h->train.in, h->train.out};
     poly_system *pf = fit(&few, 11, 20, 1, 0, 0, &e);
     if (!pf) {
-        snprintf(why, sizeof why, "(refused: %s)", e.msg);
-        if (strchr(e.msg, '\n') == NULL && e.msg[0])
-            ok(n, why);
-        else
-            fail(n, why);
+        refused_cleanly(n, &e);
     } else {
         int terms = poly_nterms(pf, 0, 0);
         double ef = max_err(pf, &h->test);
@@ -259,11 +266,7 @@ static void partitions_few_samples(hard_lens *h)
     set pp = {150, h->train.in, h->train.out};
     poly_system *pparts = fit(&pp, 7, 20, 4, 1e-12, 0, &e);
     if (!pparts) {
-        snprintf(why, sizeof why, "(refused: %s)", e.msg);
-        if (e.msg[0] && !strchr(e.msg, '\n'))
-            ok(n, why);
-        else
-            fail(n, why);
+        refused_cleanly(n, &e);
     } else {
         double ep = max_err(pparts, &h->test);
         snprintf(why, sizeof why, "(%d parts, held-out max error %.3g mm)", poly_nparts(pparts), ep);

@@ -316,8 +316,9 @@ static void test_pass_and_domain(void **st)
 /* poly_eval_batch_outputs against poly_eval_batch's outb and pb on the same n rays:
  * the columns asked for and the pass flags bit for bit, with and without the pass test,
  * five columns (the kernel's row transpose) or three, none; bad selections refused. And
- * poly_eval_jacobian_batch_outputs against the whole Jacobian jb (of a turned pair one
- * output alone too, whose derivative needs its partner's). */
+ * poly_eval_jacobian_batch_outputs and poly_eval_jacobian_outputs against the whole
+ * Jacobian jb (of a turned pair one output alone too, whose derivative needs its
+ * partner's). */
 static void check_selected_outputs(const poly_system *s, int n, const double *in,
                                    const double *outb, const unsigned char *pb,
                                    const double *jb)
@@ -352,6 +353,13 @@ static void check_selected_outputs(const poly_system *s, int n, const double *in
                                     5 * sizeof *js);
     }
     assert_int_equal(poly_eval_jacobian_batch_outputs(s, 1, in, 2, bad, js), -1);
+    for (int r = 0; r < n; r++) { /* one ray: poly_eval_jacobian_outputs, the same bits */
+        double v1[1], j1[5];
+        assert_int_equal(poly_eval_jacobian_outputs(s, in + 5 * r, 1, sel1, v1, j1), 0);
+        assert_memory_equal(v1, outb + 5 * r + 1, sizeof v1);
+        assert_memory_equal(j1, jb + r * 25 + 5, sizeof j1);
+    }
+    assert_int_equal(poly_eval_jacobian_outputs(s, in, 2, bad, js, js), -1);
     free(js);
     free(o);
     free(p);
