@@ -3,9 +3,11 @@
  * same rays: sensor points over the sensor, directions from the line pupil), on
  * lenses/dgauss.50mm.lens (36x24 sensor) and lenses/fisheye-ii.lens (23.6x15.7),
  * single thread, CPU time of this thread, median of 5 runs.
- * Prints "bench render_map_{exact,poly}_<lens>_ns_per_ray VALUE ns", the share of the
- * rays that pass the line pupil, and the lens part of the full estimator (--estimator
- * full: the system's Jacobian, the frames, G-bar and p_A(s1)) against the map alone.
+ * Prints "bench render_map_{exact,poly}_<lens>_ns_per_ray VALUE ns" (one ray a call),
+ * "bench render_batch_{exact,poly}_<lens>_ns_per_ray" (cam->map_batch over blocks of
+ * 512 rays, as lens-render calls it), the share of the rays that pass the line pupil,
+ * and the lens part of the full estimator (--estimator full: the system's Jacobian, the
+ * frames, G-bar and p_A(s1)) against the map alone.
  * Usage: bench_render [RAYS]   (default 200000; from the repository root) */
 #include <math.h>
 #include <stdio.h>
@@ -47,6 +49,23 @@ static double time_map(const render_camera *cam, const double *rays, size_t n, d
     }
     qsort(t, 5, sizeof *t, cmp);
     *passed = (double)pass / n;
+    return t[2];
+}
+
+/* median ns per ray of cam->map_batch over blocks of 512 rays */
+static double time_batch(const render_camera *cam, const double *rays, size_t n)
+{
+    enum { B = 512 };
+    static double o[B * 3], d[B * 3], eta[B];
+    static unsigned char pass[B];
+    double t[5];
+    for (int rep = 0; rep < 5; rep++) {
+        double t0 = now();
+        for (size_t i = 0; i < n; i += B)
+            cam->map_batch(cam->ctx, n - i < B ? n - i : B, rays + 5 * i, o, d, eta, pass);
+        t[rep] = (now() - t0) / n * 1e9;
+    }
+    qsort(t, 5, sizeof *t, cmp);
     return t[2];
 }
 
@@ -127,6 +146,10 @@ static int run(const char *name, const char *path, double sw, double sh, size_t 
     printf("bench render_map_exact_%s_ns_per_ray %.1f ns\n", name, te);
     printf("bench render_map_poly_%s_ns_per_ray %.1f ns\n", name, tp);
     printf("bench render_map_speedup_%s %.2f x\n", name, te / tp);
+    double tbe = time_batch(&ce, rays, n), tbp = time_batch(&cp, rays, n);
+    printf("bench render_batch_exact_%s_ns_per_ray %.1f ns\n", name, tbe);
+    printf("bench render_batch_poly_%s_ns_per_ray %.1f ns\n", name, tbp);
+    printf("bench render_batch_speedup_%s %.2f x\n", name, tbe / tbp);
     printf("bench render_line_pupil_pass_%s %.1f %%\n", name, 100 * pe);
     double tf = time_full(&cp, rays, n);
     printf("bench render_full_estimator_poly_%s_ns_per_ray %.1f ns\n", name, tf);

@@ -57,6 +57,15 @@ pupil_sampler *pupil_sampler_read(FILE *f, lens_err *err);
 int pupil_sampler_sample(const pupil_sampler *ps, double x, double y, const double rnd[2],
                          double *u, double *v, double *pdf);
 
+/* The same distribution (and density) by another map from the two numbers: rnd[1]
+ * picks the row of cells and the height across it, rnd[0] the place along the row's
+ * occupied cells, so that (u, v) moves smoothly with (rnd[0], rnd[1]) over a set whose
+ * rows are intervals, and points stratified in the unit square stay stratified over
+ * the pupil (pupil_sampler_sample walks the cells in raster order with rnd[0]: only
+ * its 1D strata survive). The renderer's camera rays use it. */
+int pupil_sampler_sample_rows(const pupil_sampler *ps, double x, double y, const double rnd[2],
+                              double *u, double *v, double *pdf);
+
 /* Density (per du dv) with which pupil_sampler_sample produces (u, v) at (x, y). */
 double pupil_sampler_pdf(const pupil_sampler *ps, double x, double y, double u, double v);
 

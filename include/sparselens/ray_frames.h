@@ -9,10 +9,13 @@
  *  - outer:   the hit (x, y) on the first surface; direction components (u, v) of the
  *             outgoing unit direction d along the tangent frame at the hit:
  *               n  = unit surface normal pointing to object space ((0,0,-1) at the vertex)
- *               ex = normalize(-n.z, 0, n.x),  ey = ex x n
+ *               ex = (1 - k n.x^2, -k n.x n.y, n.x), ey = (-k n.x n.y, 1 - k n.y^2, n.y),
+ *               k = 1 / (1 - n.z): the x and y axes turned by the smallest rotation
+ *               that takes -z to n
  *             so out_u = d.ex, out_v = d.ey and d.n = sqrt(1 - u^2 - v^2) > 0. This
- *             stays valid for rays past 90 degrees from the axis; it is singular only
- *             where n = (0, +-1, 0) (the rim of a full hemisphere).
+ *             stays valid for rays past 90 degrees from the axis and is singular
+ *             nowhere on a front surface (n.z < 0); turning a ray about the axis turns
+ *             (u, v) with it, as it does (x, y).
  *  - stop:    the hit (x, y) on the stop surface; direction as on the sensor side
  *             (tangents towards the object: d proportional to (u, v, -1)).
  *  - eta:     product over all surfaces of the unpolarised Fresnel transmittance. */

@@ -81,6 +81,11 @@ void render_sampler_free(render_sampler *s);
  * (0 when no direction at that point passes: the caller scores zero). */
 double render_sampler_sample(const render_sampler *s, double x, double y, double r1, double r2,
                              double *u, double *v);
+/* The same directions with the same density, smooth in (r1, r2) (the line pupil by
+ * pupil_sampler_sample_rows): what camera rays use, so that the stratification of the
+ * pixel's (r1, r2) points carries over to the pupil. */
+double render_sampler_sample_2d(const render_sampler *s, double x, double y, double r1,
+                                double r2, double *u, double *v);
 
 /* Eq. 13 (the default), or the unsimplified estimator: Eq. 3 with G-bar (Eq. 12) and
  * p_A(s1) (Eq. 8) each evaluated from its own terms, from the lens's Jacobian

@@ -61,11 +61,12 @@ static const opt_spec fit_table[] = {
      ".B none\n"
      "is the form of files before frames existed.\n"},
     {0, "frame-except", "LIST", OPT_STRING, OPT_AT(fit_cli, frame_except),
-     .help = "outputs fitted outside the frame (the outer-pupil tangent frame does not turn "
-             "with the ray; give '' for samples of lens-trace --to stop)",
-     .def = "out_u,out_v",
+     .help = "outputs fitted outside the frame: pairs that do not turn with the ray (every "
+             "direction of lens-trace does, the outer pupil's u, v included)",
+     .def = "none: every pair in the frame",
      .man =
-     "Names not among the outputs are ignored.\n"},
+     "Names not among the outputs are ignored. Give out_u,out_v for samples of earlier "
+     "versions, whose outer-pupil frame did not turn with the ray.\n"},
     {0, "lambda-transform", "T", OPT_CALL, OPT_AT(fit_cli, lambda_transform),
      .set = set_lambda_transform,
      .help = "inverse-square: polynomials in 1/lambda^2 (dispersion is nearly linear in it); "
@@ -123,7 +124,7 @@ void fit_cli_default(fit_cli *o)
     o->out_path = "-";
     o->inputs = "x,y,u,v,lambda";
     o->frame = "auto";
-    o->frame_except = "out_u,out_v";
+    o->frame_except = "";
     o->lambda_transform = "auto";
     o->name = "lens_poly";
     fit_options_default(&o->fit);

@@ -222,8 +222,10 @@ void poly_frame_on_term(poly_system *s, int part, int output, const int *exps, d
 /* 1 when evaluation needs the frame or a transform around the core. */
 static inline int poly_frame_active(const poly_system *s) { return s->frame != 0 || s->nxform > 0; }
 
-/* The version the .poly writer writes and the reader accepts ("lens-poly 1"). */
-#define POLY_FORMAT_VERSION 1
+/* The version the .poly writer writes; the reader accepts 1 to it. 2: the outer pupil's
+ * out_u, out_v in the tangent frame that turns with the ray (ray_frames.h); version 1
+ * systems without both of those outputs read alike (poly_io.c refuses the others). */
+#define POLY_FORMAT_VERSION 2
 
 /* Shortest decimal that reads back as v ("inf" / "-inf" for infinities); buf >= 32. */
 void poly_format_number(char *buf, size_t len, double v);

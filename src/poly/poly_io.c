@@ -34,7 +34,7 @@ typedef struct {
     int ntok, maxtok;
     header h;
     poly_system *s;
-    int have_version, part, ended;
+    int have_version, part, ended; /* have_version: the version read, 0 before it */
     int *exps;       /* one term's exponents */
     int *seen;       /* outputs already given in the current part */
     index_hash meta; /* meta keys given so far */
@@ -190,10 +190,10 @@ static int key_version(rd *R)
     long v;
     if (strcmp(R->tok[0], "lens-poly") != 0 || R->ntok != 2)
         FAIL("not a polynomial system: expected 'lens-poly %d' first", POLY_FORMAT_VERSION);
-    if (parse_long(R->tok[1], &v) != 0 || v != POLY_FORMAT_VERSION)
-        FAIL("format version '%s' is not supported (this reads %d)", R->tok[1],
+    if (parse_long(R->tok[1], &v) != 0 || v < 1 || v > POLY_FORMAT_VERSION)
+        FAIL("format version '%s' is not supported (this reads 1 to %d)", R->tok[1],
              POLY_FORMAT_VERSION);
-    R->have_version = 1;
+    R->have_version = (int)v;
     return 0;
 }
 
@@ -218,6 +218,15 @@ static int header_key(rd *R, const char *k, int *bad)
         *bad = name_list(R, "inputs", POLY_MAX_INPUTS, &h->nin, &h->in, &h->in_index) != 0;
     } else {
         *bad = name_list(R, "outputs", POLY_MAX_OUTPUTS, &h->nout, &h->out, &h->out_index) != 0;
+        if (!*bad && R->have_version == 1 && find_name(&h->out_index, h->out, "out_u") >= 0 &&
+            find_name(&h->out_index, h->out, "out_v") >= 0) {
+            /* its directions are in a frame no tracer here produces any more: wrong,
+             * not merely old */
+            lens_errf(R->err, R->name, R->line,
+                      "a lens-poly 1 system: its out_u, out_v are in the outer-pupil frame of "
+                      "earlier versions, which did not turn with the ray; fit it again");
+            *bad = 1;
+        }
     }
     return 1;
 }

@@ -146,6 +146,12 @@ int poly_solve_sensor(const poly_system *sys, double lambda, const double outer[
     double s[4] = {0, 0, 0, 0};
     if (guess)
         memcpy(s, guess, sizeof s);
+    /* On the axis a meridional system's Jacobian has no y column (poly_frame.c holds the
+     * frame, whose angle is undefined there, fixed): with every outer output in the frame
+     * Newton could not leave the axis sideways (lens-mtf seeds on-axis bundles with the
+     * chief ray, (0, 0, 0, 0)). A nanometre off the axis the angle is defined. */
+    if (s[0] == 0 && s[1] == 0 && poly_get_frame(sys) != POLY_FRAME_NONE)
+        s[0] = 1e-6;
     double f[4], j[4][4];
     double r = residual(&sv, s, f, j, NULL);
     double tol = 1e-9 * (1 + fmax(fmax(fabs(outer[0]), fabs(outer[1])), 1.0));

@@ -61,7 +61,7 @@ size_t lens_camera_rays(const lens_camera *c, size_t n, const double *samples, d
             row[0] = (s[0] - 0.5) * cam->sensor_w;
             row[1] = (s[1] - 0.5) * cam->sensor_h;
             row[4] = s[2];
-            pdf[i] = render_sampler_sample(&c->smp, row[0], row[1], s[3], s[4], &row[2], &row[3]);
+            pdf[i] = render_sampler_sample_2d(&c->smp, row[0], row[1], s[3], s[4], &row[2], &row[3]);
         }
         cam->map_batch(cam->ctx, m, in, org, dir, eta, pass);
         for (size_t i = 0; i < m; i++) {

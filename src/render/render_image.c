@@ -222,9 +222,9 @@ static void render_block(const render_job *job, const camera_cull *cc, const row
         double y = ((py + q[1]) / sc->height - 0.5) * cam->sensor_h;
         wave_set *w = &b->waves[i];
         waves_of(sc, sc->mode == SCENE_SPECTRAL ? ld_1d_px(key, DIM_LAMBDA, spp, k) : 0, w);
-        ld_2d_px(key, DIM_PUPIL, spp, k, p2);
         double uu, vv;
-        b->pdf[i] = render_sampler_sample(job->sampler, x, y, p2[0], p2[1], &uu, &vv);
+        ld_2d_px(key, DIM_PUPIL, spp, k, p2);
+        b->pdf[i] = render_sampler_sample_2d(job->sampler, x, y, p2[0], p2[1], &uu, &vv);
         nray = job->achromatic ? 1 : w->nwave;
         for (int j = 0; j < nray; j++) {
             double *ray_in = b->in + 5 * ((size_t)i * nray + j);

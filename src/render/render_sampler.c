@@ -107,18 +107,31 @@ int render_sampler_stop(render_sampler *s, const lens_t *lens, double lambda_min
     return s->ps ? 0 : -1;
 }
 
+/* REAR: a uniform point q on the disk at distance h: (u, v) = (q - s0) / h, so
+ * p(u, v) = p_A(q) h^2 */
+static double sample_rear(const render_sampler *s, double x, double y, double r1, double r2,
+                          double *u, double *v)
+{
+    double rad = s->rear_radius * sqrt(r1), phi = 2 * M_PI * r2, h = s->rear_dist;
+    *u = (rad * cos(phi) - x) / h;
+    *v = (rad * sin(phi) - y) / h;
+    return h * h / (M_PI * s->rear_radius * s->rear_radius);
+}
+
 double render_sampler_sample(const render_sampler *s, double x, double y, double r1, double r2,
                              double *u, double *v)
 {
-    if (s->kind == RENDER_SAMPLE_REAR) {
-        /* uniform point q on the disk at distance h: (u, v) = (q - s0) / h, so
-         * p(u, v) = p_A(q) h^2 */
-        double rad = s->rear_radius * sqrt(r1), phi = 2 * M_PI * r2, h = s->rear_dist;
-        *u = (rad * cos(phi) - x) / h;
-        *v = (rad * sin(phi) - y) / h;
-        return h * h / (M_PI * s->rear_radius * s->rear_radius);
-    }
+    if (s->kind == RENDER_SAMPLE_REAR) return sample_rear(s, x, y, r1, r2, u, v);
     double rnd[2] = {r1, r2}, pdf;
     if (pupil_sampler_sample(s->ps, x, y, rnd, u, v, &pdf)) return 0;
+    return pdf;
+}
+
+double render_sampler_sample_2d(const render_sampler *s, double x, double y, double r1,
+                                double r2, double *u, double *v)
+{
+    if (s->kind == RENDER_SAMPLE_REAR) return sample_rear(s, x, y, r1, r2, u, v);
+    double rnd[2] = {r1, r2}, pdf;
+    if (pupil_sampler_sample_rows(s->ps, x, y, rnd, u, v, &pdf)) return 0;
     return pdf;
 }

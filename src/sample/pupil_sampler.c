@@ -35,6 +35,7 @@ typedef struct {
     uint64_t *occ;         /* g*g occupancy bits, row v, column u: bit c of word c / 64 */
     pupil_run *runs;       /* nruns + 1 (a sentinel with cum = count) */
     int nruns;
+    int *row_run;          /* g + 1: row j's runs are row_run[j] .. row_run[j + 1] - 1 */
     int guide[GUIDE];      /* the run holding cell m count / GUIDE */
     double guide_scale;    /* GUIDE / count */
     int count;   /* occupied cells */
@@ -67,6 +68,14 @@ static int set_finish(pupil_set *set)
             set->count++;
         }
     set->runs[r] = (pupil_run){set->count, 0, 0}; /* a sentinel: the end of the last run */
+    set->row_run = malloc((size_t)(g + 1) * sizeof *set->row_run);
+    if (!set->row_run)
+        return -1;
+    for (int j = 0, q = 0; j <= g; j++) {
+        while (q < set->nruns && set->runs[q].j < j)
+            q++;
+        set->row_run[j] = q;
+    }
     set->area = set->count * set->du * set->dv;
     set->guide_scale = set->count ? (double)GUIDE / set->count : 0;
     for (int m = 0, q = 0; m < GUIDE && set->count; m++) {
@@ -249,6 +258,7 @@ void pupil_sampler_free(pupil_sampler *ps)
     for (int i = 0; i < ps->nr && ps->sets; i++) {
         free(ps->sets[i].occ);
         free(ps->sets[i].runs);
+        free(ps->sets[i].row_run);
     }
     free(ps->sets);
     free(ps);
@@ -469,6 +479,51 @@ int pupil_sampler_sample(const pupil_sampler *ps, double x, double y, const doub
     *u = c * up - s * vp;
     *v = s * up + c * vp;
     /* The mixture's density: 1/total in each set that holds the point. */
+    *pdf = (1 + in_set(set == a ? b : a, up, vp)) / total;
+    return 0;
+}
+
+int pupil_sampler_sample_rows(const pupil_sampler *ps, double x, double y, const double rnd[2],
+                              double *u, double *v, double *pdf)
+{
+    int j;
+    double c, s;
+    *u = *v = NAN;
+    *pdf = 0;
+    if (locate(ps, x, y, &j, &c, &s))
+        return -1;
+    const pupil_set *a = &ps->sets[j], *b = &ps->sets[j + 1];
+    double total = a->area + b->area;
+    if (!(total > 0))
+        return -1;
+    /* rnd[1] picks the set (in proportion to area) and, in it, the row and the height
+     * across it, row by row in cell order: uniform over the set, monotone in v */
+    double t = rnd[1] * total;
+    const pupil_set *set = a;
+    if (t >= a->area || a->count == 0) {
+        set = b;
+        t = fmax(t - a->area, 0);
+    }
+    double t2 = t / (set->du * set->dv);
+    int k = (int)t2, ci, cj;
+    if (k >= set->count)
+        k = set->count - 1;
+    set_cell(set, k, &ci, &cj);
+    const pupil_run *row = set->runs + set->row_run[cj], *end = set->runs + set->row_run[cj + 1];
+    int nrow = end->cum - row->cum;
+    double fv = fmin((t2 - row->cum) / nrow, 1);
+    /* rnd[0] the position along the row's occupied cells: monotone in u */
+    double t1 = rnd[0] * nrow;
+    int q = (int)t1;
+    if (q >= nrow)
+        q = nrow - 1;
+    double fu = fmin(t1 - q, 1);
+    while (row + 1 < end && row[1].cum <= row->cum + q)
+        q -= row[1].cum - row->cum, row++;
+    double up = set->u0 + (row->i0 + q + fu) * set->du;
+    double vp = set->v0 + (cj + fmax(fv, 0)) * set->dv;
+    *u = c * up - s * vp;
+    *v = s * up + c * vp;
     *pdf = (1 + in_set(set == a ? b : a, up, vp)) / total;
     return 0;
 }

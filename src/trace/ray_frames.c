@@ -32,18 +32,25 @@ void ray_to_sensor(const lens_t *lens, const lens_ray *r, double xyuv[4])
         xyuv[0] = xyuv[1] = xyuv[2] = xyuv[3] = NAN;
 }
 
-/* Tangent frame at the unit normal n: ex = normalize(-n.z, 0, n.x), ey = ex x n. */
+/* Tangent frame at the unit normal n (n.z < 0, towards the object): the images of the
+ * x and y axes under the smallest rotation that takes -z to n,
+ *   ex = (1 - k n.x^2, -k n.x n.y, n.x),  ey = (-k n.x n.y, 1 - k n.y^2, n.y),
+ *   k = 1 / (1 - n.z).
+ * Turning the lens's point and ray about the axis turns this frame with them, so the
+ * outer pupil's (u, v) turn like any direction, and a fit in the meridional frame
+ * models them too (lens-fit --frame). Defined wherever n.z < 1: every front surface. */
 static int outer_frame(const double n[3], double ex[3], double ey[3])
 {
-    double l = sqrt(n[2] * n[2] + n[0] * n[0]);
-    if (!(l > 1e-300))
+    double q = 1 - n[2];
+    if (!(q > 1e-300))
         return -1;
-    ex[0] = -n[2] / l;
-    ex[1] = 0;
-    ex[2] = n[0] / l;
-    ey[0] = ex[1] * n[2] - ex[2] * n[1];
-    ey[1] = ex[2] * n[0] - ex[0] * n[2];
-    ey[2] = ex[0] * n[1] - ex[1] * n[0];
+    double k = 1 / q;
+    ex[0] = 1 - k * n[0] * n[0];
+    ex[1] = -k * n[0] * n[1];
+    ex[2] = n[0];
+    ey[0] = ex[1];
+    ey[1] = 1 - k * n[1] * n[1];
+    ey[2] = n[1];
     return 0;
 }
 

@@ -172,11 +172,11 @@ KATTR VINLINE vi K(refract)(vd n1, vd n2, vi ok, K(hit) *H, K(rays) *R)
 /* Writes the lanes back: rays, status, transmittance, and (outer, when traced to the
  * front) the outer-pupil coordinates in the frame (fx, 0, fz), (gx, gy, gz). */
 KATTR VINLINE void K(store)(int count, const K(rays) *R, const int status[KW],
-                            const int surface[KW], vd fx, vd fz, vd gx, vd gy, vd gz,
-                            lens_ray *r, trace_result *res, double *outer)
+                            const int surface[KW], vd fx, vd fy, vd fz, vd gx, vd gy,
+                            vd gz, lens_ray *r, trace_result *res, double *outer)
 {
     if (outer) {
-        vd u = R->dx * fx + R->dz * fz, v = R->dx * gx + R->dy * gy + R->dz * gz;
+        vd u = R->dx * fx + R->dy * fy + R->dz * fz, v = R->dx * gx + R->dy * gy + R->dz * gz;
         for (int l = 0; l < count; l++) { /* only passed rays have a defined frame */
             int p = status[l] == TRACE_PASSED;
             outer[4 * l] = p ? R->ox[l] : NAN, outer[4 * l + 1] = p ? R->oy[l] : NAN;
@@ -200,7 +200,7 @@ KATTR static void KNAME(const lens_t *lens, const double *const *n, int count, l
     int status[KW], surface[KW];
     K(load)(lens, n, count, r, &R, nl, status, surface);
     const vd one = K(vsplat)(1.0), zero = K(vsplat)(0.0);
-    vd fx = zero, fz = zero, gx = zero, gy = zero, gz = zero; /* outer frame */
+    vd fx = zero, fy = zero, fz = zero, gx = zero, gy = zero, gz = zero; /* outer frame */
     /* The lanes' indices, surface by surface, as vectors (transposed once). */
     vd nv[lens->nsurf];
     for (size_t i = 0; i < lens->nsurf; i++)
@@ -228,10 +228,10 @@ KATTR static void KNAME(const lens_t *lens, const double *const *n, int count, l
         int refr = i > last || last == 0;
         if (i == 0 && outer) {
             /* The outer-pupil frame of trace.h from the front normal at the hit. */
-            vd il = one / K(vsqrt)(H.nz * H.nz + H.nx * H.nx);
-            vd exx = -H.nz * il, exz = H.nx * il;
-            vd eyx = -exz * H.ny, eyy = exz * H.nx - exx * H.nz, eyz = exx * H.ny;
-            fx = exx, fz = exz, gx = eyx, gy = eyy, gz = eyz; /* applied after refraction */
+            vd k = one / (one - H.nz);
+            vd exy = -k * H.nx * H.ny;
+            fx = one - k * H.nx * H.nx, fy = exy, fz = H.nx; /* applied after refraction */
+            gx = exy, gy = one - k * H.ny * H.ny, gz = H.ny;
         }
         if (refr && K(vany)(n1 != n2))
             tir = K(refract)(n1, n2, ok, &H, &R);
@@ -247,6 +247,6 @@ KATTR static void KNAME(const lens_t *lens, const double *const *n, int count, l
             R.alive &= ~died;
         }
     }
-    K(store)(count, &R, status, surface, fx, fz, gx, gy, gz, r, res,
+    K(store)(count, &R, status, surface, fx, fy, fz, gx, gy, gz, r, res,
              outer && last == 0 ? outer : NULL);
 }

@@ -5,7 +5,6 @@
 source "$(dirname "$0")/lib.sh"
 TR=$BIN/lens-trace
 F=$BIN/lens-fit
-E=$BIN/lens-eval
 L=tests/data/clip.lens
 # The same lens with surface 5 as wide as the others: nothing but the stop vignettes.
 awk '!/^#/ && NF >= 4 && ++s == 5 { $4 = 12 } { print }' $L >$T/wide.lens

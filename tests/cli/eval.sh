@@ -48,31 +48,20 @@ awk 'BEGIN { srand(5); print "# columns: x y u v lambda";
              for (i = 0; i < 300; i++) printf "%.6f %.6f %.6f %.6f %.4f\n",
                36*rand()-18, 36*rand()-18, 1.2*rand()-0.6, 1.2*rand()-0.6, 0.4+0.3*rand() }' >$T/rays.txt
 run $E $sys --emit c --name lens_fn -o $T/fn.c
-cat >$T/main.c <<'C'
-#include <stdio.h>
-int lens_fn(const double in[5], double out[5]);
-int main(void) {
-    char line[512];
-    double in[5], out[64];
-    while (fgets(line, sizeof line, stdin)) {
-        if (line[0] == '#' || sscanf(line, "%lf %lf %lf %lf %lf", &in[0], &in[1], &in[2], &in[3], &in[4]) != 5)
-            continue;
-        int p = lens_fn(in, out);
-        printf("%d %.17g %.17g %.17g %.17g %.17g\n", p, out[0], out[1], out[2], out[3], out[4]);
-    }
-    return 0;
-}
-C
 CC=${CC:-cc}
-if $CC -std=c99 -O2 -Wall -Werror $T/fn.c $T/main.c -o $T/fn -lm; then
+# same_as_eval C E: the 300 rows of the compiled function (flag, 5 outputs) are
+# lens-eval --raw's outputs (columns 12..16) to 1e-12 relative.
+same_as_eval() {
+  paste -d' ' "$1" "$2" | awk '{ for (k = 0; k < 5; k++) { c = $(2 + k); e = $(12 + k);
+      d = c - e; if (d < 0) d = -d; s = e < 0 ? -e : e; if (s < 1e-300) s = 1;
+      if (d > 1e-12 * s) { print "row " NR ": " c " vs " e; exit 1 } } }
+      END { if (NR != 300) { print NR " rows"; exit 1 } }'
+}
+driver="tests/data/emitted_main.c -DLENS_FN=lens_fn"
+if $CC -std=c99 -O2 -Wall -Werror $T/fn.c $driver -o $T/fn -lm; then
   $T/fn <$T/rays.txt >$T/c.txt
   run $E $sys $T/rays.txt --raw 2>/dev/null | grep -v '^#' >$T/e.txt
-  # compare to 1e-12 relative
-  if paste -d' ' $T/c.txt $T/e.txt | awk '{ for (k = 0; k < 5; k++) { c = $(2 + k); e = $(12 + k);
-        d = c - e; if (d < 0) d = -d; s = e < 0 ? -e : e; if (s < 1e-300) s = 1;
-        if (d > 1e-12 * s) { print "row " NR ": " c " vs " e; exit 1 } } }
-        END { if (NR != 300) { print NR " rows"; exit 1 } }'
-  then ok eval_emit_c_matches; else fail eval_emit_c_matches; fi
+  if same_as_eval $T/c.txt $T/e.txt; then ok eval_emit_c_matches; else fail eval_emit_c_matches; fi
 else
   fail eval_emit_c_matches "emitted C does not compile"
 fi
@@ -86,14 +75,10 @@ if [ -x $BIN/lens-trace ] && [ -x $BIN/lens-fit ]; then
   run $BIN/lens-fit -q --terms 12 --degree $deg $T/train.txt -o $T/fit.poly &&
   run $BIN/lens-trace lenses/fisheye-ii.lens -n 300 --seed 2 >$T/test.txt 2>/dev/null &&
   run $E $T/fit.poly --emit c --name lens_fn -o $T/fit.c
-  if [ -s $T/fit.c ] && $CC -std=c99 -O2 -Wall -Werror $T/fit.c $T/main.c -o $T/fitfn -lm; then
+  if [ -s $T/fit.c ] && $CC -std=c99 -O2 -Wall -Werror $T/fit.c $driver -o $T/fitfn -lm; then
     awk '/^#/ { next } { print $1, $2, $3, $4, $5 }' $T/test.txt | $T/fitfn >$T/c.txt
     run $E $T/fit.poly $T/test.txt --raw 2>/dev/null | grep -v '^#' >$T/e.txt
-    if paste -d' ' $T/c.txt $T/e.txt | awk '{ for (k = 0; k < 5; k++) { c = $(2 + k); e = $(12 + k);
-          d = c - e; if (d < 0) d = -d; s = e < 0 ? -e : e; if (s < 1e-300) s = 1;
-          if (d > 1e-12 * s) { print "row " NR ": " c " vs " e; exit 1 } } }
-          END { if (NR != 300) { print NR " rows"; exit 1 } }'
-    then ok eval_emit_c_fitted; else fail eval_emit_c_fitted; fi
+    if same_as_eval $T/c.txt $T/e.txt; then ok eval_emit_c_fitted; else fail eval_emit_c_fitted; fi
     # the report on a held-out set: finite, and positions within a millimetre
     run $E $T/fit.poly $T/test.txt --report >$T/frep.txt 2>/dev/null
     if awk '$1 == "out_x_mm" && NF == 7 { found = 1; if (!($3 + 0 == $3 && $3 > 0 && $3 < 1)) exit 1 } END { exit !found }' $T/frep.txt

@@ -163,7 +163,10 @@ static void test_errors(void **st)
     const struct {
         const char *text, *line, *words;
     } h[] = {
-        {"lens-poly 2\n", "1", "version"},
+        {"lens-poly 3\n", "1", "version"},
+        {"lens-poly 0\n", "1", "version"},
+        /* version 1 directions are in the old outer-pupil frame: refused, not misread */
+        {"lens-poly 1\ninputs x\noutputs out_x out_u out_v\n", "3", "fit it again"},
         {"hello\n", "1", "not a polynomial system"},
         {"lens-poly 1\ninputs x\npart 0 inf\n", "3", "before the outputs"},
         {"lens-poly 1\ninputs x x\n", "2", "named twice"},

@@ -54,9 +54,11 @@ static pupil_sampler *build(aperture *a)
 /* E[pass / pdf] is the area of the passing set: pi R^2 / h^2, within three standard
  * errors, at points on the axis, between tabulated radii and at the edge; and most
  * draws pass (the set is a disk, the grid hugs it). */
-static void test_probe_density(void **state)
+typedef int (*draw_fn)(const pupil_sampler *, double, double, const double[2], double *, double *,
+                       double *);
+
+static void probe_density(draw_fn draw)
 {
-    (void)state;
     aperture a = {20, 6};
     pupil_sampler *ps = build(&a);
     double area = M_PI * a.R * a.R / (a.h * a.h);
@@ -67,7 +69,7 @@ static void test_probe_density(void **state)
         double s = 0, s2 = 0;
         for (int i = 0; i < n; i++) {
             double rnd[2] = {u01(&st), u01(&st)}, u, v, pdf;
-            assert_int_equal(pupil_sampler_sample(ps, pts[k][0], pts[k][1], rnd, &u, &v, &pdf), 0);
+            assert_int_equal(draw(ps, pts[k][0], pts[k][1], rnd, &u, &v, &pdf), 0);
             assert_true(pdf > 0);
             /* the density query knows the drawn direction */
             assert_true(pupil_sampler_pdf(ps, pts[k][0], pts[k][1], u, v) > 0);
@@ -81,6 +83,50 @@ static void test_probe_density(void **state)
         assert_true(fabs(mean - area) < 3 * se + 1e-9);
         assert_true(passed > 0.8 * n);
     }
+    pupil_sampler_free(ps);
+}
+
+static void test_probe_density(void **state)
+{
+    (void)state;
+    probe_density(pupil_sampler_sample);
+    probe_density(pupil_sampler_sample_rows); /* the same distribution by another map */
+}
+
+/* The share of the passing disk on the far side of the chord u > u_c, estimated with a
+ * jittered 32 x 32 grid of (rnd[0], rnd[1]) through draw: RMS error over 20 grids. */
+static double chord_rms(const pupil_sampler *ps, draw_fn draw)
+{
+    aperture a = {20, 6};
+    double x = 3.1, y = 0, uc = (-x + 0.3 * a.R) / a.h; /* the disk's centre u is -x / h */
+    double d = 0.3, share = (acos(d) - d * sqrt(1 - d * d)) / M_PI, se = 0;
+    uint64_t st = 5;
+    for (int rep = 0; rep < 20; rep++) {
+        double sum = 0;
+        for (int i = 0; i < 32; i++)
+            for (int j = 0; j < 32; j++) {
+                double rnd[2] = {(i + u01(&st)) / 32, (j + u01(&st)) / 32}, u, v, pdf;
+                assert_int_equal(draw(ps, x, y, rnd, &u, &v, &pdf), 0);
+                sum += passes(&a, x, y, u, v) * (u > uc) / pdf;
+            }
+        double e = sum / 1024 / (M_PI * a.R * a.R / (a.h * a.h)) - share;
+        se += e * e;
+    }
+    return sqrt(se / 20);
+}
+
+/* Stratified numbers stay stratified over the pupil through pupil_sampler_sample_rows
+ * (smooth in both numbers), not through the raster walk of pupil_sampler_sample: the
+ * share of a chord's segment, far less error from the same grids. */
+static void test_rows_keep_strata(void **state)
+{
+    (void)state;
+    aperture a = {20, 6};
+    pupil_sampler *ps = build(&a);
+    double rows = chord_rms(ps, pupil_sampler_sample_rows), raster = chord_rms(ps, pupil_sampler_sample);
+    print_message("segment share from 32 x 32 jittered grids, RMS error: rows %.2g, raster %.2g\n",
+                  rows, raster);
+    assert_true(rows < 0.3 * raster);
     pupil_sampler_free(ps);
 }
 
@@ -148,6 +194,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_probe_density),
+        cmocka_unit_test(test_rows_keep_strata),
         cmocka_unit_test(test_cache_round_trip),
         cmocka_unit_test(test_probe_bad_arguments),
     };
