@@ -38,6 +38,19 @@ int distort_scale(const imaging *im, double lambda, double *scale, lens_err *err
 int distort_curve(const imaging *im, double lambda, const double *field, int nf, int ris,
                   distort_row *rows, lens_err *err);
 
+/* Relative illumination as irradiance: for an object of uniform radiance, the integral
+ * of P T cos^4(theta) du dv over every sensor direction that can pass, at the chief
+ * ray's point of each row (x_real, h_real) over the same on the axis, on a grid of
+ * 8 ris x 8 ris directions; through the system or the exact lens. By conservation of
+ * etendue it is the flux ratio above (within 0.5% for dgauss.50mm; a fisheye's bundles
+ * at large fields differ more), and it is the only one a system can give: inverting a
+ * meridional system on its axis is exact only to its fit error (their ratio came out
+ * at 2.4 near fisheye-ii's axis, -822 elsewhere). distort_curve uses it for a system;
+ * lens-distort for every model when one is a system, so that the two rows compare
+ * like with like. 0, or -1 when no light reaches the axis. */
+int distort_illumination_irradiance(const imaging *im, double lambda, int nf, int ris,
+                                    distort_row *rows);
+
 /* The projection with the least RMS distortion over the rows with a non-zero field
  * (object at infinity); *rms_pct gets that RMS. */
 proj_kind distort_best_mapping(const distort_row *rows, int nf, double *rms_pct);

@@ -75,6 +75,11 @@ int agf_parse(const char *data, size_t len, const char *path, agf_add_fn add, vo
         int n = import_tokens(line, tok, AGF_MAX_TOK);
         if (n == 0)
             continue;
+        if (n > AGF_MAX_TOK) {
+            lens_errf(err, path, it.line, "more than %d words on a line", AGF_MAX_TOK);
+            rc = -1;
+            break;
+        }
         if (import_eq(tok[0], "NM")) {
             if ((rc = flush(&p, path, add, ctx, err)) != 0)
                 break;

@@ -198,11 +198,17 @@ int import_any_nonzero(char **tok, int n, int from)
     return 0;
 }
 
-void import_numbers(char **tok, int n, double *dst, int *count, int max)
+int import_numbers(char **tok, int n, double *dst, int *count, int max)
 {
-    for (int i = 1; i < n && *count < max; i++)
-        if (parse_double(tok[i], &dst[*count]) == 0)
+    int left = 0;
+    double v;
+    for (int i = 1; i < n; i++) {
+        if (*count < max && parse_double(tok[i], &dst[*count]) == 0)
             (*count)++;
+        else if (*count == max && parse_double(tok[i], &v) == 0 && v != 0)
+            left++;
+    }
+    return left;
 }
 
 char *import_next_line(import_lines *it)
@@ -247,7 +253,8 @@ int import_tokens(char *line, char **tok, int max)
         if (*p)
             *p++ = '\0';
         if (n < max)
-            tok[n++] = start;
+            tok[n] = start;
+        n++;
     }
     return n;
 }
@@ -276,6 +283,19 @@ const char *import_rest_after(const char *line, const char *keyword)
         return NULL;
     p += k;
     return p + strspn(p, " \t");
+}
+
+int import_copy_name(char *dst, size_t cap, const char *name, const char *what,
+                     const char *path, long line, lens_err *err)
+{
+    size_t n = strlen(name);
+    if (n < cap) {
+        memcpy(dst, name, n + 1);
+        return 0;
+    }
+    lens_errf(err, path, line, "%s '%.20s...' is longer than %zu characters", what, name,
+              cap - 1);
+    return -1;
 }
 
 void import_set_name(lens_t *lens, const char *name)

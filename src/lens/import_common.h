@@ -44,8 +44,9 @@ void *import_push(void **array, size_t *cap, size_t *n, size_t size, const char 
 int import_any_nonzero(char **tok, int n, int from);
 
 /* Appends the numbers among tok[1..n) to dst[*count..max), passing over words that are
- * not numbers (lists of wavelengths or fields). */
-void import_numbers(char **tok, int n, double *dst, int *count, int max);
+ * not numbers (lists of wavelengths or fields). Returns how many numbers did not fit,
+ * zeros (padding) not counted, for the caller's note: nothing is dropped silently. */
+int import_numbers(char **tok, int n, double *dst, int *count, int max);
 
 /* Next line of a decoded buffer, split in place (\n, \r\n or \r); NULL at the end. */
 typedef struct {
@@ -54,14 +55,19 @@ typedef struct {
 } import_lines;
 char *import_next_line(import_lines *it);
 
-/* Splits a line in place into at most max tokens at blanks. Text in double
- * or single quotes is one token, quotes removed. Returns the count; tokens past max are
- * dropped. */
+/* Splits a line in place into tokens at blanks, storing the first max in tok. Text in
+ * double or single quotes is one token, quotes removed. Returns the number of tokens on
+ * the line, which may be more than max: the caller says what it does with the rest. */
 int import_tokens(char *line, char **tok, int max);
 
 /* When line's first word is keyword (any case), the rest of the line after the blanks
  * that follow it; else NULL. For values that are free text, blanks included. */
 const char *import_rest_after(const char *line, const char *keyword);
+
+/* Copies name into dst (cap bytes): 0, or -1 with "FILE:LINE: WHAT 'NAME...' is longer
+ * than N characters" (a glass name is never cut: a cut one would find another glass). */
+int import_copy_name(char *dst, size_t cap, const char *name, const char *what,
+                     const char *path, long line, lens_err *err);
 
 /* Sets lens->name; a name too long for it is shortened with "..." and the full length
  * said in a note, never cut silently. */

@@ -17,7 +17,7 @@
 #include "lens/import_seq.h"
 #include "sparselens/numparse.h"
 
-#define SEQ_MAX_TOK 24
+#define SEQ_MAX_TOK 64
 
 static void refuse(qsurf *q, long line, const char *why)
 {
@@ -64,8 +64,9 @@ static int define_surface(seq_state *st, qsurf *q, char **tok, int n, long line,
         if (import_eq(tok[3], "REFL"))
             refuse(q, line, "is a mirror (REFL); sparselens models refracting lenses only");
         else {
-            snprintf(q->glass, sizeof q->glass, "%s", tok[3]);
             q->glass_line = line;
+            return import_copy_name(q->glass, sizeof q->glass, tok[3], "glass name",
+                                    st->sys.path, line, err);
         }
     }
     return 0;
@@ -91,7 +92,8 @@ static int private_glass(seq_state *st, char **tok, int n, long line, lens_err *
     }
     if (import_eq(tok[0], "PWL")) {
         st->npwl = 0;
-        import_numbers(tok, n, st->pwl, &st->npwl, SEQ_MAX_PWL);
+        if (import_numbers(tok, n, st->pwl, &st->npwl, SEQ_MAX_PWL))
+            import_skip(&st->sys.skips, "private glass wavelengths past the 8th");
         return 0;
     }
     if (st->nprv == SEQ_MAX_PRIVATE) {
@@ -114,8 +116,11 @@ static int private_glass(seq_state *st, char **tok, int n, long line, lens_err *
         return -1;
     }
     int d = pwl_at(st, 587.5618), f = pwl_at(st, 486.1327), c = pwl_at(st, 656.2725);
-    int k = st->nprv++;
-    snprintf(st->prv[k].name, sizeof st->prv[k].name, "%s", tok[0]);
+    int k = st->nprv;
+    if (import_copy_name(st->prv[k].name, sizeof st->prv[k].name, tok[0], "private glass name",
+                         st->sys.path, line, err) != 0)
+        return -1;
+    st->nprv++;
     st->prv[k].why[0] = '\0';
     st->prv[k].vd = 0;
     if (d < 0) {
@@ -210,9 +215,10 @@ static int surface_value(seq_state *st, qsurf *cur, char **tok, int n, long line
     if (import_eq(k, "THI"))
         return import_number(&st->sys, tok, n, 1, line, &cur->thick, err);
     if (import_eq(k, "GLA")) {
-        if (n > 1)
-            snprintf(cur->glass, sizeof cur->glass, "%s", tok[1]);
         cur->glass_line = line;
+        if (n > 1)
+            return import_copy_name(cur->glass, sizeof cur->glass, tok[1], "glass name",
+                                    st->sys.path, line, err);
     }
     return 0; /* ASP, CON, SPH: the surface type; the coefficients that follow say the rest */
 }
@@ -295,7 +301,8 @@ static void fields(seq_state *st, char **tok, int n)
         if (import_eq(tok[0], keys[i]))
             snprintf(st->field_kind, sizeof st->field_kind, "%s", kinds[i]);
     st->nyan = 0;
-    import_numbers(tok, n, st->yan, &st->nyan, SEQ_MAX_LIST);
+    if (import_numbers(tok, n, st->yan, &st->nyan, SEQ_MAX_LIST))
+        import_skip(&st->sys.skips, "fields past the 24th");
 }
 
 /* DIM: the length unit. */
@@ -334,9 +341,10 @@ static int system_command(seq_state *st, char **tok, int n, long line, lens_err 
         return import_number(&st->sys, tok, n, 1, line, &st->sys.epd, err);
     else if (import_eq(k, "FNO"))
         return import_number(&st->sys, tok, n, 1, line, &st->sys.fno, err);
-    else if (import_eq(k, "WL"))
-        import_numbers(tok, n, st->wl, &st->nwl, SEQ_MAX_LIST);
-    else if (import_eq(k, "REF")) {
+    else if (import_eq(k, "WL")) {
+        if (import_numbers(tok, n, st->wl, &st->nwl, SEQ_MAX_LIST))
+            import_skip(&st->sys.skips, "wavelengths past the 24th");
+    } else if (import_eq(k, "REF")) {
         if (n > 1 && parse_long(tok[1], &r) == 0)
             st->ref = (int)r;
     } else if (import_eq_any(k, field_keys))
@@ -434,6 +442,10 @@ static int line_commands(seq_state *st, char *p, long line, lens_err *err)
             *q = '\0';
         }
         int n = import_tokens(p, tok, SEQ_MAX_TOK);
+        if (n > SEQ_MAX_TOK) {
+            import_skip(&st->sys.skips, "words past the 64th of a command");
+            n = SEQ_MAX_TOK;
+        }
         if (n > 0)
             rc = command(st, tok, n, line, err);
         p = next;

@@ -17,8 +17,10 @@
 #include "lens/import_common.h"
 #include "sparselens/numparse.h"
 
-#define ZMX_MAX_TOK 24
+#define ZMX_MAX_TOK 64
 #define ZMX_NPARM 9 /* PARM 1..8 used by the even asphere (r^2 .. r^16) */
+#define ZMX_MAX_FIELDS 12
+#define ZMX_MAX_WAVES 24
 
 typedef struct {
     long line;      /* the SURF line */
@@ -40,9 +42,9 @@ typedef struct {
     zsurf *s;
     size_t ns, cap;
     int ftype, nfields, nwaves, pwav;
-    double xfield[12], yfield[12];
+    double xfield[ZMX_MAX_FIELDS], yfield[ZMX_MAX_FIELDS];
     int nx, ny;
-    double wave[24];
+    double wave[ZMX_MAX_WAVES];
     int nwave_read;
     int mnum;
     char gcat[100];
@@ -121,7 +123,9 @@ static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, le
         }
         z->has_glas = 1;
         z->glas_line = line;
-        snprintf(z->glas, sizeof z->glas, "%s", tok[1]);
+        if (import_copy_name(z->glas, sizeof z->glas, tok[1], "glass name", st->sys.path, line,
+                             err) != 0)
+            return -1;
         z->nd = z->vd = NAN;
         if (n > 5) {
             num(tok[4], &z->nd);
@@ -197,23 +201,20 @@ static int system_key(zmx_state *st, char **tok, int n, long line, lens_err *err
     } else if (import_eq(k, "XFLN") || import_eq(k, "YFLN") || import_eq(k, "XFIE") ||
                import_eq(k, "YFIE")) {
         int y = toupper((unsigned char)k[0]) == 'Y';
-        double *f = y ? st->yfield : st->xfield;
-        int *cnt = y ? &st->ny : &st->nx;
-        for (int i = 1; i < n && *cnt < 12; i++)
-            if (parse_double(tok[i], &v) == 0)
-                f[(*cnt)++] = v;
+        if (import_numbers(tok, n, y ? st->yfield : st->xfield, y ? &st->ny : &st->nx,
+                           ZMX_MAX_FIELDS))
+            import_skip(&st->sys.skips, "fields past the 12th");
     } else if (import_eq(k, "WAVM")) {
         long i;
-        if (n > 2 && parse_long(tok[1], &i) == 0 && i >= 1 && i <= 24 &&
+        if (n > 2 && parse_long(tok[1], &i) == 0 && i >= 1 && i <= ZMX_MAX_WAVES &&
             parse_double(tok[2], &v) == 0) {
             st->wave[i - 1] = v;
             if (i > st->nwave_read)
                 st->nwave_read = (int)i;
         }
     } else if (import_eq(k, "WAVL") || import_eq(k, "WAVN")) {
-        for (int i = 1; i < n && st->nwave_read < 24; i++)
-            if (parse_double(tok[i], &v) == 0)
-                st->wave[st->nwave_read++] = v;
+        if (import_numbers(tok, n, st->wave, &st->nwave_read, ZMX_MAX_WAVES))
+            import_skip(&st->sys.skips, "wavelengths past the 24th");
         if (st->nwaves == 0)
             st->nwaves = st->nwave_read;
     } else if (import_eq(k, "PWAV")) {
@@ -457,6 +458,10 @@ static int read_lines(void *state, char *text, lens_err *err)
         int n = import_tokens(line, tok, ZMX_MAX_TOK);
         if (n == 0)
             continue;
+        if (n > ZMX_MAX_TOK) {
+            import_skip(&st->sys.skips, "words past the 64th of a line");
+            n = ZMX_MAX_TOK;
+        }
         if (import_eq(tok[0], "VERS"))
             seen_vers = 1;
         if (import_eq(tok[0], "SURF")) {

@@ -94,13 +94,32 @@ void lens_fmt_double(double v, char buf[32])
 
 void lens_add_note(lens_t *lens, const char *fmt, ...)
 {
-    size_t n = strlen(lens->notes);
-    if (n && n + 1 < sizeof lens->notes)
-        lens->notes[n++] = '\n';
-    if (n + 1 >= sizeof lens->notes)
-        return;
+    char line[sizeof lens->notes];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(lens->notes + n, sizeof lens->notes - n, fmt, ap);
+    int w = vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
+    if (w < 0)
+        return;
+    char *notes = lens->notes;
+    size_t cap = sizeof lens->notes, n = strlen(notes), sep = n ? 1 : 0;
+    size_t len = (size_t)w < sizeof line ? (size_t)w : sizeof line - 1;
+    int full = n + sep + len >= cap;
+    if (full && n + sep + 3 >= cap) { /* no room for more: mark the end, once */
+        if (n >= 3 && strcmp(notes + n - 3, "...") != 0)
+            memcpy(notes + n - 3, "...", 4);
+        return;
+    }
+    /* Full: what fits, then "...", so that the cut is seen. */
+    if (full)
+        len = cap - 1 - n - sep - 3;
+    if (sep)
+        notes[n++] = '\n';
+    memcpy(notes + n, line, len);
+    n += len;
+    if (full) {
+        memcpy(notes + n, "...", 3);
+        n += 3;
+    }
+    notes[n] = '\0';
 }

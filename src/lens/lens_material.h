@@ -29,7 +29,8 @@ int material_lookup(material_ctx *m, const char *name, const glass_t **g, const 
 /* The shortest %g form of v that reads back to the same double; "inf"/"-inf". */
 void lens_fmt_double(double v, char buf[32]);
 
-/* Appends a line to lens->notes (written as "# note:" lines); truncates when full. */
+/* Appends a line to lens->notes (written as "# note:" lines); when they are full, what
+ * does not fit is cut and the notes end in "...". */
 void lens_add_note(lens_t *lens, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 #endif

@@ -215,12 +215,13 @@ static uint64_t lens_hash(const lens_t *lens)
 }
 
 /* The version in the key changes whenever render_fit's systems do (v3: the passage
- * helper's faithful passage), so that a cache never serves a system of older code. */
+ * helper's faithful passage; v4: the outer frame that turns with the ray and training
+ * rays in the sensor's corners), so that a cache never serves a system of older code. */
 void render_effects_key(const lens_t *lens, const render_effects *e, char key[17])
 {
     uint64_t h = lens_hash(lens);
     char eff[160];
-    int n = snprintf(eff, sizeof eff, "v3 disp %d eta %d vig %d r %.6g tol %.6g D %.6g",
+    int n = snprintf(eff, sizeof eff, "v4 disp %d eta %d vig %d r %.6g tol %.6g D %.6g",
                      e->dispersion, e->transmittance, e->vignetting, e->domain_radius,
                      e->tolerance, e->focus);
     h = fnv(h, eff, (size_t)n);

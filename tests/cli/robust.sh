@@ -67,6 +67,24 @@ err_has nul_zmx_utf16 'nul16.zmx:2: NUL byte at column 7' "$BIN/lens-info" "$T/n
 { head -4 tests/data/import/test.agf; printf 'CC a\0b\n'; tail -n +5 tests/data/import/test.agf; } >"$T/nul.agf"
 err_has nul_agf 'nul.agf:5: NUL byte at column 5' "$BIN/lens-info" --glass-catalog "$T/nul.agf" lenses/lensbaby.lens
 
+# Nothing an importer reads is cut silently: a glass name too long to hold is an error
+# (a cut name could find another glass); wavelengths past the 24th, words past the 64th
+# of a command, and notes past 1024 bytes are said (the notes end in "...").
+printf 'S 50 5 %s\nS -50 40\n' "$(head -c 60 /dev/zero | tr '\0' G)" >"$T/longglass.seq"
+err_has seq_long_glass_name "longglass.seq:1: glass name 'GGGGGGGGGGGGGGGGGGGG...' is longer than 47 characters" \
+  "$BIN/lens-info" "$T/longglass.seq"
+sed 's/^\( *GLAS \)N-BK7/\1NBK7-WITH-A-NAME-FAR-LONGER-THAN-ANY-CATALOG-HOLDS/' tests/data/import/doublet.zmx >"$T/longglass.zmx"
+err_has zmx_long_glass_name "longglass.zmx:[0-9]+: glass name 'NBK7-WITH-A-NAME-FAR...' is longer than 47" \
+  "$BIN/lens-info" "$T/longglass.zmx"
+{ printf 'WL'; for k in $(seq 30); do printf ' %d' $((400 + 10 * k)); done; echo
+  for k in $(seq 30); do echo "F${k}$(head -c 40 /dev/zero | tr '\0' x) 1"; done
+  printf 'S 50 5 N-BK7\nCIR 10\nS -50 40\nCIR 10\nSTO\n'; } >"$T/many.seq"
+notes=$(run "$BIN/lens-info" --format lens "$T/many.seq" 2>/dev/null | grep '^# note:')
+grep -q '^# note: wavelengths (um): 0.41 .* 0.64$' <<<"$notes" &&
+  grep -q 'skipped: wavelengths past the 24th, command F1x' <<<"$notes" &&
+  [ "$(tail -1 <<<"$notes" | tail -c 4)" = "..." ] && ok import_nothing_cut_silently ||
+  fail import_nothing_cut_silently "$notes"
+
 # A UTF-8 byte-order mark before the first line is read as nothing, by every reader.
 bom() { printf '\xef\xbb\xbf'; cat "$1"; }
 bom "$LENS" >"$T/bom.lens"

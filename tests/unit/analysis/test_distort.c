@@ -58,6 +58,12 @@ static void thin_lens_illumination_is_cos4(void **state)
         /* grid sampling of the pupil's edge: a few tenths of a percent */
         assert_true(fabs(rows[i].rel_illum - c * c * c * c) < 0.01);
     }
+    /* the irradiance form (the one a system allows) gives the same cos^4 */
+    assert_int_equal(distort_illumination_irradiance(&im, GLASS_D_LINE, 3, 16, rows), 0);
+    for (int i = 0; i < 3; i++) {
+        double c = cos(field[i] * M_PI / 180);
+        assert_true(fabs(rows[i].rel_illum - c * c * c * c) < 0.005);
+    }
     lens_free(&l);
 }
 
