@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# house-check.sh [--list]: the house rules on size (issue 12) that a reader can check by
+# house-check.sh [--list] [DIR]: the house rules on size (issue 12) that a reader can check by
 # counting. A C or C++ function over 120 lines (from the first line of its signature to
 # its closing brace) and a source file over 600 lines are offenders, each printed as
 # "FILE:LINE: what", unless a reason is written down: a comment line with "Long file:"
@@ -7,10 +7,11 @@
 # above the function. Exit 1 when there is an offender; with --list, print them, exit 0.
 # Functions are found by the project's layout: the signature starts in column 0, the body
 # opens with "{" alone in column 0 and closes with the next "}" in column 0.
+# DIR (default: this repository) is a git checkout; its tracked files are read.
 set -u
-cd "$(dirname "$0")/.."
 list=0
-[ "${1:-}" = --list ] && list=1
+[ "${1:-}" = --list ] && { list=1; shift; }
+cd "${1:-$(dirname "$0")/..}" || exit 2
 max_function=120 max_file=600
 
 offenders=$(git ls-files -- src include cmd tests bench tools |

@@ -74,7 +74,7 @@ static const opt_spec eval_table[] = {
     {0}};
 
 const opt_command eval_command = {
-    "lens-eval", "SYSTEM.poly [FILE|-] [options]",
+    "lens-eval", "SYSTEM.poly [FILE|-] [options]\nSYSTEM.poly --emit c [--name NAME] [-o FILE]",
     "Evaluates a polynomial system (man 5 lens-poly) on the rays of a sample file (man 5 "
     "lens-samples; standard input if FILE is - or absent), finding the system's input columns "
     "by name, and writes the inputs and predicted outputs as a sample file. A malformed row "
