@@ -428,9 +428,9 @@ static void axis_limit(const poly_system *s, int np, const poly_chain_cols *k, s
  * are written out rather than multiplied as a matrix: 11 of its 25 entries are not zero.
  * Column by column over the rays: the batch Jacobian runs it on a chunk of rays, in
  * vector registers; poly_eval_jacobian on one. */
-CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chain_cols *k)
+static inline __attribute__((always_inline)) void chain(const poly_system *s, int np,
+                                                        const poly_chain_cols *k, size_t n)
 {
-    const size_t n = k->n;
     const int nin = s->nin, nout = s->nout;
 #define COL(p, i) ((p) + (size_t)(i) * n)
 #define ON(o) (!k->outs || k->outs[o]) /* an output asked for */
@@ -538,6 +538,13 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
 #undef ON
 }
 
+/* The chain rule on n = k->n rays, in vector code; one ray (jacobian_one) compiles the
+ * same body with n = 1, where its loops vanish. */
+CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chain_cols *k)
+{
+    chain(s, np, k, k->n);
+}
+
 /* With a frame: through the batch kernel, which applies the frame and the transforms,
  * runs the views' values and derivatives and then poly_frame_chain on each block, as
  * poly_eval_jacobian does on one ray (the same bits). Ray by ray if the views are
@@ -628,7 +635,7 @@ static int jacobian_one(const poly_system *s, const double *in, const unsigned c
         if (np)
             poly_eval_jacobian_core(s->vplain ? s->vplain : s, p, nv[1], nd[1], op, Jp);
         const poly_chain_cols k = {1, in, w, &cs[0], &cs[1], out, J, Jp, g, jac, outs};
-        poly_frame_chain(s, np, &k);
+        chain(s, np, &k, 1);
         if (np)
             take_plain(s, op, out);
         poly_frame_out(s, cs, out);

@@ -275,6 +275,50 @@ static void render_block(const render_job *job, const camera_cull *cc, const row
     }
 }
 
+/* Row py: its pixels' keys, their samples in blocks, their means (and variances) into
+ * rgb (var); the counts added to tot. */
+static void render_row(const render_job *job, const camera_cull *cc, block_buf *b, row_state *row,
+                       int py, float *rgb, float *var, pixel_acc *tot)
+{
+    const scene_t *sc = job->scene;
+    int W = sc->width;
+    /* the pixels rendered: [xa, xb) of the row, or none (a crop) */
+    int crop = job->x1 > 0, xa = crop ? job->x0 : 0, xb = crop ? job->x1 : W;
+    if (xa < 0) xa = 0;
+    if (xb > W) xb = W;
+    if (crop && (py < job->y0 || py >= job->y1)) xb = xa;
+    row->py = py;
+    for (int px = xa; px < xb; px++) {
+        ld_pixel_init(&row->key[px], ld_pixel_key(sc->seed, (size_t)py * W + px));
+        memset(&row->acc[px], 0, sizeof row->acc[px]);
+    }
+    int m = 0;
+    for (int px = xa; px < xb; px++)
+        for (long k = 0; k < job->spp; k++) {
+            b->px[m] = px, b->k[m] = k;
+            if (++m == BLOCK) render_block(job, cc, row, m, b), m = 0;
+        }
+    if (m) render_block(job, cc, row, m, b);
+    for (int px = 0; px < W; px++) {
+        size_t pix = (size_t)py * W + px;
+        pixel_acc acc;
+        if (px >= xa && px < xb) acc = row->acc[px];
+        else memset(&acc, 0, sizeof acc);
+        tot->passed += acc.passed;
+        tot->full += acc.full;
+        tot->fallback += acc.fallback;
+        double n = (double)job->spp;
+        for (int c = 0; c < 3; c++) {
+            double mean = acc.sum[c] / n;
+            rgb[3 * pix + c] = (float)mean;
+            if (var) {
+                double v = n > 1 ? (acc.sum2[c] - n * mean * mean) / (n - 1) : 0;
+                var[3 * pix + c] = (float)(fmax(v, 0) / n);
+            }
+        }
+    }
+}
+
 static double cpu_now(void)
 {
     struct timespec ts;
@@ -297,7 +341,7 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
     }
     double t0 = omp_get_wtime(), c0 = cpu_now();
     long rows_done = 0;
-    double passed_total = 0, full_total = 0, fallback_total = 0;
+    double passed_total = 0, full_total = 0, fallback_total = 0; /* reduced from tot */
     int threads = job->threads > 0 ? job->threads : omp_get_max_threads();
     int fail = 0;
     camera_cull cc = {NULL, origin_radius(job->cam)};
@@ -307,6 +351,8 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
     {
         block_buf *b = malloc(sizeof *b);
         row_state row = {0, malloc((size_t)W * sizeof *row.key), malloc((size_t)W * sizeof *row.acc)};
+        pixel_acc tot;
+        memset(&tot, 0, sizeof tot);
         if (!b || !row.key || !row.acc) {
 #pragma omp atomic write
             fail = 1;
@@ -314,41 +360,7 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
 #pragma omp for schedule(dynamic, 1)
         for (int py = 0; py < H; py++) {
             if (!b || !row.key || !row.acc) continue;
-            /* the pixels rendered: [xa, xb) of the row, or none (a crop) */
-            int crop = job->x1 > 0, xa = crop ? job->x0 : 0, xb = crop ? job->x1 : W;
-            if (xa < 0) xa = 0;
-            if (xb > W) xb = W;
-            if (crop && (py < job->y0 || py >= job->y1)) xb = xa;
-            row.py = py;
-            for (int px = xa; px < xb; px++) {
-                ld_pixel_init(&row.key[px], ld_pixel_key(sc->seed, (size_t)py * W + px));
-                memset(&row.acc[px], 0, sizeof row.acc[px]);
-            }
-            int m = 0;
-            for (int px = xa; px < xb; px++)
-                for (long k = 0; k < job->spp; k++) {
-                    b->px[m] = px, b->k[m] = k;
-                    if (++m == BLOCK) render_block(job, &cc, &row, m, b), m = 0;
-                }
-            if (m) render_block(job, &cc, &row, m, b);
-            for (int px = 0; px < W; px++) {
-                size_t pix = (size_t)py * W + px;
-                pixel_acc acc;
-                if (px >= xa && px < xb) acc = row.acc[px];
-                else memset(&acc, 0, sizeof acc);
-                passed_total += acc.passed;
-                full_total += acc.full;
-                fallback_total += acc.fallback;
-                double n = (double)job->spp;
-                for (int c = 0; c < 3; c++) {
-                    double mean = acc.sum[c] / n;
-                    rgb[3 * pix + c] = (float)mean;
-                    if (var) {
-                        double v = n > 1 ? (acc.sum2[c] - n * mean * mean) / (n - 1) : 0;
-                        var[3 * pix + c] = (float)(fmax(v, 0) / n);
-                    }
-                }
-            }
+            render_row(job, &cc, b, &row, py, rgb, var, &tot);
             long done;
 #pragma omp atomic capture
             done = ++rows_done;
@@ -358,6 +370,9 @@ int render_image(const render_job *job, float *rgb, float *var, render_stats *st
         free(b);
         free(row.key);
         free(row.acc);
+        passed_total += tot.passed;
+        full_total += tot.full;
+        fallback_total += tot.fallback;
     }
     scene_cull_free(cull);
     if (fail) {
