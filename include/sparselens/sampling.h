@@ -6,7 +6,9 @@
  *  - rear:  towards a uniform point of the rear element's clear disc (the disc of its
  *           semi-diameter in its vertex plane): the usual way, kept as the baseline;
  *  - pupil: from the pupil sampler (pupil_sampler.h), which knows which directions
- *           pass from each sensor radius;
+ *           pass from each sensor radius; one ray in 16 (every sixteenth index) from a
+ *           sensor point uniform within a tenth of the half diagonal from the axis,
+ *           where a meridional fit's data end (sampling.c);
  *  - full:  uniform in (u, v) over a disc in the rear vertex plane that holds every
  *           direction that can pass (full_disc_radius): the whole ray space a system
  *           serves, for finding what limits the beam and for measuring passage as a
@@ -58,7 +60,7 @@ ray_generator *ray_generator_new(const lens_t *lens, const sampling_options *opt
 /* Rays first .. first+count-1 as rows (x, y, u, v, lambda). A sensor point from which no
  * direction passes is drawn again from the same stream (up to 64 times; then the ray is
  * aimed at the rear element), so pupil-sampled points are uniform over the part of the
- * sensor the lens can reach. */
+ * sensor the lens can reach (but for the axis's share above). */
 int ray_generator_fill(const ray_generator *g, size_t first, size_t count, double *rows,
                        lens_err *err);
 /* The pupil sampler in use (NULL for the rear strategy). */

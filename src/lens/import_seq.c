@@ -5,7 +5,8 @@
  * commands after them (CIR, ASP with K A B C D E, STO alone, solve flags) qualify the
  * current surface. Conventions match sparselens's: radius positive with the centre of
  * curvature towards the image, thickness to the next surface, glass after the surface.
- * Lengths are in the file's units (DIM M/C/I) and converted to mm here. */
+ * Lengths are in the file's units (DIM M/C/I), converted to mm when the lens is built
+ * (import_seq_build.c) from what this file reads. */
 #include "base/line_reader.h"
 #include "sparselens/import_design.h"
 

@@ -422,8 +422,9 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
             " * %s_batch does the same for many rays, in blocks of 8 that compilers vectorise.\n"
             " * Measured on a 5 x 40 term fisheye-ii system (lens-fit --outputs\n"
             " * out_x,out_y,out_u,out_v,out_eta; GCC 12, one thread of a 2.5 GHz Xeon with\n"
-            " * AVX-512, make bench): one call 76 ns a ray at -O2, 82 at -O3 -march=native;\n"
-            " * the batch function 24 and 21 ns a ray, liblens's own batch kernel 26 ns.\n"
+            " * AVX-512, make bench, best of 21 interleaved rounds on a shared machine):\n"
+            " * one call 69 ns a ray at -O2, 75 at -O3 -march=native; the batch function\n"
+            " * 26 and 23 ns a ray, liblens's own batch kernel 21 ns (medians 27, 23, 23).\n"
             " * Compile without floating-point contraction (-ffp-contract=off, the default\n"
             " * with -std=c99 or -std=c11) to get exactly the values of lens-eval. */\n"
             "#include <math.h>\n#include <stddef.h>\n\n",

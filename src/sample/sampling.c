@@ -158,14 +158,37 @@ void ray_generator_free(ray_generator *g)
     free(g);
 }
 
+/* Pupil sampling puts one ray in AXIS_SHARE at a sensor point uniform within
+ * AXIS_RADIUS of the half diagonal from the axis (inside the sensor): a meridional fit
+ * sees the sensor radius r >= 0, whose edge r = 0 is where every on-axis image forms, and
+ * a uniform sensor puts 0.4% of its rays within 1 mm of it. With the share, the spot
+ * RMS of dgauss.50mm's default system on the axis is the lens's within +1.5% to -0.8%
+ * over four training seeds, against +2.6% to +7.8% (reports/vignetting.md). */
+#define AXIS_SHARE 16
+#define AXIS_RADIUS 0.1
+
+static void sensor_point(const sampling_options *o, size_t i, rng_t *r, double *x, double *y)
+{
+    if (o->strategy == SAMPLING_PUPIL && i % AXIS_SHARE == AXIS_SHARE - 1) {
+        double rho = AXIS_RADIUS * 0.5 * hypot(o->sensor_w, o->sensor_h);
+        do {
+            *x = (2 * rng_uniform(r) - 1) * rho;
+            *y = (2 * rng_uniform(r) - 1) * rho;
+        } while (*x * *x + *y * *y > rho * rho || fabs(*x) > 0.5 * o->sensor_w ||
+                 fabs(*y) > 0.5 * o->sensor_h);
+        return;
+    }
+    *x = (rng_uniform(r) - 0.5) * o->sensor_w;
+    *y = (rng_uniform(r) - 0.5) * o->sensor_h;
+}
+
 static void one_ray(const ray_generator *g, size_t i, double *row)
 {
     const sampling_options *o = &g->opt;
     rng_t r = rng_stream(o->seed, i);
     double x = 0, y = 0, u = NAN, v = NAN, pdf;
     for (int tries = 0; tries < 64; tries++) {
-        x = (rng_uniform(&r) - 0.5) * o->sensor_w;
-        y = (rng_uniform(&r) - 0.5) * o->sensor_h;
+        sensor_point(o, i, &r, &x, &y);
         double rnd[2] = {rng_uniform(&r), rng_uniform(&r)};
         if (o->strategy == SAMPLING_FULL) {
             full_sample(g->lens, g->disc, x, y, rnd, &u, &v, &pdf);

@@ -58,16 +58,18 @@ then ok spot_system_alone; else fail spot_system_alone; fi
 expect_error spot_compare_not_a_system "lens-poly|poly" run $S $DG --compare $DG
 
 # The README's comparison through the default pipeline (lens-trace | lens-fit): the
-# system's spot RMS is the lens's within 1% at 10 and 14 degrees and 3% on the axis,
-# with the same vignetted fractions. The outer pupil's directions once sat in a frame
-# that does not turn with the ray and were fitted outside the meridional frame: 25 times
-# the direction error, -0.5% and -1% at 10 and 14 degrees (+4% on the axis).
+# system's spot RMS is the lens's within 1% at 0, 10 and 14 degrees, with the same
+# vignetted fractions. The outer pupil's directions once sat in a frame that does not
+# turn with the ray and were fitted outside the meridional frame: 25 times the direction
+# error, -0.5% and -1% at 10 and 14 degrees; the axis took +2.6% to +7.8% (over training
+# seeds) until a sixteenth of lens-trace's pupil-sampled rays went near the axis, the
+# edge of a meridional fit's data (-0.6% here; seeds 2-4: -0.5%, +0.9%, -0.4%).
 if [ -z "${SANITIZE:-}" ]; then
   run $BIN/lens-trace $DG -n 20000 -o $T/readme-train.txt 2>/dev/null
   run $BIN/lens-fit -q -o $T/readme.poly $T/readme-train.txt
   run $S $DG --compare $T/readme.poly --fields 0,10,14 --wavelengths d >$T/rc.txt 2>&1
   if awk '$1 == "lens" { l[$2] = $11; v[$2] = $6 } $1 == "poly" { p[$2] = $11; w[$2] = $6 }
-          END { for (f in l) { d = p[f] / l[f] - 1; lim = f == 0 ? 0.03 : 0.01
+          END { for (f in l) { d = p[f] / l[f] - 1; lim = 0.01
                   printf "# spot_readme_compare: field %s rms %+.2f%% vignetted %+.4f\n", f, 100 * d, w[f] - v[f]
                   if (!(d * d < lim * lim) || (w[f] - v[f]) ^ 2 > 1e-4) bad = 1 }
                 exit bad || length(l) != 3 }' $T/rc.txt
