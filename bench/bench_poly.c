@@ -276,6 +276,37 @@ static poly_system *read_system(const char *path)
     return s;
 }
 
+/* Per ray the lens passes (the time over all rays times n / npass, f): both over the
+ * rays the lens passes, so that a system that lets blocked rays through
+ * (system_pass_fraction above exact_pass_fraction) does not look cheaper for it. */
+static void print_passing(const char *tag, double f, const double *best)
+{
+    const double te = best[M_TRACE] * f, tp = best[M_BATCH] * f, to = best[M_BATCH_OPTICS] * f;
+    printf("bench %s_trace_ns_per_passing_ray %.2f ns\n", tag, te);
+    printf("bench %s_batch_ns_per_passing_ray %.2f ns\n", tag, tp);
+    printf("bench ratio_%s_trace_over_batch_per_passing_ray %.2f x\n", tag, te / tp);
+    printf("bench %s_batch_optics_ns_per_passing_ray %.2f ns\n", tag, to);
+    printf("bench ratio_%s_trace_over_batch_optics_per_passing_ray %.2f x\n", tag, te / to);
+}
+
+/* The ratios between methods: how many times the second's time the first's is (> 1: the
+ * second is faster). */
+static void print_ratios(const char *tag, const int *have, const double *best)
+{
+    const int pairs[][2] = {{M_TRACE_PASSING, M_BATCH_PASSING}, {M_SCALAR, M_BATCH},
+                            {M_JAC_BATCH, M_BATCH},             {M_JAC, M_JAC_BATCH},
+                            {M_JAC_BATCH_OPTICS, M_BATCH},
+                            {M_NAIVE, M_BATCH},                 {M_BATCH, M_BATCH_NOFRAME},
+                            {M_BATCH_COLD, M_BATCH},             {M_BATCH, M_BATCH_OPTICS},
+                            {M_EMIT, M_SCALAR},                 {M_EMIT_NATIVE, M_SCALAR},
+                            {M_EMIT_BATCH, M_BATCH},            {M_EMIT_BATCH_NATIVE, M_BATCH}};
+    for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++) {
+        int a = pairs[k][0], b = pairs[k][1];
+        if (have[a] && have[b])
+            printf("bench ratio_%s_%s_over_%s %.2f x\n", tag, names[a], names[b], best[a] / best[b]);
+    }
+}
+
 int main(int argc, char **argv)
 {
     size_t n = argc > 1 ? strtoul(argv[1], NULL, 10) : 20000;
@@ -363,30 +394,9 @@ int main(int argc, char **argv)
     printf("bench %s_outputs %d count\n", tag, poly_noutputs(s));
     printf("bench %s_exact_pass_fraction %.3f fraction\n", tag, (double)npass_exact / n);
     printf("bench %s_system_pass_fraction %.3f fraction\n", tag, (double)npass_poly / n);
-    if (npass_exact) {
-        /* both over the rays the lens passes: a system that lets blocked rays through
-         * (system_pass_fraction above exact_pass_fraction) must not look cheaper for it */
-        double te = best[M_TRACE] * n / npass_exact, tp = best[M_BATCH] * n / npass_exact;
-        printf("bench %s_trace_ns_per_passing_ray %.2f ns\n", tag, te);
-        printf("bench %s_batch_ns_per_passing_ray %.2f ns\n", tag, tp);
-        printf("bench ratio_%s_trace_over_batch_per_passing_ray %.2f x\n", tag, te / tp);
-        const double to = best[M_BATCH_OPTICS] * n / npass_exact;
-        printf("bench %s_batch_optics_ns_per_passing_ray %.2f ns\n", tag, to);
-        printf("bench ratio_%s_trace_over_batch_optics_per_passing_ray %.2f x\n", tag, te / to);
-    }
-    /* how many times the second's time the first's is (> 1: the second is faster) */
-    const int pairs[][2] = {{M_TRACE_PASSING, M_BATCH_PASSING}, {M_SCALAR, M_BATCH},
-                            {M_JAC_BATCH, M_BATCH},             {M_JAC, M_JAC_BATCH},
-                            {M_JAC_BATCH_OPTICS, M_BATCH},
-                            {M_NAIVE, M_BATCH},                 {M_BATCH, M_BATCH_NOFRAME},
-                            {M_BATCH_COLD, M_BATCH},             {M_BATCH, M_BATCH_OPTICS},
-                            {M_EMIT, M_SCALAR},                 {M_EMIT_NATIVE, M_SCALAR},
-                            {M_EMIT_BATCH, M_BATCH},            {M_EMIT_BATCH_NATIVE, M_BATCH}};
-    for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++) {
-        int a = pairs[k][0], b = pairs[k][1];
-        if (have[a] && have[b])
-            printf("bench ratio_%s_%s_over_%s %.2f x\n", tag, names[a], names[b], best[a] / best[b]);
-    }
+    if (npass_exact)
+        print_passing(tag, (double)n / (double)npass_exact, best);
+    print_ratios(tag, have, best);
     printf("bench %s_monomials %d count\n", tag, poly_nmonomials(s, 0));
     for (int k = 0; k < 2; k++)
         if (handle[k])

@@ -8,7 +8,8 @@
  * width and height ((0, 0) the top-left corner of the picture, as scene.h), the
  * wavelength in um, and two uniforms in [0, 1) for the direction, drawn from the line
  * pupil (render.h's pupil sampler, built from the exact lens over [lambda_min,
- * lambda_max]). A ray is (org[3], dir[3], weight, pdf) in the scene frame of scene.h
+ * lambda_max]) by a map smooth in both (render_sampler_sample_2d), so that stratified
+ * uniforms give stratified directions. A ray is (org[3], dir[3], weight, pdf) in the scene frame of scene.h
  * (mm, the front vertex at the origin, looking along +z): org on the front element, dir
  * a unit vector into the scene, weight = P_a T_r cos^4(theta) / p(u, v) (0 when the lens
  * blocks it), pdf = p(u, v) per du dv. A pixel's value is the mean over its samples of

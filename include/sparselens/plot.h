@@ -46,5 +46,8 @@ void plot_dots(const plot_panel *p, const double *x, const double *y, int n, con
 /* One legend entry at pixel (x, y): a short line in the colour and the text; returns the
  * x after it. */
 double plot_legend(img_canvas *c, double x, double y, const double rgb[3], int dots, const char *text);
+/* A legend entry per wavelength (um), in its colour (plot_lambda_rgb), from pixel (x, y);
+ * returns the x after the last. */
+double plot_legend_lambdas(img_canvas *c, double x, double y, const double *lambda, int nl);
 
 #endif

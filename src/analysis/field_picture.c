@@ -68,14 +68,7 @@ int field_write_png(const field_figure *fig, const char *path, lens_err *err)
         return -1;
     }
     plot_title(c, 10, 22, img_width(c) - 20, fig->title, 14, black);
-    double lx = 10;
-    for (int l = 0; l < fig->nl; l++) {
-        double rgb[3];
-        char s[64];
-        plot_lambda_rgb(fig->lambda[l], rgb);
-        snprintf(s, sizeof s, "%.4g µm", fig->lambda[l]);
-        lx = plot_legend(c, lx, 44, rgb, 0, s);
-    }
+    double lx = plot_legend_lambdas(c, 10, 44, fig->lambda, fig->nl);
     char s[128];
     snprintf(s, sizeof s, "focus: T thick, S thin%s%s%s", fig->nmodels > 1 ? "; dots " : "",
              fig->nmodels > 1 ? fig->model_names[1] : "", fig->nmodels > 1 ? "" : "");

@@ -181,3 +181,15 @@ double plot_legend(img_canvas *c, double x, double y, const double rgb[3], int d
     img_text(c, x + 24, y, text, 11, black);
     return x + 34 + img_text_width(text, 11);
 }
+
+double plot_legend_lambdas(img_canvas *c, double x, double y, const double *lambda, int nl)
+{
+    for (int l = 0; l < nl; l++) {
+        double rgb[3];
+        char s[64];
+        plot_lambda_rgb(lambda[l], rgb);
+        snprintf(s, sizeof s, "%.4g µm", lambda[l]);
+        x = plot_legend(c, x, y, rgb, 0, s);
+    }
+    return x;
+}

@@ -33,14 +33,7 @@ int ray_fan_write_png(const ray_fan_figure *fig, const char *path, lens_err *err
     double dummy[2] = {-hi, hi};
     plot_range(dummy, 2, 1, &lo, &hi);
     plot_title(c, left - 50, 22, W - left + 40, fig->title, 14, black);
-    double lx = left - 50;
-    for (int l = 0; l < fig->nl; l++) {
-        double rgb[3];
-        char s[64];
-        plot_lambda_rgb(fig->lambda[l], rgb);
-        snprintf(s, sizeof s, "%.4g µm", fig->lambda[l]);
-        lx = plot_legend(c, lx, 44, rgb, 0, s);
-    }
+    double lx = plot_legend_lambdas(c, left - 50, 44, fig->lambda, fig->nl);
     if (fig->nmodels > 1) {
         char s[64];
         snprintf(s, sizeof s, "lines %s, dots %s", fig->model_names[0], fig->model_names[1]);

@@ -20,7 +20,10 @@
  * aligned; value k of lane r is vbuf[k * KBLK + r]. Unused lanes of the last block repeat
  * its first ray so no lane computes on garbage. Only IEEE multiplies, adds, divides and
  * square roots, never contracted: every instruction set gives the bits of the scalar
- * path. No include guard: meant to be included several times. */
+ * path. No include guard: meant to be included several times.
+ * Long function: a block's whole pass (inputs, frame, plans, chain rule, stores, pass
+ * test) is one body so that the block's vectors stay in registers between the steps;
+ * its parts are the item macros and poly_frame_chain. */
 #define NV (KBLK / VW)
 
 KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *const *pls, int nview,

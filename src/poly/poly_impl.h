@@ -219,6 +219,15 @@ void poly_plan_free(poly_plan *pl);
 void poly_frame_on_change(poly_system *s);
 void poly_frame_on_term(poly_system *s, int part, int output, const int *exps, double coef);
 
+/* The steps of poly_frame_in and poly_eval_part (poly_frame.c), for the Jacobian
+ * (poly_jacobian.c): the rotation into the frame alone (t = in without a frame, cs its
+ * cos and sin); the transforms in place; the inputs of the outputs outside the frame
+ * (the transforms alone); those outputs taken from the plain view's values. */
+void poly_frame_rotate(const poly_system *s, const double *in, double *t, double *cs);
+void poly_frame_transform(const poly_system *s, double *t);
+void poly_frame_plain_in(const poly_system *s, const double *in, double *t);
+void poly_frame_take_plain(const poly_system *s, const double *from, double *out);
+
 /* 1 when evaluation needs the frame or a transform around the core. */
 static inline int poly_frame_active(const poly_system *s) { return s->frame != 0 || s->nxform > 0; }
 
