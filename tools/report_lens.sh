@@ -50,7 +50,8 @@ tmp="$out/$name.md.tmp"
   echo "Default system: \`$id\` (\`${poly#$cache/}\`), fitted by:"
   echo
   echo '```'
-  awk -F'\t' -v s="points/$id.poly" '$14 == s { print $15 }' "$cache/sweep.tsv"
+  awk -F'\t' -v s="points/$id.poly" 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+      $col["system"] == s { print $col["command"] }' "$cache/sweep.tsv"
   echo '```'
   echo
   echo "## First-order data (\`lens-info $lens\`)"
