@@ -14,8 +14,7 @@
 #    contents are shown by the command that writes it (cat > FILE <<'EOF' ... EOF).
 # --run runs each file's blocks in one bash (pipefail; standard input /dev/null) in its
 # own directory DIR/<file name>, which the caller prepares (README: a plain clone; man
-# pages: an empty directory); files run side by side (DOC_EXAMPLES_JOBS at once, default
-# the number of cores), so examples must not share files across pages. A block fails when one of its commands exits non-zero (a
+# pages: an empty directory). A block fails when one of its commands exits non-zero (a
 # writer killed by SIGPIPE because the reader stopped early, `| head`, is not a failure).
 # Output: "ok docs FILE (N examples, S s)" or "FAIL docs FILE:LINE: <the command>" and the tail
 # of its stderr; exit 1 if any block failed. The caller sets PATH, XDG_CACHE_HOME, ...
@@ -73,44 +72,31 @@ script_for() { # FILE LOGDIR
   flush
 }
 
-# Runs FILE's blocks in DIR/<file name> (logs in LOGDIR) and prints its report.
-run_file() { # FILE DIR LOGDIR
-  local f=$1 dir=$2 logs=$3 count rc
-  script_for "$f" "$logs" > "$logs/script.sh"
-  count=$(ls "$logs" | grep -c '\.cmd$')
-  ( cd "$dir/$(basename "$f")" && timeout 900 bash "$logs/script.sh" ); rc=$?
-  [ $rc -ne 124 ] || echo "0 $f:timeout 124 1" >> "$logs/fails"
-  if [ -s "$logs/fails" ]; then
-    while read -r k loc rc idx; do
-      echo "FAIL docs $loc: exit $rc: $(sed -n "${idx}p" "$logs/$k.cmd" 2>/dev/null | head -c 300)"
-      tail -n 4 "$logs/$k.err" 2>/dev/null | sed 's/^/    /'
-    done < "$logs/fails"
-  elif [ "$count" -gt 0 ]; then
-    echo "ok docs $f ($count examples, $(cat "$logs/$count.end" 2>/dev/null) s)"
-  fi
-}
-
 case ${1:-} in
   --list)
     shift
     for f in "$@"; do extract "$f"; done ;;
   --run)
     dir=$2; shift 2
-    # Files run side by side, up to DOC_EXAMPLES_JOBS at once (default: the cores); the
-    # reports come out in the order of the files.
-    jobs=${DOC_EXAMPLES_JOBS:-$(nproc 2>/dev/null || echo 2)}
-    running=0 reports=()
-    for f in "$@"; do
-      logs=$dir/.logs/$(basename "$f")
-      rm -rf "$logs"; mkdir -p "$logs" "$dir/$(basename "$f")"
-      run_file "$f" "$dir" "$logs" > "$logs/report" &
-      reports+=("$logs/report")
-      running=$((running + 1))
-      if [ $running -ge "$jobs" ]; then wait -n; running=$((running - 1)); fi
-    done
-    wait
     status=0
-    for r in "${reports[@]}"; do cat "$r"; grep -q '^FAIL' "$r" && status=1; done
+    for f in "$@"; do
+      name=$(basename "$f")
+      logs=$dir/.logs/$name
+      rm -rf "$logs"; mkdir -p "$logs" "$dir/$name"
+      script_for "$f" "$logs" > "$logs/script.sh"
+      count=$(ls "$logs" | grep -c '\.cmd$')
+      ( cd "$dir/$name" && timeout 900 bash "$logs/script.sh" ); rc=$?
+      [ $rc -ne 124 ] || echo "0 $f:timeout 124 1" >> "$logs/fails"
+      if [ -s "$logs/fails" ]; then
+        status=1
+        while read -r k loc rc idx; do
+          echo "FAIL docs $loc: exit $rc: $(sed -n "${idx}p" "$logs/$k.cmd" 2>/dev/null | head -c 300)"
+          tail -n 4 "$logs/$k.err" 2>/dev/null | sed 's/^/    /'
+        done < "$logs/fails"
+      elif [ "$count" -gt 0 ]; then
+        echo "ok docs $f ($count examples, $(cat "$logs/$count.end" 2>/dev/null) s)"
+      fi
+    done
     exit $status ;;
   *)
     sed -n '2,/^set -u/p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2 ;;

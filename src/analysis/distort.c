@@ -243,15 +243,17 @@ static double irradiance(const imaging *im, double lambda, double x, double y, i
             if (il >= 0)
                 row[il] = lambda;
         }
+    /* a system's rows hold out_eta alone (the pass test needs no stored output) */
+    const int ncol = sys ? ieta >= 0 : nout, icol = sys ? 0 : 4;
     if (sys)
-        poly_eval_batch(sys, n, in, out, pass);
+        poly_eval_batch_outputs(sys, n, in, ncol, &ieta, out, pass);
     else if (trace_batch(lens, TRACE_TO_OUTER, n, in, out, NULL, 0, &err) != 0)
         n = 0;
     for (size_t k = 0; k < n; k++) {
-        const double *row = in + k * (size_t)nin, *o = out + k * (size_t)nout;
+        const double *row = in + k * (size_t)nin, *o = out + k * (size_t)ncol;
         double q = 1 + row[iu] * row[iu] + row[iv] * row[iv];
-        double eta = sys ? (pass[k] ? (ieta >= 0 ? fmin(fmax(o[ieta], 0), 1) : 1) : 0)
-                         : (o[4] > 0 ? o[4] : 0);
+        double eta = sys ? (pass[k] ? (ieta >= 0 ? fmin(fmax(o[icol], 0), 1) : 1) : 0)
+                         : (o[icol] > 0 ? o[icol] : 0);
         sum += eta / (q * q);
     }
     free(in), free(out), free(pass);

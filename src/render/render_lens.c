@@ -23,6 +23,10 @@ struct render_lens_ctx {
     /* an aperture of blades: a regular polygon inscribed in the stop's circle, tested at
      * the ray's stop hit (exact: traced; poly: outputs ap_x ap_y); 0 blades: the circle */
     int blades, ap_idx[2];
+    /* the outputs the batch maps read (poly_eval_batch_outputs): out_x .. out_v, then
+     * out_eta and ap_x ap_y where they are used, at row places eta_at and ap_at (-1:
+     * not read); the passage outputs are only tested, never stored */
+    int sel[7], nsel, eta_at, ap_at;
     double blade_n[RENDER_MAX_BLADES][2], apothem;
 };
 
@@ -49,6 +53,23 @@ static int poly_blades(const render_lens_ctx *c, const double *y)
     return !c->blades || in_blades(c, y[c->ap_idx[0]], y[c->ap_idx[1]]);
 }
 
+/* poly_blades on a row of the selected outputs (select_outputs) */
+static int sel_blades(const render_lens_ctx *c, const double *row)
+{
+    return !c->blades || in_blades(c, row[c->ap_at], row[c->ap_at + 1]);
+}
+
+/* The outputs the batch maps read, in the order of their rows. */
+static void select_outputs(render_lens_ctx *c)
+{
+    c->nsel = 0;
+    for (int k = 0; k < 4; k++) c->sel[c->nsel++] = c->out_idx[k];
+    c->eta_at = c->out_idx[4] >= 0 ? c->nsel : -1;
+    if (c->eta_at >= 0) c->sel[c->nsel++] = c->out_idx[4];
+    c->ap_at = c->blades ? c->nsel : -1;
+    if (c->blades) c->sel[c->nsel++] = c->ap_idx[0], c->sel[c->nsel++] = c->ap_idx[1];
+}
+
 int render_lens_set_blades(render_lens_ctx *c, int blades, double rotation, lens_err *err)
 {
     if (blades && (blades < 3 || blades > RENDER_MAX_BLADES)) {
@@ -71,6 +92,7 @@ int render_lens_set_blades(render_lens_ctx *c, int blades, double rotation, lens
         double a = rotation + (k + 0.5) * 2 * M_PI / blades; /* edge k's normal */
         c->blade_n[k][0] = cos(a), c->blade_n[k][1] = sin(a);
     }
+    if (c->sys) select_outputs(c);
     return 0;
 }
 
@@ -146,36 +168,19 @@ static void map_exact_batch(void *ctx, size_t n, const double *in, double *org, 
         pass[r] = (unsigned char)map_exact(ctx, in + 5 * r, org + 3 * r, dir + 3 * r, eta + r);
 }
 
-/* n rays through poly_eval_batch, in chunks that fit on the stack. */
-#define POLY_CHUNK 64
-static void map_poly_batch(void *ctx, size_t n, const double *in, double *org, double *dir,
-                           double *eta, unsigned char *pass)
+/* The batch maps go POLY_CHUNK rays a call: each poly_eval_batch_outputs call pays a
+ * set-up (a dozen allocations, a cleared block of results) worth tens of rays, so a
+ * chunk is a whole block of lens-render's (render_image.c's 512 samples). */
+#define POLY_CHUNK 512
+
+/* The system's input rows of m camera samples (x y u v lambda each). */
+static void poly_inputs(const render_lens_ctx *c, size_t m, const double *in, double *x)
 {
-    const render_lens_ctx *c = ctx;
-    double x[POLY_CHUNK * MAX_IN], y[POLY_CHUNK * MAX_OUT];
-    for (size_t r0 = 0; r0 < n; r0 += POLY_CHUNK) {
-        size_t m = n - r0 < POLY_CHUNK ? n - r0 : POLY_CHUNK;
-        for (size_t r = 0; r < m; r++) {
-            double *row = x + r * c->nin;
-            for (int i = 0; i < c->nin; i++) row[i] = 0;
-            for (int k = 0; k < 5; k++)
-                if (c->in_idx[k] >= 0) row[c->in_idx[k]] = in[5 * (r0 + r) + k];
-        }
-        poly_eval_batch(c->sys, m, x, y, pass + r0);
-        for (size_t r = 0; r < m; r++) {
-            const double *yr = y + r * c->nout;
-            size_t q = r0 + r;
-            double e = c->out_idx[4] >= 0 ? yr[c->out_idx[4]] : 1, outer[4];
-            lens_ray ray;
-            for (int k = 0; k < 4; k++) outer[k] = yr[c->out_idx[k]];
-            if (!pass[q] || !(e > 0) || !poly_blades(c, yr) || ray_from_outer(c->lens, outer, &ray)) {
-                pass[q] = 0;
-                continue;
-            }
-            eta[q] = e > 1 ? 1 : e; /* as map_poly */
-            memcpy(org + 3 * q, ray.o, sizeof ray.o);
-            memcpy(dir + 3 * q, ray.d, sizeof ray.d);
-        }
+    for (size_t r = 0; r < m; r++) {
+        double *row = x + r * c->nin;
+        for (int i = 0; i < c->nin; i++) row[i] = 0;
+        for (int k = 0; k < 5; k++)
+            if (c->in_idx[k] >= 0) row[c->in_idx[k]] = in[5 * r + k];
     }
 }
 
@@ -230,43 +235,62 @@ static int outer_poly(void *ctx, const double in[5], double o[4], double jac[16]
     return 1;
 }
 
-/* The full estimator's lens part for n rays: poly_eval_batch for the outputs and the
- * pass flags, poly_eval_jacobian_batch for the derivatives (the values of outer_poly). */
+/* n rays through the system in chunks: poly_eval_batch_outputs for the pass test and
+ * the outputs the maps read (the values and flags of poly_eval, bit for bit); then with
+ * jac NULL the rays of map_poly (org, dir), else the outer-pupil values of outer_poly
+ * (o) and, by poly_eval_jacobian_batch_outputs, the derivatives of the four alone. */
+static void poly_batch(void *ctx, size_t n, const double *in, double *org, double *dir,
+                       double *o, double *jac, double *eta, unsigned char *pass)
+{
+    const render_lens_ctx *c = ctx;
+    const size_t chunk = n < POLY_CHUNK ? n : POLY_CHUNK, ni = (size_t)c->nin;
+    double *x = malloc(chunk * (ni + c->nsel + (jac ? 4 * ni : 0)) * sizeof *x);
+    double *y = x + chunk * ni, *J = y + chunk * c->nsel;
+    for (size_t r = 0; !x && r < n; r++) /* no memory: ray by ray, the same values */
+        pass[r] = (unsigned char)(jac ? outer_poly(ctx, in + 5 * r, o + 4 * r, jac + 16 * r, eta + r)
+                                      : map_poly(ctx, in + 5 * r, org + 3 * r, dir + 3 * r, eta + r));
+    for (size_t r0 = 0; x && r0 < n; r0 += chunk) {
+        size_t m = n - r0 < chunk ? n - r0 : chunk;
+        poly_inputs(c, m, in + 5 * r0, x);
+        poly_eval_batch_outputs(c->sys, m, x, c->nsel, c->sel, y, pass + r0);
+        if (jac) poly_eval_jacobian_batch_outputs(c->sys, m, x, 4, c->sel, J);
+        for (size_t r = 0; r < m; r++) {
+            const double *yr = y + r * c->nsel;
+            size_t q = r0 + r;
+            double e = c->eta_at >= 0 ? yr[c->eta_at] : 1;
+            if (!(e > 0) || !sel_blades(c, yr)) pass[q] = 0;
+            if (jac) { /* every ray's values, as outer_poly */
+                memcpy(o + 4 * q, yr, 4 * sizeof *yr);
+                eta[q] = e > 1 ? 1 : e;
+                for (int k = 0; k < 4; k++)
+                    for (int i = 0; i < 4; i++)
+                        jac[16 * q + 4 * k + i] = J[(r * 4 + k) * ni + c->in_idx[i]];
+                continue;
+            }
+            lens_ray ray;
+            if (!pass[q] || ray_from_outer(c->lens, yr, &ray)) {
+                pass[q] = 0;
+                continue;
+            }
+            eta[q] = e > 1 ? 1 : e; /* a fitted transmittance may overshoot slightly */
+            memcpy(org + 3 * q, ray.o, sizeof ray.o);
+            memcpy(dir + 3 * q, ray.d, sizeof ray.d);
+        }
+    }
+    free(x);
+}
+
+static void map_poly_batch(void *ctx, size_t n, const double *in, double *org, double *dir,
+                           double *eta, unsigned char *pass)
+{
+    poly_batch(ctx, n, in, org, dir, NULL, NULL, eta, pass);
+}
+
+/* The full estimator's lens part for n rays (render.h). */
 static void outer_poly_batch(void *ctx, size_t n, const double *in, double *o, double *jac,
                              double *eta, unsigned char *pass)
 {
-    const render_lens_ctx *c = ctx;
-    double x[POLY_CHUNK * MAX_IN], y[POLY_CHUNK * MAX_OUT];
-    double *J = malloc(POLY_CHUNK * MAX_OUT * MAX_IN * sizeof *J);
-    if (!J) {
-        for (size_t r = 0; r < n; r++)
-            pass[r] = (unsigned char)outer_poly(ctx, in + 5 * r, o + 4 * r, jac + 16 * r, eta + r);
-        return;
-    }
-    int no = c->nout, ni = c->nin;
-    for (size_t r0 = 0; r0 < n; r0 += POLY_CHUNK) {
-        size_t m = n - r0 < POLY_CHUNK ? n - r0 : POLY_CHUNK;
-        for (size_t r = 0; r < m; r++) {
-            double *row = x + r * ni;
-            for (int i = 0; i < ni; i++) row[i] = 0;
-            for (int k = 0; k < 5; k++)
-                if (c->in_idx[k] >= 0) row[c->in_idx[k]] = in[5 * (r0 + r) + k];
-        }
-        poly_eval_batch(c->sys, m, x, y, pass + r0);
-        poly_eval_jacobian_batch(c->sys, m, x, J);
-        for (size_t r = 0; r < m; r++) {
-            size_t q = r0 + r;
-            const double *yr = y + r * no, *Jr = J + r * (size_t)no * ni;
-            for (int k = 0; k < 4; k++) o[4 * q + k] = yr[c->out_idx[k]];
-            double e = c->out_idx[4] >= 0 ? yr[c->out_idx[4]] : 1;
-            if (!(e > 0) || !poly_blades(c, yr)) pass[q] = 0;
-            eta[q] = e > 1 ? 1 : e; /* as map_poly */
-            for (int k = 0; k < 4; k++)
-                for (int i = 0; i < 4; i++)
-                    jac[16 * q + 4 * k + i] = Jr[c->out_idx[k] * ni + c->in_idx[i]];
-        }
-    }
-    free(J);
+    poly_batch(ctx, n, in, NULL, NULL, o, jac, eta, pass);
 }
 
 render_lens_ctx *render_lens_exact(const lens_t *lens, double sw, double sh,
@@ -330,6 +354,7 @@ render_lens_ctx *render_lens_poly(const poly_system *sys, const lens_t *lens, do
             return NULL;
         }
     }
+    select_outputs(c);
     fill_camera(cam, c, map_poly, lens, sw, sh);
     cam->map_batch = map_poly_batch;
     cam->outer = outer_poly;

@@ -91,14 +91,6 @@ if [ "$got" = "src/a.c:1 src/b.c:1 " ]; then ok house_check_finds_offenders
 else fail house_check_finds_offenders "listed '$got', expected 'src/a.c:1 src/b.c:1 '"; fi
 
 # Sizes (tools/house-check.sh): no function over 120 lines and no file over 600 without a
-# reason written beside it. Listing only until the splits of issue 12 have landed: the
-# offenders are shown, and `strict=1` makes them failures.
-strict=0
-if offenders=$(tools/house-check.sh); then
-  ok house_check
-elif [ $strict = 1 ]; then
-  fail house_check "$(tr '\n' ';' <<<"$offenders")"
-else
-  ok "house_check (listing $(wc -l <<<"$offenders") offenders, not failing yet)"
-  sed 's/^/# house-check: /' <<<"$offenders"
-fi
+# reason written beside it.
+if offenders=$(tools/house-check.sh); then ok house_check
+else fail house_check "$(tr '\n' ';' <<<"$offenders")"; fi

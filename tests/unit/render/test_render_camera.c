@@ -24,6 +24,7 @@
 #include <cmocka.h>
 
 #include "fixture_lenses.h"
+#include "splitmix.h"
 #include "sparselens/camera.h"
 #include "sparselens/glass.h"
 #include "sparselens/render.h"
@@ -35,14 +36,6 @@
 #define H 4
 #define SW 36.0
 #define SH 24.0
-
-static double uni(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return (double)((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-}
 
 typedef double (*ray_fn)(double, double, double, double, double, double *, double *);
 typedef size_t (*rays_fn)(size_t, const double *, double *);
@@ -59,8 +52,10 @@ static void weights(const lens_camera *c, rays_fn fn, long n, double *mean, doub
         for (int px = 0; px < W; px++) {
             for (long k = 0; k < n; k++) {
                 double *q = s + LENS_CAMERA_SAMPLE * k;
-                q[0] = (px + uni(&st)) / W, q[1] = (py + uni(&st)) / H, q[2] = GLASS_D_LINE;
-                q[3] = uni(&st), q[4] = uni(&st);
+                q[0] = (px + splitmix_uniform(&st)) / W;
+                q[1] = (py + splitmix_uniform(&st)) / H;
+                q[2] = GLASS_D_LINE;
+                q[3] = splitmix_uniform(&st), q[4] = splitmix_uniform(&st);
             }
             if (c) lens_camera_rays(c, (size_t)n, s, r);
             else fn((size_t)n, s, r);
@@ -159,7 +154,7 @@ static void scalar_matches_batch(ray_fn one, rays_fn many)
     enum { N = 300 };
     double s[N * LENS_CAMERA_SAMPLE], r[N * LENS_CAMERA_RAY];
     uint64_t st = 7;
-    for (int k = 0; k < N * LENS_CAMERA_SAMPLE; k++) s[k] = uni(&st);
+    for (int k = 0; k < N * LENS_CAMERA_SAMPLE; k++) s[k] = splitmix_uniform(&st);
     for (int k = 0; k < N; k++) s[k * LENS_CAMERA_SAMPLE + 2] = GLASS_D_LINE;
     size_t passed = many(N, s, r), passed1 = 0;
     for (int k = 0; k < N; k++) {
