@@ -30,7 +30,10 @@ int poly_output_index(const poly_system *sys, const char *name); /* -1 if absent
 
 /* Evaluation never changes the system: any number of threads may evaluate one system
  * at once. All these functions give bit-identical outputs (and the emitted C too), on
- * any x86-64 instruction set (no FMA contraction anywhere).
+ * any x86-64 instruction set (no FMA contraction anywhere), except poly_eval and
+ * poly_eval_part where AVX-512 runs one ray in vectors (another order of additions,
+ * fused multiply-adds): the same values to rounding (1e-12 relative), the pass flag
+ * from them (so it may differ on a pass circle's very edge).
  * Evaluates all outputs at in[ninputs] (the system's input order, unscaled units).
  * Returns 1 if the system says the ray passes the lens, 0 if not (out still filled). */
 int poly_eval(const poly_system *sys, const double *in, double *out);

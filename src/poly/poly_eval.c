@@ -143,6 +143,8 @@ static int run_one(const poly_system *s, const poly_plan *pl, const double *in,
 
 int poly_eval_values_core(const poly_system *s, int part, const double *in, double *out)
 {
+    if (part >= 0 && part < s->nparts && poly_fast_run(s->parts[part].plan.fast, s, in, out) == 0)
+        return 0;
     if (part < 0 || part >= s->nparts || run_one(s, &s->parts[part].plan, in, NULL, out) != 0) {
         fill_nan(out, s->nout);
         return -1;
@@ -558,8 +560,10 @@ int poly_eval_jacobian_core(const poly_system *s, const double *in, const unsign
     if (needv) {
         if (part < 0 || run_one(s, &s->parts[part].plan, in, needv, out) != 0)
             fill_nan(out, nout);
-    } else {
-        pass = poly_eval_part_core(s, part, in, out);
+    } else if (part < 0 || run_one(s, &s->parts[part].plan, in, NULL, out) != 0) {
+        fill_nan(out, nout);
+    } else { /* the plan's interpreter, not poly_fast: the batch Jacobian's bits */
+        pass = poly_passes(s, out);
     }
     if (part < 0 || run_one(s, &s->parts[part].dplan, in, needd, jac) != 0) {
         fill_nan(jac, nin * nout);

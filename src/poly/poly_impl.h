@@ -50,6 +50,9 @@ typedef struct {
     index_hash index;     /* slot by exponent tuple: finding a monomial is O(1) */
 } poly_mono;
 
+/* The one-ray evaluation with vectors (poly_fast.c), built beside each plan. */
+typedef struct poly_fast poly_fast;
+
 /* The flat program evaluating nout sums of terms over one monomial table. */
 typedef struct {
     int nvals;            /* values per ray: 1 + ninputs + nprod */
@@ -67,6 +70,7 @@ typedef struct {
                              factor v[fb] */
     int *src;             /* per planned term: its index in the output's add order */
     int *vslot;           /* nvals: the slot each value holds (the emitter's names) */
+    poly_fast *fast;      /* its sums for one ray with vectors; NULL: not built */
 } poly_plan;
 
 typedef struct {
@@ -213,6 +217,14 @@ int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
 void poly_terms_free(poly_out_terms *t, int n);
 void poly_mono_free(poly_mono *m);
 void poly_plan_free(poly_plan *pl);
+
+/* The vector layout of poly_fast.c for nout sums with exponents (NULL: none, e.g. for
+ * derivative sums or more than 7 inputs, or out of memory); poly_fast_run evaluates one
+ * ray's sums from its raw inputs (scaled here), 0, or -1 where it cannot (no AVX-512,
+ * or f NULL): then the plan's interpreter runs. Agrees with the plan to rounding. */
+poly_fast *poly_fast_build(int nin, int nout, const poly_out_terms *sums);
+void poly_fast_free(poly_fast *f);
+int poly_fast_run(const poly_fast *f, const poly_system *s, const double *in, double *out);
 
 /* Hooks of the builders in poly.c: a change of scaling or parts rebuilds the views, a
  * new term is added to its view. */

@@ -40,6 +40,7 @@ void poly_plan_free(poly_plan *pl)
     free(pl->nquad);
     free(pl->npair);
     free(pl->vslot);
+    poly_fast_free(pl->fast);
     memset(pl, 0, sizeof *pl);
 }
 
@@ -356,6 +357,7 @@ int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
     for (int o = 0; o < nout; o++)
         q = plan_output(&n, &w, m, &sums[o], o, q, nt);
     n.start[nout] = q;
+    n.fast = poly_fast_build(nin, nout, sums);
     plan_work_free(&w);
     poly_plan_free(pl);
     *pl = n;

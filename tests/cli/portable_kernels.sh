@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The portable path of the SIMD kernels (what arm64 and every non-x86 machine builds:
 # the 2-lane packet tracer and batch evaluator, square roots without x86 intrinsics),
-# checked here on x86 by building trace_packet.c and poly_eval.c with
+# checked here on x86 by building trace_packet.c, poly_eval.c and poly_fast.c (which
+# then declines: the plan's interpreter runs one ray) with
 # SPARSELENS_PORTABLE_KERNELS and no -march, and linking the unit tests that compare
 # packets and batches against the scalar paths bit for bit (test_trace, test_poly).
 # The objects come before liblens.a on the link line, so they replace its members.
@@ -12,7 +13,7 @@ cppflags=$(makevar CPPFLAGS) ldlibs=$(makevar LDLIBS)
 cflags="-std=c11 -O2 -fopenmp -DSPARSELENS_PORTABLE_KERNELS"
 [ -n "$SANITIZE" ] && cflags="$cflags -O1 -fsanitize=address,undefined -fno-sanitize-recover=undefined"
 objs=""
-for f in src/trace/trace_packet.c src/poly/poly_eval.c; do
+for f in src/trace/trace_packet.c src/poly/poly_eval.c src/poly/poly_fast.c; do
   o=$T/$(basename "$f" .c).o
   # shellcheck disable=SC2086
   ${CC:-cc} $cppflags $cflags -Wall -Wextra -Werror -c "$f" -o "$o" 2>"$T/cc.log" ||
