@@ -1,10 +1,14 @@
-/* The polynomial camera's batch maps against its one-ray maps, bit for bit: map_batch
- * (lens-render's eq13 path) against map, and outer_batch (the full estimator's) against
- * outer with the Jacobian, on the double Gauss through lens-render's own system with its
- * transmittance and rim outputs, with and without six blades. The batch maps read only
- * the outputs they use (poly_eval_batch_outputs): a row place taken for another output
- * (the transmittance's, the stop hit's) or a chunk boundary crossed wrongly changes a
- * ray, a weight or a pass flag here. 1100 rays: more than two of the maps' chunks. */
+/* The polynomial camera's batch maps against its one-ray maps: map_batch (lens-render's
+ * eq13 path) against map, and outer_batch (the full estimator's) against outer with the
+ * Jacobian, on the double Gauss through lens-render's own system with its transmittance
+ * and rim outputs, with and without six blades. The batch maps read only the outputs
+ * they use (poly_eval_batch_outputs): a row place taken for another output (the
+ * transmittance's, the stop hit's) or a chunk boundary crossed wrongly changes a ray, a
+ * weight or a pass flag here. The one-ray poly_eval may run in vectors (poly.h: the
+ * batch values to 1e-12 relative, the pass flag from them), so values must agree to
+ * 1e-9 and pass flags on all but one ray in 500 (a pass circle's very edge); the
+ * defects guarded move values by far more and flip dozens of flags. 1100 rays: more
+ * than two of the maps' chunks. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -28,9 +32,12 @@
 #define SW 36.0
 #define SH 24.0
 
-static int same(const double *a, const double *b, size_t n)
+/* a and b agree to rounding */
+static int near(const double *a, const double *b, size_t n)
 {
-    return memcmp(a, b, n * sizeof *a) == 0;
+    for (size_t i = 0; i < n; i++)
+        if (!(fabs(a[i] - b[i]) <= 1e-9 * (1 + fabs(a[i])))) return 0;
+    return 1;
 }
 
 /* Camera samples over the sensor, directions from the line pupil (as render_image
@@ -47,28 +54,28 @@ static int samples(const render_sampler *smp, double *in)
     return drawn;
 }
 
-/* map_batch and outer_batch against map and outer, ray by ray; returns the rays that pass. */
+/* map_batch and outer_batch against map and outer, ray by ray; returns the rays that
+ * pass. */
 static int compare_maps(const render_camera *cam, const double *in)
 {
     static double org[N * 3], dir[N * 3], eta[N], o4[N * 4], jac[N * 16], eta4[N];
     static unsigned char pass[N], pass4[N];
     cam->map_batch(cam->ctx, N, in, org, dir, eta, pass);
     cam->outer_batch(cam->ctx, N, in, o4, jac, eta4, pass4);
-    int passed = 0;
+    int passed = 0, flips = 0;
     for (int k = 0; k < N; k++) {
         double o[3], d[3], e, oo[4], J[16], e4;
         int p = cam->map(cam->ctx, in + 5 * k, o, d, &e);
-        assert_int_equal(pass[k], p);
-        if (p) {
-            passed++;
-            assert_true(same(o, org + 3 * k, 3) && same(d, dir + 3 * k, 3) && same(&e, eta + k, 1));
-        }
         int p4 = cam->outer(cam->ctx, in + 5 * k, oo, J, &e4);
-        assert_int_equal(pass4[k], p4);
-        if (p4)
-            assert_true(same(oo, o4 + 4 * k, 4) && same(J, jac + 16 * k, 16) &&
-                        same(&e4, eta4 + k, 1));
+        flips += (pass[k] != p) + (pass4[k] != p4);
+        passed += pass[k];
+        if (p && pass[k])
+            assert_true(near(o, org + 3 * k, 3) && near(d, dir + 3 * k, 3) && near(&e, eta + k, 1));
+        if (p4 && pass4[k])
+            assert_true(near(oo, o4 + 4 * k, 4) && near(J, jac + 16 * k, 16) &&
+                        near(&e4, eta4 + k, 1));
     }
+    if (flips > 2 * N / 500) fail_msg("%d pass flags differ between batch and one ray", flips);
     return passed;
 }
 
