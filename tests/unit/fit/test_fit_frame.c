@@ -322,8 +322,10 @@ static void test_batch_and_file_bit_identical(void **state)
     for (int i = 0; i < N; i++) {
         double o[5];
         int p = poly_eval(sys, in + i * 5, o);
-        for (int k = 0; k < 5; k++) /* poly_eval (vectors) agrees to rounding */
-            assert_true(o[k] == ob[i * 5 + k] || fabs(o[k] - ob[i * 5 + k]) <= 1e-12 * fmax(fabs(ob[i * 5 + k]), 1));
+        for (int k = 0; k < 5; k++) { /* poly_eval (vectors) agrees to rounding */
+            const double b = ob[i * 5 + k];
+            assert_true(o[k] == b || fabs(o[k] - b) <= 1e-12 * fmax(fabs(b), 1));
+        }
         assert_int_equal(p, pb[i]);
     }
     /* written and read back: the same file and the same bits */
