@@ -99,8 +99,9 @@ int scene_intersect_camera(const scene_t *s, const scene_cull *c, const double o
 
 /* 1 when nothing blocks the segment between a and b (shadow rays). */
 int scene_visible(const scene_t *s, const double a[3], const double b[3]);
-/* Diffuse albedo of object obj at point p in channel c (0 r, 1 g, 2 b). */
-double scene_albedo(const scene_t *s, int obj, const double p[3], int c);
+/* Diffuse albedo (r g b) of object obj at point p: all three channels at once, so that a
+ * texture is looked up once per hit. */
+void scene_albedo(const scene_t *s, int obj, const double p[3], double rgb[3]);
 /* Radiance (rgb) that emitter obj sends from its point p in direction w (unit, away
  * from p); returns 0 (and zeros) for the back of an emitter and for non-emitters. */
 int scene_emitted(const scene_t *s, int obj, const double p[3], const double w[3],

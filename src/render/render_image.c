@@ -106,7 +106,7 @@ static void scene_radiance(const scene_t *sc, const wave_set *w, int j0, int j1,
         return;
     }
     double alb[3];
-    for (int c = 0; c < 3; c++) alb[c] = scene_albedo(sc, h->obj, h->p, c);
+    scene_albedo(sc, h->obj, h->p, alb);
     if (alb[0] <= 0 && alb[1] <= 0 && alb[2] <= 0) return;
     scene_light_terms t;
     double u[5];

@@ -153,14 +153,16 @@ static void plane_frame(const double n[3], double e1[3], double e2[3])
     e2[2] = e1[0] * n[1] - e1[1] * n[0];
 }
 
-double scene_albedo(const scene_t *s, int obj, const double p[3], int c)
+void scene_albedo(const scene_t *s, int obj, const double p[3], double rgb[3])
 {
     const scene_object *o = &s->obj[obj];
     const scene_texture *t = &o->tex;
-    if (scene_is_emitter(o)) return 0;
+    const double *from = t->a;
+    rgb[0] = rgb[1] = rgb[2] = 0;
+    if (scene_is_emitter(o)) return;
     switch (t->kind) {
     case TEX_CONSTANT:
-        return t->a[c];
+        break;
     case TEX_CHECKER: {
         /* a solid checker: the same pattern on planes and spheres */
         /* The parity of each cell index from fmod, not a cast to long: a tiny square or
@@ -177,7 +179,8 @@ double scene_albedo(const scene_t *s, int obj, const double p[3], int c)
         double k = 0;
         for (int j = 0; j < 3; j++)
             k += fabs(fmod(floor(q[j] / t->size), 2.0));
-        return fmod(k, 2.0) == 1.0 ? t->b[c] : t->a[c];
+        if (fmod(k, 2.0) == 1.0) from = t->b;
+        break;
     }
     case TEX_IMAGE: {
         double u, v; /* [0, 1) across the picture, v = 0 at its top */
@@ -201,10 +204,14 @@ double scene_albedo(const scene_t *s, int obj, const double p[3], int c)
         if (y >= t->h) y = t->h - 1;
         if (x < 0) x = 0;
         if (y < 0) y = 0;
-        return t->pix[3 * ((size_t)y * t->w + x) + c];
+        const float *px = t->pix + 3 * ((size_t)y * t->w + x);
+        for (int c = 0; c < 3; c++) rgb[c] = px[c];
+        return;
     }
+    default:
+        return;
     }
-    return 0;
+    for (int c = 0; c < 3; c++) rgb[c] = from[c];
 }
 
 int scene_emitted(const scene_t *s, int obj, const double p[3], const double w[3],
@@ -252,7 +259,7 @@ void scene_direct(const scene_t *s, int obj, const double p[3], const double n[3
                   const double *u, double rgb[3])
 {
     double albedo[3], sum[3] = {0, 0, 0};
-    for (int c = 0; c < 3; c++) albedo[c] = scene_albedo(s, obj, p, c);
+    scene_albedo(s, obj, p, albedo);
     rgb[0] = rgb[1] = rgb[2] = 0;
     if (albedo[0] <= 0 && albedo[1] <= 0 && albedo[2] <= 0) return;
     size_t j = 0;

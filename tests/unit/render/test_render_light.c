@@ -92,7 +92,9 @@ static void mis_mean(const char *text, double *mean, double *se)
         scene_direct_mis(&s, &h, u, &t);
         double v = 0;
         for (int k = 0; k < t.n; k++) v += t.w[k] * s.obj[t.emitter[k]].emit[0];
-        v *= scene_albedo(&s, 0, h.p, 0);
+        double alb[3];
+        scene_albedo(&s, 0, h.p, alb);
+        v *= alb[0];
         sum += v, sum2 += v * v;
     }
     *mean = sum / N;

@@ -149,6 +149,14 @@ static void test_direct_light(void **state)
     scene_free(&s);
 }
 
+/* Channel c of object 0's albedo at p. */
+static double albedo(const scene_t *s, const double p[3], int c)
+{
+    double rgb[3];
+    scene_albedo(s, 0, p, rgb);
+    return rgb[c];
+}
+
 static void test_checker(void **state)
 {
     (void)state;
@@ -157,12 +165,12 @@ static void test_checker(void **state)
     assert_int_equal(scene_parse("camera a.lens\nplane 0 0 100 0 0 -1 checker 0.1 0.9 10\n",
                                  "t.scene", &s, &err), 0);
     double p1[3] = {5, 5, 105}, p2[3] = {15, 5, 105};
-    double a = scene_albedo(&s, 0, p1, 0), b = scene_albedo(&s, 0, p2, 0);
+    double a = albedo(&s, p1, 0), b = albedo(&s, p2, 0);
     assert_true((a == 0.1 && b == 0.9) || (a == 0.9 && b == 0.1));
     /* the plane lies on a cell face: a hit a rounding error either side of it keeps
      * its colour */
     double p3[3] = {5, 5, nextafter(100, 0)}, p4[3] = {5, 5, nextafter(100, 200)};
-    assert_true(scene_albedo(&s, 0, p3, 0) == scene_albedo(&s, 0, p4, 0));
+    assert_true(albedo(&s, p3, 0) == albedo(&s, p4, 0));
     scene_free(&s);
 }
 
@@ -190,8 +198,8 @@ static void test_image_texture(void **state)
     lens_err err = {{0}};
     assert_int_equal(scene_load(scn, &s, &err), 0);
     double left[3] = {-5, 0, 100}, right[3] = {5, 0, 100};
-    assert_true(scene_albedo(&s, 0, left, 0) == 1 && scene_albedo(&s, 0, left, 2) == 0);
-    assert_true(scene_albedo(&s, 0, right, 0) == 0 && scene_albedo(&s, 0, right, 2) == 1);
+    assert_true(albedo(&s, left, 0) == 1 && albedo(&s, left, 2) == 0);
+    assert_true(albedo(&s, right, 0) == 0 && albedo(&s, right, 2) == 1);
     scene_free(&s);
     remove(ppm);
     remove(scn);
