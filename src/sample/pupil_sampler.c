@@ -444,74 +444,80 @@ static int locate(const pupil_sampler *ps, double x, double y, int *j, double *c
     return 0;
 }
 
+/* What both samplers share: the two sets around the point's radius, and one random
+ * number picking one of them in proportion to area, reduced to the cell count t within
+ * the chosen set.  Returns -1 where nothing can be drawn. */
+typedef struct {
+    const pupil_set *set, *other;
+    double total, cells, c, s;
+    int k, ci, cj; /* the cell the count falls in, and its grid place */
+} pupil_draw;
+
+static int draw_set(const pupil_sampler *ps, double x, double y, double rnd, pupil_draw *d)
+{
+    int j;
+    if (locate(ps, x, y, &j, &d->c, &d->s))
+        return -1;
+    const pupil_set *a = &ps->sets[j], *b = &ps->sets[j + 1];
+    d->total = a->area + b->area;
+    if (!(d->total > 0))
+        return -1;
+    double t = rnd * d->total;
+    d->set = a;
+    d->other = b;
+    if (t >= a->area || a->count == 0) {
+        d->set = b;
+        d->other = a;
+        t = fmax(t - a->area, 0);
+    }
+    d->cells = t / (d->set->du * d->set->dv);
+    d->k = (int)d->cells;
+    if (d->k >= d->set->count)
+        d->k = d->set->count - 1;
+    set_cell(d->set, d->k, &d->ci, &d->cj);
+    return 0;
+}
+
+/* Turns the set-frame point back to (u, v) and gives the mixture's density there:
+ * 1/total in each set that holds the point. */
+static void finish_draw(const pupil_draw *d, double up, double vp, double *u, double *v, double *pdf)
+{
+    *u = d->c * up - d->s * vp;
+    *v = d->s * up + d->c * vp;
+    *pdf = (1 + in_set(d->other, up, vp)) / d->total;
+}
+
 int pupil_sampler_sample(const pupil_sampler *ps, double x, double y, const double rnd[2],
                          double *u, double *v, double *pdf)
 {
-    int j;
-    double c, s;
+    pupil_draw d;
     *u = *v = NAN;
     *pdf = 0;
-    if (locate(ps, x, y, &j, &c, &s))
-        return -1;
-    const pupil_set *a = &ps->sets[j], *b = &ps->sets[j + 1];
-    double total = a->area + b->area;
-    if (!(total > 0))
-        return -1;
     /* One number picks the set (in proportion to area), the cell and the position
      * across it; the other the position along it. */
-    double t = rnd[0] * total;
-    const pupil_set *set = a;
-    if (t >= a->area || a->count == 0) {
-        set = b;
-        t = fmax(t - a->area, 0);
-    }
-    double ct = t / (set->du * set->dv);
-    int k = (int)ct;
-    if (k >= set->count)
-        k = set->count - 1;
-    double fu = ct - k;
-    if (fu > 1)
-        fu = 1;
-    int ci, cj;
-    set_cell(set, k, &ci, &cj);
-    double up = set->u0 + (ci + fu) * set->du;
-    double vp = set->v0 + (cj + rnd[1]) * set->dv;
-    *u = c * up - s * vp;
-    *v = s * up + c * vp;
-    /* The mixture's density: 1/total in each set that holds the point. */
-    *pdf = (1 + in_set(set == a ? b : a, up, vp)) / total;
+    if (draw_set(ps, x, y, rnd[0], &d))
+        return -1;
+    const pupil_set *set = d.set;
+    double fu = fmin(d.cells - d.k, 1);
+    finish_draw(&d, set->u0 + (d.ci + fu) * set->du, set->v0 + (d.cj + rnd[1]) * set->dv, u, v, pdf);
     return 0;
 }
 
 int pupil_sampler_sample_rows(const pupil_sampler *ps, double x, double y, const double rnd[2],
                               double *u, double *v, double *pdf)
 {
-    int j;
-    double c, s;
+    pupil_draw d;
     *u = *v = NAN;
     *pdf = 0;
-    if (locate(ps, x, y, &j, &c, &s))
-        return -1;
-    const pupil_set *a = &ps->sets[j], *b = &ps->sets[j + 1];
-    double total = a->area + b->area;
-    if (!(total > 0))
-        return -1;
     /* rnd[1] picks the set (in proportion to area) and, in it, the row and the height
      * across it, row by row in cell order: uniform over the set, monotone in v */
-    double t = rnd[1] * total;
-    const pupil_set *set = a;
-    if (t >= a->area || a->count == 0) {
-        set = b;
-        t = fmax(t - a->area, 0);
-    }
-    double t2 = t / (set->du * set->dv);
-    int k = (int)t2, ci, cj;
-    if (k >= set->count)
-        k = set->count - 1;
-    set_cell(set, k, &ci, &cj);
+    if (draw_set(ps, x, y, rnd[1], &d))
+        return -1;
+    const pupil_set *set = d.set;
+    int cj = d.cj;
     const pupil_run *row = set->runs + set->row_run[cj], *end = set->runs + set->row_run[cj + 1];
     int nrow = end->cum - row->cum;
-    double fv = fmin((t2 - row->cum) / nrow, 1);
+    double fv = fmin((d.cells - row->cum) / nrow, 1);
     /* rnd[0] the position along the row's occupied cells: monotone in u */
     double t1 = rnd[0] * nrow;
     int q = (int)t1;
@@ -520,11 +526,8 @@ int pupil_sampler_sample_rows(const pupil_sampler *ps, double x, double y, const
     double fu = fmin(t1 - q, 1);
     while (row + 1 < end && row[1].cum <= row->cum + q)
         q -= row[1].cum - row->cum, row++;
-    double up = set->u0 + (row->i0 + q + fu) * set->du;
-    double vp = set->v0 + (cj + fmax(fv, 0)) * set->dv;
-    *u = c * up - s * vp;
-    *v = s * up + c * vp;
-    *pdf = (1 + in_set(set == a ? b : a, up, vp)) / total;
+    finish_draw(&d, set->u0 + (row->i0 + q + fu) * set->du, set->v0 + (cj + fmax(fv, 0)) * set->dv,
+                u, v, pdf);
     return 0;
 }
 
