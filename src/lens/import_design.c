@@ -180,9 +180,22 @@ int import_finish(lens_t *lens, const import_skips *skips, double fnumber, const
     import_clean_text(lens);
     if (lens_finish(lens, err) != 0)
         return -1;
+    const char *what = NULL;
+    int rc = 0;
+    double old = lens->surf[lens->stop].semi_diameter;
     if (isfinite(fnumber) && fnumber > 0)
-        return import_set_aperture(lens, fnumber, 0, fno_name, hard, err);
-    if (isfinite(epd_mm) && epd_mm > 0)
-        return import_set_aperture(lens, 0, epd_mm, epd_name, hard, err);
+        rc = import_set_aperture(lens, fnumber, 0, what = fno_name, hard, err);
+    else if (isfinite(epd_mm) && epd_mm > 0)
+        rc = import_set_aperture(lens, 0, epd_mm, what = epd_name, hard, err);
+    double sd = lens->surf[lens->stop].semi_diameter;
+    if (rc != 0 || sd == old)
+        return rc;
+    /* The system aperture resized the stop after the checks: a widened stop can now cross
+     * its neighbour, which the native reader would refuse in the written lens. */
+    if (lens_finish(lens, err) != 0) {
+        size_t n = strlen(err->msg);
+        snprintf(err->msg + n, sizeof err->msg - n, " (stop semi-diameter %g mm from %s)", sd, what);
+        return -1;
+    }
     return 0;
 }
