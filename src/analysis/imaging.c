@@ -264,7 +264,8 @@ int imaging_models_load(const char *path, const char *compare, const char *lens_
         if (load_system(path, &m->sys, err) != 0)
             return -1;
         char found[4096];
-        if (!lens_path && poly_find_lens_file(m->sys, path, found, sizeof found, err) != 0) {
+        if (!lens_path &&
+            poly_find_lens_file(m->sys, path, lens_find_file, found, sizeof found, err) != 0) {
             imaging_models_free(m);
             return -1;
         }
