@@ -22,6 +22,8 @@
  *   batch_optics      poly_eval_batch_outputs writing the five optical outputs alone,
  *                     with the pass flags (the passage outputs computed, not stored)
  *   batch_noframe     poly_eval_batch of NOFRAME.poly (the cost of the frame)
+ *   batch_8           poly_eval_batch in calls of 8 rays (what each call costs beyond
+ *                     its rays: a renderer's short batches)
  *   batch_cold        poly_eval_batch on COLD x RAYS rays (rows of 80 bytes a ray in and
  *                     out, beyond the caches: what memory traffic adds; the other
  *                     methods see RAYS rays, a renderer's batch, whose rows stay cached)
@@ -146,13 +148,14 @@ static void flatten(const poly_system *s, flat *F)
 }
 
 enum {
-    M_TRACE, M_TRACE_PASSING, M_BATCH, M_BATCH_PASSING, M_BATCH_OPTICS, M_BATCH_NOFRAME, M_BATCH_COLD,
+    M_TRACE, M_TRACE_PASSING, M_BATCH, M_BATCH_PASSING, M_BATCH_OPTICS, M_BATCH_NOFRAME, M_BATCH_8,
+    M_BATCH_COLD,
     M_SCALAR, M_NAIVE, M_JAC, M_JAC_BATCH, M_JAC_BATCH_OPTICS, M_EMIT, M_EMIT_NATIVE, M_EMIT_BATCH,
     M_EMIT_BATCH_NATIVE, M_COUNT
 };
 static const char *const names[M_COUNT] = {
     "trace",    "trace_passing",  "batch",     "batch_passing",    "batch_optics", "batch_noframe",
-    "batch_cold", "scalar",       "naive",     "jacobian",         "jacobian_batch",
+    "batch_8",  "batch_cold", "scalar",       "naive",     "jacobian",         "jacobian_batch",
     "jacobian_batch_optics",
     "emitted_c", "emitted_c_native", "emitted_c_batch", "emitted_c_batch_native"};
 
@@ -188,6 +191,11 @@ static double run(const bench_ctx *c, int m, size_t n, const double *in)
     }
     case M_BATCH_NOFRAME:
         poly_eval_batch(c->s0, n, in, c->out, c->pass);
+        break;
+    case M_BATCH_8:
+        for (size_t r = 0; r < n; r += 8)
+            poly_eval_batch(c->s, n - r < 8 ? n - r : 8, in + r * 5, c->out + r * c->nout,
+                            c->pass + r);
         break;
     case M_BATCH_COLD:
         poly_eval_batch(c->s, n, in, c->cold_out, c->cold_pass);
@@ -297,7 +305,7 @@ static void print_ratios(const char *tag, const int *have, const double *best)
                             {M_JAC_BATCH, M_BATCH},             {M_JAC, M_JAC_BATCH},
                             {M_JAC_BATCH_OPTICS, M_BATCH},
                             {M_NAIVE, M_BATCH},                 {M_BATCH, M_BATCH_NOFRAME},
-                            {M_BATCH_COLD, M_BATCH},             {M_BATCH, M_BATCH_OPTICS},
+                            {M_BATCH_COLD, M_BATCH},            {M_BATCH_8, M_BATCH},             {M_BATCH, M_BATCH_OPTICS},
                             {M_EMIT, M_SCALAR},                 {M_EMIT_NATIVE, M_SCALAR},
                             {M_EMIT_BATCH, M_BATCH},            {M_EMIT_BATCH_NATIVE, M_BATCH}};
     for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++) {
@@ -363,7 +371,8 @@ int main(int argc, char **argv)
     for (int m = 0; m < M_COUNT; m++)
         nm[m] = m == M_TRACE_PASSING || m == M_BATCH_PASSING ? npass_exact
                 : m == M_BATCH_COLD ? COLD * n
-                : m == M_SCALAR || m == M_NAIVE || m == M_JAC || m == M_EMIT || m == M_EMIT_NATIVE
+                : m == M_SCALAR || m == M_NAIVE || m == M_JAC || m == M_EMIT || m == M_EMIT_NATIVE ||
+                          m == M_BATCH_8
                     ? n / 10
                     : n;
     int have[M_COUNT];

@@ -57,6 +57,11 @@ typedef struct {
  * failure err holds "FILE:LINE: what is wrong" and *lens is left empty. opt may be NULL. */
 int lens_load(const char *path, const lens_load_options *opt, lens_t *lens, lens_err *err);
 
+/* Where lens_load finds the lens a user named: a file that exists, or a name (dgauss.50mm)
+ * looked up with each reader's extension in ./, $SPARSELENS_LENS_PATH and the shipped
+ * lenses (data_path.h). 0 with the path in buf, -1 if none. */
+int lens_find_file(const char *name, char *buf, size_t n);
+
 /* The format names lens_load knows, for messages ("lens, fx, pbrt, zmx, seq"), and whether
  * name is one of them (or "auto", or NULL). */
 extern const char *const lens_formats;

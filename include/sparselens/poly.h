@@ -18,9 +18,12 @@ const char *poly_lens_name(const poly_system *sys); /* the lens it was fitted to
 const char *poly_lens_path(const poly_system *sys); /* as recorded, may be "" */
 /* The lens file of the system read from poly_path, into buf: the recorded lens-path as it
  * is (absolute, or from the working directory), else relative to the .poly file's
- * directory. -1 with err naming the lens and the path when none is readable. */
-int poly_find_lens_file(const poly_system *sys, const char *poly_path, char *buf, size_t len,
-                        lens_err *err);
+ * directory, else, when find is given, find(lens-path) (lens_find_file: a lens named by
+ * its short name, `lens-trace fisheye-ii`, is looked up as the commands look it up).
+ * -1 with err naming the lens and the path when none is readable. */
+int poly_find_lens_file(const poly_system *sys, const char *poly_path,
+                        int (*find)(const char *name, char *buf, size_t n), char *buf,
+                        size_t len, lens_err *err);
 int poly_ninputs(const poly_system *sys);
 int poly_noutputs(const poly_system *sys);
 const char *poly_input_name(const poly_system *sys, int i);

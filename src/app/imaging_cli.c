@@ -52,7 +52,9 @@ const opt_spec imaging_cli_table[] = {
      ".B lens-path\n"
      "is loaded (as written, else relative to the\n"
      ".I .poly\n"
-     "file's directory,\n"
+     "file's directory, else as a lens name such as\n"
+     ".B dgauss.50mm\n"
+     "is looked up,\n"
      ".BR lens-poly (5));\n"
      "when that file is not found the message names the lens and the path.\n"},
     {0, "fnumber", "N", OPT_POSITIVE, OPT_AT(imaging_cli, fnumber),

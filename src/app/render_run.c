@@ -163,7 +163,8 @@ static int load_camera(const render_options *o, render_setup *s, lens_err *err)
     snprintf(s->lens_path, sizeof s->lens_path, "%s", sc->camera);
     if (sc->camera_is_poly) {
         if (poly_read(sc->camera, &s->sys, err)) return -1;
-        if (poly_find_lens_file(s->sys, sc->camera, s->lens_path, sizeof s->lens_path, err))
+        if (poly_find_lens_file(s->sys, sc->camera, lens_find_file, s->lens_path,
+                                sizeof s->lens_path, err))
             return -1;
     }
     if (lens_load(s->lens_path, o->load, &s->lens, err)) return -1;

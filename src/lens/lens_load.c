@@ -124,6 +124,14 @@ static int load_by_content(const char *path, int is_stdin, const char *format,
     return rc;
 }
 
+int lens_find_file(const char *name, char *buf, size_t n)
+{
+    const char *exts[NREADERS + 1] = {0};
+    for (size_t i = 0; i < NREADERS; i++)
+        exts[i] = readers[i].ext;
+    return data_find("lenses", "SPARSELENS_LENS_PATH", name, exts, buf, n);
+}
+
 int lens_load(const char *path, const lens_load_options *opt, lens_t *lens, lens_err *err)
 {
     lens_init(lens);
@@ -138,10 +146,7 @@ int lens_load(const char *path, const lens_load_options *opt, lens_t *lens, lens
      * the shipped lenses (data_path.h), each with any reader's extension. */
     char found[1024];
     if (!is_stdin) {
-        const char *exts[NREADERS + 1] = {0};
-        for (size_t i = 0; i < NREADERS; i++)
-            exts[i] = readers[i].ext;
-        if (data_find("lenses", "SPARSELENS_LENS_PATH", path, exts, found, sizeof found) != 0) {
+        if (lens_find_file(path, found, sizeof found) != 0) {
             lens_errf(err, path, 0, "no such lens file, nor a lens of that name in ./, "
                                     "$SPARSELENS_LENS_PATH or the shipped lenses");
             return -1;

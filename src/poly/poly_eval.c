@@ -183,99 +183,14 @@ typedef struct {
 /* The batch kernel once per instruction set, each with the vector width of its
  * registers and a block that keeps its partial sums in registers (AVX-512: 32 rays in
  * 4 x 8 lanes, 16 accumulators of its 32 registers; AVX2: 8 in 2 x 4; SSE: 4 in 2 x 2);
- * batch() picks one per call. The loop is bound by loads of values (two 64-byte loads a
+ * batch() runs the widest, a narrower one on a short last block. The loop is bound by loads of values (two 64-byte loads a
  * cycle), so a wider block pays the per-term index and coefficient loads on more rays:
  * 32 rays measured 36 -> 29 ns a ray against 16 on the fisheye-ii system. AVX-512 also
  * moves the rows in and out with gathers and scatters (the scalar copy out of a block
  * just stored as vectors cost 4 ns a ray). -O3 for these alone: it unrolls the loops
  * over lanes; it never contracts into FMA (ISO C mode), so the bits stay. */
 #if defined(POLY_X86)
-/* 8 rows of 5 outputs (x y u v eta) out of their 5 columns of 8 lanes, as 5 contiguous
- * 64-byte stores: a scatter per column cost the AVX-512 kernel 3 ns a ray on fisheye-ii
- * (22.5 -> 20.2 ns with these permutes). Output vector j holds flat positions p = 8 j + e, row p / 5,
- * column p % 5: columns 0 and 1 come by one two-source permute, 2 and 3 by another,
- * 4 by a one-source permute, then two blends. */
-static const long long rows5_idx[3][5][8] = {
-    {{0, 8, 0, 0, 0, 1, 9, 1}, {1, 1, 2, 10, 2, 2, 2, 3}, {11, 3, 3, 3, 4, 12, 4, 4},
-     {4, 5, 13, 5, 5, 5, 6, 14}, {6, 6, 6, 7, 15, 7, 7, 7}},
-    {{0, 0, 0, 8, 0, 1, 1, 1}, {9, 1, 2, 2, 2, 10, 2, 3}, {3, 3, 11, 3, 4, 4, 4, 12},
-     {4, 5, 5, 5, 13, 5, 6, 6}, {6, 14, 6, 7, 7, 7, 15, 7}},
-    {{0, 0, 0, 0, 0, 1, 1, 1}, {1, 1, 2, 2, 2, 2, 2, 3}, {3, 3, 3, 3, 4, 4, 4, 4},
-     {4, 5, 5, 5, 5, 5, 6, 6}, {6, 6, 6, 7, 7, 7, 7, 7}}};
-static const unsigned char rows5_m01[5] = {0x63, 0x8c, 0x31, 0xc6, 0x18};
-static const unsigned char rows5_m23[5] = {0x8c, 0x31, 0xc6, 0x18, 0x63};
-
-__attribute__((target("avx512f"))) static inline void store_rows5(double *dst, const __m512d *c)
-{
-    for (int j = 0; j < 5; j++) {
-        __m512d t01 = _mm512_permutex2var_pd(c[0], _mm512_loadu_si512(rows5_idx[0][j]), c[1]);
-        __m512d t23 = _mm512_permutex2var_pd(c[2], _mm512_loadu_si512(rows5_idx[1][j]), c[3]);
-        __m512d t4 = _mm512_permutexvar_pd(_mm512_loadu_si512(rows5_idx[2][j]), c[4]);
-        __m512d o = _mm512_mask_blend_pd(rows5_m23[j], t4, t23);
-        _mm512_storeu_pd(dst + 8 * j, _mm512_mask_blend_pd(rows5_m01[j], o, t01));
-    }
-}
-
-/* Any number of outputs: columns k0 .. k0 + ncol - 1 (ncol <= 8) of 8 lanes, transposed
- * in registers (an 8 x 8 transpose, 24 shuffles), each lane's values stored with one
- * masked store at its row: out + row[r] * nres + k0. A scatter per column cost the
- * fisheye-ii system with its 19 outputs (the passage's hit points) 24 ns a ray. */
-__attribute__((target("avx512f"))) static inline void store_rows8(double *out, const size_t *row,
-                                                                  size_t nres, size_t k0,
-                                                                  const __m512d *col, int ncol)
-{
-    __m512d c[8], a[8], b[8];
-    for (int j = 0; j < 8; j++)
-        c[j] = j < ncol ? col[j] : _mm512_setzero_pd();
-    for (int j = 0; j < 4; j++) {
-        a[2 * j] = _mm512_unpacklo_pd(c[2 * j], c[2 * j + 1]);
-        a[2 * j + 1] = _mm512_unpackhi_pd(c[2 * j], c[2 * j + 1]);
-    }
-    /* a[0]: lanes 0 2 4 6 of columns 0, 1 in 128-bit pieces; a[1]: lanes 1 3 5 7 */
-    for (int h = 0; h < 2; h++) {
-        b[4 * h] = _mm512_shuffle_f64x2(a[h], a[2 + h], 0x88);
-        b[4 * h + 1] = _mm512_shuffle_f64x2(a[h], a[2 + h], 0xdd);
-        b[4 * h + 2] = _mm512_shuffle_f64x2(a[4 + h], a[6 + h], 0x88);
-        b[4 * h + 3] = _mm512_shuffle_f64x2(a[4 + h], a[6 + h], 0xdd);
-    }
-    const __mmask8 mk = (__mmask8)((1u << ncol) - 1);
-    for (int h = 0; h < 2; h++) { /* h = 0: even lanes, 1: odd lanes */
-        const __m512d r0 = _mm512_shuffle_f64x2(b[4 * h], b[4 * h + 2], 0x88);
-        const __m512d r4 = _mm512_shuffle_f64x2(b[4 * h], b[4 * h + 2], 0xdd);
-        const __m512d r2 = _mm512_shuffle_f64x2(b[4 * h + 1], b[4 * h + 3], 0x88);
-        const __m512d r6 = _mm512_shuffle_f64x2(b[4 * h + 1], b[4 * h + 3], 0xdd);
-        _mm512_mask_storeu_pd(out + row[h] * nres + k0, mk, r0);
-        _mm512_mask_storeu_pd(out + row[2 + h] * nres + k0, mk, r2);
-        _mm512_mask_storeu_pd(out + row[4 + h] * nres + k0, mk, r4);
-        _mm512_mask_storeu_pd(out + row[6 + h] * nres + k0, mk, r6);
-    }
-}
-
-/* The reverse for the inputs (x y u v lambda): 8 rows of 5 in 5 loads, to 5 columns.
- * Column i lane r is flat position p = 5 r + i, in load p / 8 at p % 8. */
-static const long long cols5_idx[3][5][8] = {
-    {{0, 5, 10, 15, 4, 1, 6, 3}, {1, 6, 11, 0, 5, 2, 7, 4}, {2, 7, 12, 1, 6, 3, 0, 5},
-     {3, 8, 13, 2, 7, 4, 1, 6}, {4, 9, 14, 3, 0, 5, 2, 7}},
-    {{0, 5, 2, 7, 4, 9, 14, 3}, {1, 6, 3, 0, 5, 10, 15, 4}, {2, 7, 4, 1, 6, 11, 0, 5},
-     {3, 0, 5, 2, 7, 12, 1, 6}, {4, 1, 6, 3, 8, 13, 2, 7}},
-    {{0, 5, 2, 7, 4, 1, 6, 3}, {1, 6, 3, 0, 5, 2, 7, 4}, {2, 7, 4, 1, 6, 3, 0, 5},
-     {3, 0, 5, 2, 7, 4, 1, 6}, {4, 1, 6, 3, 0, 5, 2, 7}}};
-static const unsigned char cols5_m01[5] = {0x0f, 0x07, 0x07, 0x07, 0x07};
-static const unsigned char cols5_m23[5] = {0x70, 0x78, 0x38, 0x38, 0x38};
-
-__attribute__((target("avx512f"))) static inline void load_cols5(const double *src, __m512d *c)
-{
-    const __m512d l0 = _mm512_loadu_pd(src), l1 = _mm512_loadu_pd(src + 8);
-    const __m512d l2 = _mm512_loadu_pd(src + 16), l3 = _mm512_loadu_pd(src + 24);
-    const __m512d l4 = _mm512_loadu_pd(src + 32);
-    for (int i = 0; i < 5; i++) {
-        __m512d t01 = _mm512_permutex2var_pd(l0, _mm512_loadu_si512(cols5_idx[0][i]), l1);
-        __m512d t23 = _mm512_permutex2var_pd(l2, _mm512_loadu_si512(cols5_idx[1][i]), l3);
-        __m512d t4 = _mm512_permutexvar_pd(_mm512_loadu_si512(cols5_idx[2][i]), l4);
-        __m512d o = _mm512_mask_blend_pd(cols5_m23[i], t4, t23);
-        c[i] = _mm512_mask_blend_pd(cols5_m01[i], o, t01);
-    }
-}
+#include "poly/poly_eval_rows.h"
 
 #define KERNEL_NAME run_blocks_avx512
 #define KERNEL_TARGET __attribute__((target("avx512f"), optimize("O3")))
@@ -373,6 +288,55 @@ static int part_plans(const poly_system *s, int what, int p, const poly_plan **p
     return 2;
 }
 
+/* The kernels of this machine, widest first, and how many of them (poly_eval.c
+ * builds one per instruction set; the portable 2-lane one alone off x86). */
+static int kernels(run_fn **k, int *kblk)
+{
+    int n = 0;
+#if defined(POLY_X86)
+    if (__builtin_cpu_supports("avx512f"))
+        k[n] = run_blocks_avx512, kblk[n++] = 32;
+    if (__builtin_cpu_supports("avx2"))
+        k[n] = run_blocks_avx2, kblk[n++] = 8;
+#endif
+    k[n] = run_blocks_sse, kblk[n++] = 4;
+    return n;
+}
+
+/* n rays (rows idx[0 .. n - 1], or first .. first + n - 1) through the widest kernel,
+ * except a last partial block that a narrower kernel holds whole: a block costs its
+ * width whatever its rays, so 1 to 8 rays on AVX-512 cost 32 (0.8 us on the fisheye-ii
+ * system) where AVX2's block of 8 costs a quarter. Every kernel gives the same bits. */
+static void run_rays(run_fn *const *k, const int *kblk, int nk, const poly_system *s,
+                     const poly_plan *const *pls, int nview, int what, size_t n,
+                     const size_t *idx, size_t first, const double *in, double *out,
+                     unsigned char *pass, const batch_job *job, double *v, double *res,
+                     double *fb, int *off)
+{
+    size_t tail = n % (size_t)kblk[0];
+    int t = 0;
+    while (t + 1 < nk && tail > 0 && tail <= (size_t)kblk[t + 1])
+        t++;
+    if (t == 0)
+        tail = 0;
+    if (n > tail)
+        k[0](s, pls, nview, what, n - tail, idx, first, in, out, pass, job, v, res, fb, off);
+    if (tail)
+        k[t](s, pls, nview, what, tail, idx ? idx + (n - tail) : NULL, first + (n - tail), in,
+             out, pass, job, v, res, fb, off);
+}
+
+/* Scratch of a batch call on the stack up to this size (a default fit's evaluation
+ * needs about 40 KiB): eight allocations and frees had cost each call about 0.7 us on
+ * the fisheye-ii system, the time of 25 rays in bulk. */
+#define STACK_SCRATCH (48 * 1024)
+
+/* Bytes of n items of size sz, rounded up to 64 (each buffer of the scratch aligned). */
+static size_t span64(size_t n, size_t sz)
+{
+    return (n * sz + 63) / 64 * 64;
+}
+
 /* The batch driver of poly_eval_batch and poly_eval_jacobian_batch: rays in runs of one
  * part (each chunk counting-sorted by part when there are several, the part chosen from
  * the rays' own inputs as poly_eval does). RUN_EVAL applies the frame and transforms in
@@ -399,31 +363,35 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
         if (nsums > maxo)
             maxo = nsums;
     }
-    int *off = malloc(maxoff * sizeof(int));
-#if defined(POLY_X86)
-    run_fn *run = __builtin_cpu_supports("avx512f") ? run_blocks_avx512
-                  : __builtin_cpu_supports("avx2")  ? run_blocks_avx2
-                                                    : run_blocks_sse;
-#else
-    run_fn *run = run_blocks_sse; /* the portable 2-lane kernel */
-#endif
-    double *v = s->nparts ? aligned_alloc(64, (size_t)maxv * BLK * sizeof(double)) : NULL;
-    double *res = aligned_alloc(64, (size_t)maxo * BLK * sizeof(double));
-    if (res) /* outputs a block leaves out stay 0 (never garbage, never subnormal) */
-        memset(res, 0, (size_t)maxo * BLK * sizeof(double));
+    run_fn *k[3];
+    int kblk[3];
+    const int nk = kernels(k, kblk);
     /* the raw inputs, r, c, s; with RUN_JACF the kernel's columns for the chain rule */
     const size_t nfb = (size_t)s->nin + 3 + (what == RUN_JACF ? 3 * (size_t)s->nin + 9 + nj : 0);
-    double *fb = aligned_alloc(64, nfb * BLK * sizeof(double));
-    size_t *idx = s->nparts > 1 ? malloc(CHUNK * sizeof(size_t)) : NULL;
-    int *part = s->nparts > 1 ? malloc(CHUNK * sizeof(int)) : NULL;
-    int *start = calloc((size_t)s->nparts + 1, sizeof(int));
-    int *cur = calloc((size_t)s->nparts + 1, sizeof(int));
-    if (!v || !res || !fb || !off || !start || !cur || (s->nparts > 1 && (!idx || !part))) {
+    const size_t nch = s->nparts > 1 ? (count < CHUNK ? count : CHUNK) : 0;
+    const size_t sv = span64((size_t)maxv * BLK, sizeof(double));
+    const size_t sr = span64((size_t)maxo * BLK, sizeof(double));
+    const size_t sf = span64(nfb * BLK, sizeof(double)), so = span64(maxoff, sizeof(int));
+    const size_t si = span64(nch, sizeof(size_t)), sp = span64(nch, sizeof(int));
+    const size_t ss = span64((size_t)s->nparts + 1, sizeof(int));
+    const size_t total = sv + sr + sf + so + si + sp + 2 * ss;
+    _Alignas(64) unsigned char stack[STACK_SCRATCH];
+    unsigned char *mem = total <= sizeof stack ? stack : aligned_alloc(64, total);
+    if (!s->nparts || !mem) {
         job_fail(job->nsel, count, out, pass); /* no parts, or out of memory */
-    } else if (s->nparts == 1) {
+        return;
+    }
+    double *v = (double *)mem, *res = (double *)(mem + sv), *fb = (double *)(mem + sv + sr);
+    int *off = (int *)(mem + sv + sr + sf);
+    size_t *idx = (size_t *)(mem + sv + sr + sf + so);
+    int *part = (int *)(mem + sv + sr + sf + so + si);
+    int *start = (int *)(mem + sv + sr + sf + so + si + sp), *cur = start + ss / sizeof(int);
+    memset(res, 0, sr); /* outputs a block leaves out stay 0 (never garbage, never subnormal) */
+    if (s->nparts == 1) {
         const poly_plan *pls[3];
         const int nview = part_plans(s, what, 0, pls);
-        run(s, pls, nview, what, count, NULL, 0, in, out, pass, job, v, res, fb, off);
+        run_rays(k, kblk, nk, s, pls, nview, what, count, NULL, 0, in, out, pass, job, v, res,
+                 fb, off);
     } else {
         for (size_t c0 = 0; c0 < count; c0 += CHUNK) {
             size_t n = count - c0 < CHUNK ? count - c0 : CHUNK;
@@ -441,19 +409,13 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
                 const poly_plan *pls[3];
                 const int nview = part_plans(s, what, q, pls);
                 if (start[q + 1] > start[q])
-                    run(s, pls, nview, what, (size_t)(start[q + 1] - start[q]), idx + start[q],
-                        0, in, out, pass, job, v, res, fb, off);
+                    run_rays(k, kblk, nk, s, pls, nview, what, (size_t)(start[q + 1] - start[q]),
+                             idx + start[q], 0, in, out, pass, job, v, res, fb, off);
             }
         }
     }
-    free(v);
-    free(res);
-    free(fb);
-    free(off);
-    free(idx);
-    free(part);
-    free(start);
-    free(cur);
+    if (mem != stack)
+        free(mem);
 }
 
 /* The job (batch_job) of a run writing outputs sel[0 .. nsel - 1] (sel NULL: all nw
@@ -466,14 +428,21 @@ static void batch_job_run(const poly_system *s, int what, size_t count, const do
     const int nw = what == RUN_JAC || what == RUN_JACF ? nj : nout;
     if (count == 0)
         return;
-    int *ids = malloc((2 * (size_t)nw + 1) * sizeof(int));
-    unsigned char *need = calloc(4 * (size_t)nw + 1, 1); /* 3 plans, and scratch */
+    /* on the stack for up to 256 sums (every default fit; its Jacobian's too) */
+    int ids_st[2 * 256 + 1];
+    unsigned char need_st[4 * 256 + 1];
+    const int small = nw <= 256;
+    int *ids = small ? ids_st : malloc((2 * (size_t)nw + 1) * sizeof(int));
+    unsigned char *need = small ? need_st : malloc(4 * (size_t)nw + 1); /* 3 plans, scratch */
     if (!ids || !need) {
         job_fail(sel ? nsel : nw, count, out, pass);
-        free(ids);
-        free(need);
+        if (!small) {
+            free(ids);
+            free(need);
+        }
         return;
     }
+    memset(need, 0, 4 * (size_t)nw + 1);
     const int views = s->frame && s->nplain; /* RUN_EVAL, RUN_JACF: the views of poly_impl.h */
     batch_job job = {.nsel = sel ? nsel : nw, .sel = sel ? sel : ids, .finite = ids + nw,
                      .need = {need, need + nw, need + 2 * nw}};
@@ -518,8 +487,10 @@ static void batch_job_run(const poly_system *s, int what, size_t count, const do
         if (!poly_circle_covers(s, o))
             ids[nw + job.nfinite++] = o;
     batch(s, what, count, in, out, pass, &job);
-    free(ids);
-    free(need);
+    if (!small) {
+        free(ids);
+        free(need);
+    }
 }
 
 void poly_eval_batch_core(const poly_system *s, size_t count, const double *in, double *out,

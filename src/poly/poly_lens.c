@@ -10,8 +10,9 @@ static int readable(const char *path)
     return access(path, R_OK) == 0;
 }
 
-int poly_find_lens_file(const poly_system *sys, const char *poly_path, char *buf, size_t len,
-                        lens_err *err)
+int poly_find_lens_file(const poly_system *sys, const char *poly_path,
+                        int (*find)(const char *name, char *buf, size_t n), char *buf,
+                        size_t len, lens_err *err)
 {
     const char *lp = poly_lens_path(sys), *name = poly_lens_name(sys);
     if (!lp || !*lp) {
@@ -29,6 +30,8 @@ int poly_find_lens_file(const poly_system *sys, const char *poly_path, char *buf
         if (readable(buf))
             return 0;
     }
+    if (find && find(lp, buf, len) == 0 && readable(buf))
+        return 0;
     lens_errf(err, poly_path, 0, "the lens file the system was fitted to (lens '%s', "
               "lens-path %s) is not found; give it with --lens", name, lp);
     return -1;

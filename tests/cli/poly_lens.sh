@@ -45,3 +45,14 @@ mkdir -p $T/beside && cp $L $T/beside/my.lens
 sed "s#^lens-path .*#lens-path my.lens#" $T/d.poly >$T/beside/rel.poly
 if run $BIN/lens-distort $T/beside/rel.poly --fields 0,10 >/dev/null 2>$T/err.txt
 then ok distort_finds_lens_beside_poly; else fail distort_finds_lens_beside_poly "$(cat $T/err.txt)"; fi
+# a lens named by its short name (lens-trace dgauss.50mm) is recorded so, and found as the
+# commands find a named lens (./, $SPARSELENS_LENS_PATH, the shipped lenses), from an
+# empty directory without --lens: the same table as with the lens file given
+mkdir -p $T/short
+(cd $T/short && run $TOPDIR/$BIN/lens-trace dgauss.50mm -n 3000 --seed 1 -q |
+  run $TOPDIR/$BIN/lens-fit -q --terms 15 -o s.poly)
+(cd $T/short && env -u SPARSELENS_LENS_PATH $TOPDIR/$BIN/lens-spot s.poly --fields 0,10 >auto.txt 2>err.txt); rc=$?
+run $BIN/lens-spot $T/short/s.poly --lens $L --fields 0,10 >$T/short/given.txt 2>/dev/null
+if grep -qx 'lens-path dgauss.50mm' $T/short/s.poly && [ $rc -eq 0 ] && [ -s $T/short/auto.txt ] &&
+   cmp -s $T/short/auto.txt $T/short/given.txt
+then ok spot_finds_lens_by_short_name; else fail spot_finds_lens_by_short_name "rc=$rc $(cat $T/short/err.txt) $(grep '^lens-path' $T/short/s.poly)"; fi

@@ -122,6 +122,25 @@ static void agree(double one, double batch, double scale, int r, int o)
         fail_msg("ray %d output %d: poly_eval %.17g, batch %.17g", r, o, one, batch);
 }
 
+/* Short batches (a narrower kernel takes a last block of up to 8 rays; its scratch on
+ * the stack) give the rows of the long batch outb, pb, jb bit for bit, from an offset
+ * that is no multiple of a block. */
+static void check_short_batches(const poly_system *s, const double *in, const double *outb,
+                                const unsigned char *pb, const double *jb)
+{
+    static const int counts[] = {1, 2, 3, 4, 5, 7, 8, 9, 31, 33, 41};
+    double o[41 * 5], j[41 * 25];
+    unsigned char p[41];
+    for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
+        const int c = counts[k], at = 17;
+        poly_eval_batch(s, (size_t)c, in + 5 * at, o, p);
+        poly_eval_jacobian_batch(s, (size_t)c, in + 5 * at, j);
+        assert_memory_equal(o, outb + 5 * at, (size_t)c * 5 * sizeof *o);
+        assert_memory_equal(p, pb + at, (size_t)c);
+        assert_memory_equal(j, jb + 25 * at, (size_t)c * 25 * sizeof *j);
+    }
+}
+
 static void check_batch(int nparts)
 {
     poly_system *s = fixture_system(40, 11, nparts, 7 + (uint64_t)nparts);
@@ -156,6 +175,7 @@ static void check_batch(int nparts)
                 fail_msg("ray %d output %d: %.17g vs naive %.17g", r, o, one[o], naive[o]);
         }
     }
+    check_short_batches(s, in, out, pass, jac);
     free(in);
     free(out);
     free(pass);
@@ -431,6 +451,7 @@ static void test_batch_frame_layouts(void **st)
             assert_int_equal(pb[9], 0);
         assert_true(npass > N / 2);
         check_selected_outputs(s, N, in, outb, pb, jb);
+        check_short_batches(s, in, outb, pb, jb);
         poly_free(s);
     }
     free(in);
