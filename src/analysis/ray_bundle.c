@@ -45,11 +45,13 @@ int bundle_aim(const imaging *im, double field, double lambda, const double *pup
     }
     memcpy(b->pupil, pupil, sizeof(double) * 2 * count);
     double stop = lens->surf[lens->stop].semi_diameter;
+    aim_object_start start;
+    int started = imaging_aim_prepare(im, b->n, field, &start) == 0;
 #pragma omp parallel for schedule(dynamic, 16) if (count > 512)
     for (size_t i = 0; i < count; i++) {
         double px = pupil[2 * i], py = pupil[2 * i + 1], r = hypot(px, py);
         double k = r > 1 - 1e-9 ? (1 - 1e-9) / r : 1;
-        b->aimed[i] = imaging_object_ray(im, b->n, field, px * k * stop, py * k * stop, &b->ray[i]) == 0;
+        b->aimed[i] = started && aim_object_to(&start, px * k * stop, py * k * stop, &b->ray[i]) == 0;
     }
     return 0;
 }

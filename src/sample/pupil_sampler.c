@@ -468,7 +468,7 @@ static int draw_set(const pupil_sampler *ps, double x, double y, double rnd, pup
     if (t >= a->area || a->count == 0) {
         d->set = b;
         d->other = a;
-        t = fmax(t - a->area, 0);
+        t = t - a->area > 0 ? t - a->area : 0; /* fmax(.., 0), inline (a draw a sample) */
     }
     d->cells = t / (d->set->du * d->set->dv);
     d->k = (int)d->cells;
@@ -517,16 +517,17 @@ int pupil_sampler_sample_rows(const pupil_sampler *ps, double x, double y, const
     int cj = d.cj;
     const pupil_run *row = set->runs + set->row_run[cj], *end = set->runs + set->row_run[cj + 1];
     int nrow = end->cum - row->cum;
-    double fv = fmin((d.cells - row->cum) / nrow, 1);
+    double fv = (d.cells - row->cum) / nrow, fu;
+    fv = fv < 1 ? fv : 1; /* fmin(.., 1) and, below, fmax(.., 0), inline */
     /* rnd[0] the position along the row's occupied cells: monotone in u */
     double t1 = rnd[0] * nrow;
     int q = (int)t1;
     if (q >= nrow)
         q = nrow - 1;
-    double fu = fmin(t1 - q, 1);
+    fu = t1 - q < 1 ? t1 - q : 1;
     while (row + 1 < end && row[1].cum <= row->cum + q)
         q -= row[1].cum - row->cum, row++;
-    finish_draw(&d, set->u0 + (row->i0 + q + fu) * set->du, set->v0 + (cj + fmax(fv, 0)) * set->dv,
+    finish_draw(&d, set->u0 + (row->i0 + q + fu) * set->du, set->v0 + (cj + (fv > 0 ? fv : 0)) * set->dv,
                 u, v, pdf);
     return 0;
 }
