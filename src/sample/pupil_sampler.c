@@ -40,6 +40,7 @@ typedef struct {
     double guide_scale;    /* GUIDE / count */
     int count;   /* occupied cells */
     double area; /* count * du * dv */
+    double inv_du, inv_dv, inv_cell; /* 1 / du, 1 / dv, 1 / (du dv): a draw multiplies */
 } pupil_set;
 
 static int occupied(const pupil_set *set, size_t c)
@@ -77,6 +78,7 @@ static int set_finish(pupil_set *set)
         set->row_run[j] = q;
     }
     set->area = set->count * set->du * set->dv;
+    set->inv_du = 1 / set->du, set->inv_dv = 1 / set->dv, set->inv_cell = 1 / (set->du * set->dv);
     set->guide_scale = set->count ? (double)GUIDE / set->count : 0;
     for (int m = 0, q = 0; m < GUIDE && set->count; m++) {
         long k = (long)m * set->count / GUIDE;
@@ -104,7 +106,7 @@ static void set_cell(const pupil_set *set, int k, int *i, int *j)
 
 struct pupil_sampler {
     int nr;
-    double rmax;
+    double rmax, r_scale; /* r_scale = (nr - 1) / rmax: a radius to its set */
     pupil_set *sets;
 };
 
@@ -289,6 +291,7 @@ static pupil_sampler *build_sets(const prober *p, const pupil_sampler_options *o
     }
     ps->nr = opt->radii > 1 ? opt->radii : 64;
     ps->rmax = opt->sensor_radius;
+    ps->r_scale = (ps->nr - 1) / ps->rmax;
     int g = opt->grid > 0 ? opt->grid : 96;
     ps->sets = calloc((size_t)ps->nr, sizeof *ps->sets);
     int failed = !ps->sets;
@@ -382,6 +385,8 @@ pupil_sampler *pupil_sampler_read(FILE *f, lens_err *err)
     int ok = ps && fread(magic, sizeof magic, 1, f) == 1 && !memcmp(magic, cache_magic, sizeof magic) &&
              fread(&ps->nr, sizeof ps->nr, 1, f) == 1 && fread(&ps->rmax, sizeof ps->rmax, 1, f) == 1 &&
              ps->nr > 1 && ps->nr <= 1 << 16 && ps->rmax > 0 && isfinite(ps->rmax);
+    if (ok)
+        ps->r_scale = (ps->nr - 1) / ps->rmax;
     if (ok && !(ps->sets = calloc((size_t)ps->nr, sizeof *ps->sets)))
         ok = 0;
     for (int i = 0; ok && i < ps->nr; i++) {
@@ -419,7 +424,7 @@ static int in_set(const pupil_set *set, double u, double v)
 {
     if (!set->count)
         return 0;
-    double fi = floor((u - set->u0) / set->du), fj = floor((v - set->v0) / set->dv);
+    double fi = floor((u - set->u0) * set->inv_du), fj = floor((v - set->v0) * set->inv_dv);
     if (!(fi >= 0 && fi < set->g && fj >= 0 && fj < set->g))
         return 0;
     return occupied(set, (size_t)fj * set->g + (size_t)fi);
@@ -428,15 +433,18 @@ static int in_set(const pupil_set *set, double u, double v)
 /* The two tabulated radii around r, and the rotation taking (r, 0) to (x, y). */
 static int locate(const pupil_sampler *ps, double x, double y, int *j, double *c, double *s)
 {
-    double r = hypot(x, y);
+    /* sqrt, not hypot, and products, not quotients: a draw a camera sample, and these
+     * were a third of its time (x and y are sensor millimetres: no overflow) */
+    double r = sqrt(x * x + y * y);
     if (!(r <= ps->rmax * (1 + 1e-12)))
         return -1;
-    double t = r / ps->rmax * (ps->nr - 1);
+    double t = r * ps->r_scale;
     int k = (int)t;
     *j = k > ps->nr - 2 ? ps->nr - 2 : k;
     if (r > 0) {
-        *c = x / r;
-        *s = y / r;
+        double inv = 1 / r;
+        *c = x * inv;
+        *s = y * inv;
     } else {
         *c = 1;
         *s = 0;
@@ -470,7 +478,7 @@ static int draw_set(const pupil_sampler *ps, double x, double y, double rnd, pup
         d->other = a;
         t = t - a->area > 0 ? t - a->area : 0; /* fmax(.., 0), inline (a draw a sample) */
     }
-    d->cells = t / (d->set->du * d->set->dv);
+    d->cells = t * d->set->inv_cell;
     d->k = (int)d->cells;
     if (d->k >= d->set->count)
         d->k = d->set->count - 1;
