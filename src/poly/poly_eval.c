@@ -483,9 +483,17 @@ static void batch_job_run(const poly_system *s, int what, size_t count, const do
         job.roff[2] = nout + nj;
     }
     job.deriv[0] = what == RUN_JAC;
-    for (int o = 0; pass && o < nout; o++)
-        if (!poly_circle_covers(s, o))
-            ids[nw + job.nfinite++] = o;
+    if (pass) { /* poly_circle_covers of every output in one pass over the circles (a
+                 * call per output had cost a short batch 0.1 us) */
+        unsigned char *cov = need + 3 * nw; /* scratch: RUN_EVAL alone has pass flags */
+        memset(cov, 0, (size_t)nout);
+        for (int c = 0; c < s->ncircles; c++)
+            if (isfinite(s->circles[c].radius * s->circles[c].radius))
+                cov[s->circles[c].a] = cov[s->circles[c].b] = 1;
+        for (int o = 0; o < nout; o++)
+            if (!cov[o])
+                ids[nw + job.nfinite++] = o;
+    }
     batch(s, what, count, in, out, pass, &job);
     if (!small) {
         free(ids);
