@@ -154,6 +154,9 @@ void imaging_cli_setup(const imaging_cli *a, const imaging_models *m, double lam
         snprintf(object, sizeof object, "object at infinity");
     if (a->focus_mode == FOCUS_FILE && isinf(s->file_focus_distance))
         snprintf(sensor, sizeof sensor, "sensor as in the file (focused at infinity)");
+    else if (a->focus_mode == FOCUS_FILE && s->file_focus_distance < 0) /* lens-info(1) */
+        snprintf(sensor, sizeof sensor, "sensor as in the file (focused past infinity, at %.4g mm)",
+                 s->file_focus_distance);
     else if (a->focus_mode == FOCUS_FILE)
         snprintf(sensor, sizeof sensor, "sensor as in the file (focused at %.4g mm)",
                  s->file_focus_distance);
