@@ -22,11 +22,13 @@ size_t scene_emitter_count(const scene_t *s)
     return k;
 }
 
-/* t of the nearest hit with object o, or INFINITY. Inlined: every sample tests a few
+/* t of the nearest hit with object o, or INFINITY; a plane or disk hit at tmax or
+ * beyond may be INFINITY too (a search's nearest so far: no quotient). Inlined: every sample tests a few
  * dozen objects, and a call costs about as much as a plane's test. */
 static inline __attribute__((always_inline)) double hit_object(const scene_object *o,
                                                                const double org[3],
-                                                               const double d[3], double tmin)
+                                                               const double d[3], double tmin,
+                                                               double tmax)
 {
     if (o->kind == OBJ_SPHERE) {
         double oc[3] = {org[0] - o->p[0], org[1] - o->p[1], org[2] - o->p[2]};
@@ -41,9 +43,12 @@ static inline __attribute__((always_inline)) double hit_object(const scene_objec
         return INFINITY;
     }
     double den = dot3(d, o->n);
-    if (den == 0) return INFINITY;
-    double q[3] = {o->p[0] - org[0], o->p[1] - org[1], o->p[2] - org[2]};
-    double t = dot3(q, o->n) / den;
+    double q[3] = {o->p[0] - org[0], o->p[1] - org[1], o->p[2] - org[2]}, num = dot3(q, o->n);
+    /* behind the origin (or parallel): no quotient; beyond tmax: none either, |num| >=
+     * tmax |den| (a ray in the plane, 0 / 0, fails both) */
+    if (!(num > 0 ? den > 0 : num < 0 && den < 0)) return INFINITY;
+    if (fabs(num) >= tmax * fabs(den)) return INFINITY;
+    double t = num / den;
     if (!(t > tmin)) return INFINITY;
     if (o->kind == OBJ_DISK) {
         double h[3];
@@ -75,7 +80,7 @@ int scene_intersect(const scene_t *s, const double o[3], const double d[3], doub
     double best = tmax;
     int which = -1;
     for (size_t i = 0; i < s->nobj; i++) {
-        double t = hit_object(&s->obj[i], o, d, tmin);
+        double t = hit_object(&s->obj[i], o, d, tmin, best);
         if (t < best) best = t, which = (int)i;
     }
     if (which < 0) return 0;
@@ -90,7 +95,7 @@ int scene_intersect_emitter(const scene_t *s, const double o[3], const double d[
     int which = -1;
     for (size_t i = 0; i < s->nobj; i++) {
         if (!s->obj[i].emitter) continue;
-        double t = hit_object(&s->obj[i], o, d, tmin);
+        double t = hit_object(&s->obj[i], o, d, tmin, best);
         if (t < best) best = t, which = (int)i;
     }
     if (which < 0) return 0;
@@ -98,7 +103,7 @@ int scene_intersect_emitter(const scene_t *s, const double o[3], const double d[
      * (an equal t keeps the lower index, as scene_intersect does) */
     for (size_t i = 0; i < s->nobj; i++) {
         if (s->obj[i].emitter) continue;
-        double t = hit_object(&s->obj[i], o, d, tmin);
+        double t = hit_object(&s->obj[i], o, d, tmin, INFINITY); /* ties count */
         if (t < best || (t == best && (int)i < which)) return 0;
     }
     fill_hit(s, which, best, o, d, hit);
@@ -112,11 +117,11 @@ int scene_intersect_listed(const scene_t *s, const int *spheres, int nlisted, co
     int which = -1;
     for (size_t i = 0; i < s->nobj; i++) {
         if (s->obj[i].kind == OBJ_SPHERE) continue;
-        double t = hit_object(&s->obj[i], o, d, tmin);
+        double t = hit_object(&s->obj[i], o, d, tmin, best);
         if (t < best) best = t, which = (int)i;
     }
     for (int k = 0; k < nlisted; k++) {
-        double t = hit_object(&s->obj[spheres[k]], o, d, tmin);
+        double t = hit_object(&s->obj[spheres[k]], o, d, tmin, best);
         if (t < best) best = t, which = spheres[k];
     }
     if (which < 0) return 0;
@@ -129,11 +134,12 @@ int scene_visible(const scene_t *s, const double a[3], const double b[3])
     double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     double len = sqrt(dot3(d, d));
     if (!(len > 0)) return 1;
-    for (int k = 0; k < 3; k++) d[k] /= len;
+    double inv = 1 / len;
+    for (int k = 0; k < 3; k++) d[k] *= inv;
     /* any blocker will do: the first one found ends the search */
     double tmax = len * (1 - 1e-9) - EPS_T;
     for (size_t i = 0; i < s->nobj; i++)
-        if (hit_object(&s->obj[i], a, d, EPS_T) < tmax) return 0;
+        if (hit_object(&s->obj[i], a, d, EPS_T, tmax) < tmax) return 0;
     return 1;
 }
 

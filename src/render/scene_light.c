@@ -39,17 +39,18 @@ static double select_weight(const scene_object *o, const double p[3], const doub
     double q[3] = {o->p[0] - p[0], o->p[1] - p[1], o->p[2] - p[2]};
     double d2 = dot3(q, q), d = sqrt(d2), omega;
     if (!(d > 0)) return 0;
+    double inv = 1 / d, inv2 = inv * inv; /* one quotient: every emitter, every sample */
     if (o->kind == OBJ_SPHERE) {
-        omega = d <= o->radius ? 2 * M_PI : 2 * M_PI * (1 - sqrt(rm_pos(1 - o->r2 / d2)));
+        omega = d <= o->radius ? 2 * M_PI : 2 * M_PI * (1 - sqrt(rm_pos(1 - o->r2 * inv2)));
     } else if (o->kind == OBJ_DISK) {
-        double cl = -dot3(o->n, q) / d; /* the disk emits towards its normal */
+        double cl = -dot3(o->n, q) * inv; /* the disk emits towards its normal */
         if (cl <= 0) return 0;
-        omega = M_PI * o->radius * o->radius * cl / d2;
+        omega = M_PI * o->r2 * cl * inv2;
         if (!(omega < 2 * M_PI)) omega = 2 * M_PI; /* fmin(2 pi, omega), NaN too */
     } else {
         return 0;
     }
-    return o->lum * omega * (rm_pos(dot3(n, q) / d) + 0.05);
+    return o->lum * omega * (rm_pos(dot3(n, q) * inv) + 0.05);
 }
 
 /* Solid-angle density with which emitter o's sampling gives direction w from p, hitting

@@ -54,7 +54,7 @@ then ok pictures_svg_pdf; else fail pictures_svg_pdf "$(head -c 100 $T/s.svg)"; 
 # label inside its picture and whole (no title cut to an ellipsis, a one-field spot
 # picture too), no two overprinting, µm never written "um"; the second title line states
 # f-number, object and focus (fisheye-ii's file is focused at 77 mm, the Angenieux's
-# past infinity: a negative focus distance, said so).
+# sensor short of the infinity focus: a negative focus distance, said so).
 export SPARSELENS_TEXT_BOXES=$T/boxes.txt
 FE=lenses/fisheye-ii.lens
 run $BIN/lens-spot $DG --compare $T/dg.poly --fields 0,10,20 --rays 60 --png $T/sc.png >/dev/null 2>&1
@@ -90,7 +90,7 @@ titles = {name: ' '.join(b[4] for b in boxes[:2]) for name, w, h, boxes in pics}
 for name, want in [('sc.png', 'f/2.03, object at infinity, sensor as in the file (focused at infinity)'),
                    ('dc.png', 'f/2.03, object at infinity'),
                    ('fe.png', 'f/4, object at infinity, sensor as in the file (focused at 77.23 mm)'),
-                   ('ag.png', 'f/1.14, object at infinity, sensor as in the file (focused past infinity, at -8.434e+05 mm)'),
+                   ('ag.png', 'f/1.14, object at infinity, sensor as in the file (0.00296 mm short of the infinity focus)'),
                    ('fan.png', 'f/2.03, object at infinity'), ('field.png', 'f/2.03'), ('layout.png', 'f/2.03')]:
     if want not in titles.get(name, ''): bad.append('%s: title "%s" lacks "%s"' % (name, titles.get(name), want))
 print(len(pics), 'pictures,', sum(len(p[3]) for p in pics), 'texts')
