@@ -105,6 +105,15 @@ if awk '$2 == "wavefront:" && $3 != "model" { n++; c[$3, $5] = $6 }
               exit bad || n != 6 }' $T/sm.txt
 then ok designer_system_images_every_ray; else fail designer_system_images_every_ray "$(cat $T/err.txt; grep '^#' $T/sm.txt)"; fi
 
+# the focal shift through the system too: its time and its largest difference from the lens
+run $BIN/lens-field lenses/sasian-triplet.zmx --compare $T/st.poly --focal-shift 5 >$T/sf.txt 2>$T/err.txt
+if grep -q '^# time imaging the close rays: lens .* s, poly .* s' $T/sf.txt &&
+   awk '$1 == "lens" { l[$2] = $3 } $1 == "poly" { p[$2] = $3 }
+        /^# poly - lens: focal shifts differ by at most / { said = $(NF - 1) }
+        END { for (k in l) { d = p[k] - l[k]; if (d < 0) d = -d; if (d > m) m = d }
+              exit !(length(l) == 5 && m > 0 && (said / m - 1)^2 < 1e-6) }' $T/sf.txt
+then ok designer_focal_shift_system; else fail designer_focal_shift_system "$(cat $T/err.txt $T/sf.txt)"; fi
+
 # focal shift: the close-ray focus agrees with the paraxial one
 run $BIN/lens-field lenses/cooke-triplet.zmx --focal-shift 5 >$T/s.txt 2>$T/err.txt
 if awk '!/^#/ { n++; if (($3 - $4)^2 > 1e-4) bad = 1 } END { exit bad || n != 5 }' $T/s.txt
