@@ -83,12 +83,11 @@ static double colour_at(const scene_t *sc, const wave_set *w, int j, const doubl
 /* The uniforms of sample k's direct-light estimate (drawn only where a path needs them). */
 static void light_uniforms(const ld_pixel *key, long spp, long k, double u[5])
 {
-    double l2[2];
+    double l2[2], b2[2];
     u[0] = ld_1d_px(key, DIM_SELECT, spp, k);
-    ld_2d_px(key, DIM_LIGHT, spp, k, l2);
+    ld_2d_px2(key, DIM_LIGHT, DIM_BSDF, spp, k, l2, b2);
     u[1] = l2[0], u[2] = l2[1];
-    ld_2d_px(key, DIM_BSDF, spp, k, l2);
-    u[3] = l2[0], u[4] = l2[1];
+    u[3] = b2[0], u[4] = b2[1];
 }
 
 /* Radiance leaving the scene along the camera ray (o, d) (scene frame), at the
@@ -129,7 +128,7 @@ typedef struct {
     double eta[BLOCK * MAX_WAVE], pdf[BLOCK];
     double o4[BLOCK * MAX_WAVE * 4], jac[BLOCK * MAX_WAVE * 16]; /* full estimator */
     unsigned char pass[BLOCK * MAX_WAVE];
-    wave_set waves[BLOCK];
+    wave_set waves[BLOCK]; /* spectral: each sample's; else waves[0] serves all */
     int px[BLOCK];  /* each sample's pixel (column of the row) */
     long k[BLOCK];  /* and its index among the pixel's spp */
 } block_buf;
@@ -211,19 +210,20 @@ static void render_block(const render_job *job, const camera_cull *cc, const row
     double rad = job->filter_radius > 0 ? job->filter_radius : 1;
     /* the camera rays of the block */
     int nray = 0; /* rays per sample */
+    int spectral = sc->mode == SCENE_SPECTRAL;
+    if (!spectral) waves_of(sc, 0, &b->waves[0]); /* the same for every sample */
     for (int i = 0; i < m; i++) {
         long k = b->k[i];
         int px = b->px[i];
         const ld_pixel *key = &row->key[px];
         double q[2], p2[2];
-        ld_2d_px(key, DIM_PIXEL, spp, k, q);
+        ld_2d_px2(key, DIM_PIXEL, DIM_PUPIL, spp, k, q, p2);
         if (job->filter == RENDER_FILTER_TENT) q[0] = 0.5 + tent(q[0], rad), q[1] = 0.5 + tent(q[1], rad);
         double x = ((px + q[0]) / sc->width - 0.5) * cam->sensor_w;
         double y = ((py + q[1]) / sc->height - 0.5) * cam->sensor_h;
-        wave_set *w = &b->waves[i];
-        waves_of(sc, sc->mode == SCENE_SPECTRAL ? ld_1d_px(key, DIM_LAMBDA, spp, k) : 0, w);
+        wave_set *w = &b->waves[spectral ? i : 0];
+        if (spectral) waves_of(sc, ld_1d_px(key, DIM_LAMBDA, spp, k), w);
         double uu, vv;
-        ld_2d_px(key, DIM_PUPIL, spp, k, p2);
         b->pdf[i] = render_sampler_sample_2d(job->sampler, x, y, p2[0], p2[1], &uu, &vv);
         nray = job->achromatic ? 1 : w->nwave;
         for (int j = 0; j < nray; j++) {
@@ -238,7 +238,7 @@ static void render_block(const render_job *job, const camera_cull *cc, const row
         long k = b->k[i];
         const ld_pixel *key = &row->key[b->px[i]];
         pixel_acc *acc = &row->acc[b->px[i]];
-        const wave_set *w = &b->waves[i];
+        const wave_set *w = &b->waves[spectral ? i : 0];
         double a[3] = {0, 0, 0};
         int any = 0;
         for (int j = 0; j < nray && b->pdf[i] > 0; j++) {

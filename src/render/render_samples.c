@@ -23,12 +23,23 @@ static ld_perm perm_of(uint64_t key)
 
 /* A bijection of [0, 2^bits) (xor, odd multiply and xorshift steps are each invertible
  * modulo 2^bits), walked until it lands in [0, n): a permutation of [0, n). */
-static inline uint64_t permute(uint64_t i, uint64_t n, const ld_perm *p)
+typedef struct {
+    uint64_t n, mask;
+    int s;
+} perm_size;
+
+static inline perm_size size_of(uint64_t n)
 {
+    int bits = n <= 1 ? 0 : 64 - __builtin_clzll(n - 1);
+    perm_size z = {n, bits == 64 ? ~0ull : (1ull << bits) - 1, bits / 2 + 1};
+    return z;
+}
+
+static inline uint64_t permute_sized(uint64_t i, perm_size z, const ld_perm *p)
+{
+    uint64_t n = z.n, mask = z.mask;
+    int s = z.s;
     if (n <= 1) return 0;
-    int bits = 64 - __builtin_clzll(n - 1);
-    uint64_t mask = bits == 64 ? ~0ull : (1ull << bits) - 1;
-    int s = bits / 2 + 1;
     do {
         i = ((i ^ p->k1) * p->m2) & mask;
         i ^= i >> s;
@@ -36,6 +47,11 @@ static inline uint64_t permute(uint64_t i, uint64_t n, const ld_perm *p)
         i ^= i >> s;
     } while (i >= n);
     return i;
+}
+
+static inline uint64_t permute(uint64_t i, uint64_t n, const ld_perm *p)
+{
+    return permute_sized(i, size_of(n), p);
 }
 
 static double shift_of(uint64_t key)
@@ -116,15 +132,28 @@ void ld_pixel_init(ld_pixel *p, uint64_t key)
     }
 }
 
-void ld_2d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k, double out[2])
+static inline void draw_2d(const ld_pixel *p, int dim, perm_size z, uint64_t k, double out[2])
 {
-    uint32_t j = (uint32_t)permute(k, n, &p->perm2[dim]);
+    uint32_t j = (uint32_t)permute_sized(k, z, &p->perm2[dim]);
     /* van der Corput is j reversed: its scramble starts from j itself; 32 digits are
      * finer than any use here needs */
     uint32_t a = owen_reversed(j, p->scr_a[dim]);
     uint32_t b = owen_reversed(sobol_dim2_reversed(j), p->scr_b[dim]);
     out[0] = a * 0x1.0p-32;
     out[1] = b * 0x1.0p-32;
+}
+
+void ld_2d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k, double out[2])
+{
+    draw_2d(p, dim, size_of(n), k, out);
+}
+
+void ld_2d_px2(const ld_pixel *p, int dim_a, int dim_b, uint64_t n, uint64_t k, double a[2],
+               double b[2])
+{
+    perm_size z = size_of(n);
+    draw_2d(p, dim_a, z, k, a);
+    draw_2d(p, dim_b, z, k, b);
 }
 
 double ld_1d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k)

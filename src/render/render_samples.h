@@ -30,6 +30,9 @@ typedef struct {
 void ld_pixel_init(ld_pixel *p, uint64_t key);
 /* As ld_2d and ld_1d, for dim < LD_DIMS, with the pixel's keys. */
 void ld_2d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k, double out[2]);
+/* Two pairs of one sample at once (a, b: dimensions dim_a, dim_b), as two ld_2d_px. */
+void ld_2d_px2(const ld_pixel *p, int dim_a, int dim_b, uint64_t n, uint64_t k, double a[2],
+               double b[2]);
 double ld_1d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k);
 /* Sample k of n in dimension pair dim (its two coordinates in [0, 1)). */
 void ld_2d(uint64_t key, int dim, uint64_t n, uint64_t k, double out[2]);
