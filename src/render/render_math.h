@@ -27,6 +27,15 @@ static inline void rm_sincos_turn(double t, double *s, double *c)
 #ifdef RM_LIBM_SINCOS /* libm's, to tell this change from others in a comparison */
     *s = sin(2 * M_PI * t), *c = cos(2 * M_PI * t);
     return;
+/* An orthonormal frame t, b around unit n (Duff et al. 2017, "Building an orthonormal
+ * basis, revisited"). */
+static inline void rm_frame(const double n[3], double t[3], double b[3])
+{
+    double s = n[2] >= 0 ? 1 : -1, a = -1 / (s + n[2]), c = n[0] * n[1] * a;
+    t[0] = 1 + s * n[0] * n[0] * a, t[1] = s * c, t[2] = -s * n[0];
+    b[0] = c, b[1] = s + n[1] * n[1] * a, b[2] = -n[1];
+}
+
 #endif
     double q = 4 * t, n = floor(q + 0.5), x = (q - n) * 1.5707963267948966, x2 = x * x;
     double sn = x + x * x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 +
@@ -40,6 +49,15 @@ static inline void rm_sincos_turn(double t, double *s, double *c)
     case 2: *s = -sn, *c = -cs; break;
     default: *s = -cs, *c = sn; break;
     }
+}
+
+/* An orthonormal frame t, b around unit n (Duff et al. 2017, "Building an orthonormal
+ * basis, revisited"). */
+static inline void rm_frame(const double n[3], double t[3], double b[3])
+{
+    double s = n[2] >= 0 ? 1 : -1, a = -1 / (s + n[2]), c = n[0] * n[1] * a;
+    t[0] = 1 + s * n[0] * n[0] * a, t[1] = s * c, t[2] = -s * n[0];
+    b[0] = c, b[1] = s + n[1] * n[1] * a, b[2] = -n[1];
 }
 
 #endif

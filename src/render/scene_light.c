@@ -24,14 +24,7 @@
 #define EPS_T 1e-6 /* mm: as scene_geometry.c */
 #define dot3 rm_dot3
 
-/* An orthonormal frame around unit n (Duff et al. 2017, "Building an orthonormal basis,
- * revisited"). */
-static void frame_of(const double n[3], double t[3], double b[3])
-{
-    double s = n[2] >= 0 ? 1 : -1, a = -1 / (s + n[2]), c = n[0] * n[1] * a;
-    t[0] = 1 + s * n[0] * n[0] * a, t[1] = s * c, t[2] = -s * n[0];
-    b[0] = c, b[1] = s + n[1] * n[1] * a, b[2] = -n[1];
-}
+#define frame_of rm_frame
 
 /* The selection weight of emitter o at point p with normal n. */
 static double select_weight(const scene_object *o, const double p[3], const double n[3])
@@ -82,14 +75,15 @@ static double sample_light(const scene_object *o, const double p[3], double u1, 
     double d2 = dot3(c, c), r2 = o->r2, sn, cs;
     rm_sincos_turn(u2, &sn, &cs); /* of phi = 2 pi u2 */
     if (o->kind == OBJ_SPHERE && d2 > r2 * (1 + 1e-12)) {
-        double d = sqrt(d2), axis[3] = {c[0] / d, c[1] / d, c[2] / d}, t[3], b[3];
+        double d = sqrt(d2), id = 1 / d, axis[3] = {c[0] * id, c[1] * id, c[2] * id}, t[3], b[3];
         double cos_max = sqrt(1 - r2 / d2), one_minus = 1 - cos_max;
         double ct = 1 - u1 * one_minus, st = sqrt(rm_pos(1 - ct * ct));
         frame_of(axis, t, b);
         for (int k = 0; k < 3; k++) w[k] = ct * axis[k] + st * (cs * t[k] + sn * b[k]);
         /* the nearer root of |p + s w - centre| = r (it exists: w is inside the cone) */
         double bb = dot3(c, w), disc = rm_pos(bb * bb - (d2 - r2)), s = bb - sqrt(disc);
-        for (int k = 0; k < 3; k++) q[k] = p[k] + s * w[k], nq[k] = (q[k] - o->p[k]) / o->radius;
+        double ir = 1 / o->radius;
+        for (int k = 0; k < 3; k++) q[k] = p[k] + s * w[k], nq[k] = (q[k] - o->p[k]) * ir;
         return 1 / (2 * M_PI * one_minus);
     }
     if (o->kind == OBJ_SPHERE) { /* inside: by area */
@@ -97,14 +91,14 @@ static double sample_light(const scene_object *o, const double p[3], double u1, 
         nq[0] = r * cs, nq[1] = r * sn, nq[2] = z;
         for (int k = 0; k < 3; k++) q[k] = o->p[k] + o->radius * nq[k];
     } else {
-        double e1[3], e2[3], r = o->radius * sqrt(u1);
-        frame_of(o->n, e1, e2);
-        for (int k = 0; k < 3; k++) q[k] = o->p[k] + r * (cs * e1[k] + sn * e2[k]);
+        double r = o->radius * sqrt(u1); /* the frame made when the disk was read */
+        for (int k = 0; k < 3; k++) q[k] = o->p[k] + r * (cs * o->e1[k] + sn * o->e2[k]);
         memcpy(nq, o->n, 3 * sizeof *nq);
     }
     double e[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, dq = sqrt(dot3(e, e));
     if (!(dq > 0)) return 0;
-    for (int k = 0; k < 3; k++) w[k] = e[k] / dq;
+    double iq = 1 / dq;
+    for (int k = 0; k < 3; k++) w[k] = e[k] * iq;
     return light_pdf(o, p, q, nq, w);
 }
 
