@@ -8,6 +8,13 @@
  * 512 rays, as lens-render calls it), the share of the rays that pass the line pupil,
  * and the lens part of the full estimator (--estimator full: the system's Jacobian, the
  * frames, G-bar and p_A(s1)) against the map alone.
+ * Then the parts of a camera sample that the polynomial and the exact path share, on
+ * scenes/dgauss.scene and scenes/fisheye.scene as lens-render renders them (16 spp keys):
+ * "bench render_shared_<scene>_<part>_ns_per_sample", per camera sample: the
+ * low-discrepancy draws (five), the line pupil's draw, the camera ray's scene
+ * intersection, and at the hits that are not emitters (their share of the samples
+ * given) the albedo and the direct light (scene_direct_mis: a light sample, a shadow ray,
+ * a BSDF ray). What lens-render spends besides these and the lens map is its loop.
  * Usage: bench_render [RAYS]   (default 200000; from the repository root) */
 #include <math.h>
 #include <stdio.h>
@@ -22,6 +29,7 @@
 #include "sparselens/render_lens.h"
 #include "sparselens/scene.h"
 #include "sparselens/trace.h"
+#include "render/render_samples.h"
 
 static double now(void)
 {
@@ -166,11 +174,131 @@ done:
     return rc;
 }
 
+/* ns per call of each shared part (see the head of the file), over n camera samples */
+static int shared_parts(const char *name, const char *path, size_t n)
+{
+    scene_t sc;
+    lens_t lens;
+    lens_err err;
+    lens_init(&lens);
+    render_camera ce;
+    render_lens_ctx *le = NULL;
+    render_sampler smp = {0};
+    scene_cull *cull = NULL;
+    double *in = malloc(n * 5 * sizeof *in), *pdf = malloc(n * sizeof *pdf);
+    double *cam_in = malloc(n * 5 * sizeof *cam_in);
+    scene_hit *hit = malloc(n * sizeof *hit);
+    int rc = 1;
+    if (scene_load(path, &sc, &err)) {
+        fprintf(stderr, "bench_render: %s\n", err.msg);
+        free(in), free(cam_in), free(pdf), free(hit);
+        return 1;
+    }
+    double sw = sc.sensor_w, sh = sc.sensor_h;
+    if (!in || !cam_in || !pdf || !hit || lens_load(sc.camera, NULL, &lens, &err) ||
+        render_lens_setup(&lens, sc.focus, sc.fstop, &err) ||
+        !(le = render_lens_exact(&lens, sw, sh, &ce, &err)) ||
+        render_sampler_lens(&smp, &lens, GLASS_D_LINE, GLASS_D_LINE, hypot(sw, sh) / 2, 0, &err)) {
+        fprintf(stderr, "bench_render: %s\n", err.msg);
+        goto done;
+    }
+    /* lens-render's: the front element's rim, widened by a tenth */
+    const lens_surface *f = &lens.surf[0];
+    double rho = 1.1 * (fabs(lens.vertex_z[0]) +
+                        hypot(f->semi_diameter, lens_sag(f, f->semi_diameter * f->semi_diameter)));
+    cull = scene_cull_new(&sc, rho);
+    const long spp = 16;
+    double t0, t_ld, t_ps, t_cam, t_alb, t_mis, sink = 0;
+    /* the draws: pixel and pupil, and the light's three (select, light, BSDF) */
+    ld_pixel key;
+    /* each timed loop runs three times (the outer loop's step keeps the best) */
+    t_ld = t_ps = t_cam = t_alb = t_mis = INFINITY;
+    for (int rep = 0; rep < 3; rep++, t_ld = fmin(t_ld, now() - t0))
+    for (size_t i = (t0 = now(), 0); i < n; i++) {
+        if (i % spp == 0) ld_pixel_init(&key, ld_pixel_key(1, i / spp));
+        double q[2], p2[2], l2[2], b2[2];
+        ld_2d_px(&key, 0, spp, i % spp, q);
+        ld_2d_px(&key, 1, spp, i % spp, p2);
+        ld_2d_px(&key, 2, spp, i % spp, l2);
+        ld_2d_px(&key, 3, spp, i % spp, b2);
+        double *r = in + 5 * i;
+        r[0] = (q[0] - 0.5) * sw, r[1] = (q[1] - 0.5) * sh, r[2] = p2[0], r[3] = p2[1];
+        r[4] = ld_1d_px(&key, 1, spp, i % spp) + l2[0] + b2[1];
+    }
+    for (int rep = 0; rep < 3; rep++, t_ps = fmin(t_ps, now() - t0))
+    for (size_t i = (t0 = now(), 0); i < n; i++) {
+        const double *r = in + 5 * i;
+        double *c = cam_in + 5 * i;
+        pdf[i] = render_sampler_sample_2d(&smp, r[0], r[1], r[2], r[3], &c[2], &c[3]);
+        c[0] = r[0], c[1] = r[1], c[4] = GLASS_D_LINE;
+    }
+    /* the camera rays (exact: the geometry the system approximates) */
+    size_t nh = 0, nd = 0;
+    double *org = malloc(n * 3 * sizeof *org), *dir = malloc(n * 3 * sizeof *dir);
+    double *eta = malloc(n * sizeof *eta);
+    unsigned char *pass = malloc(n);
+    if (!org || !dir || !eta || !pass) goto done_rays;
+    ce.map_batch(ce.ctx, n, cam_in, org, dir, eta, pass);
+    for (int rep = 0; rep < 3; rep++, t_cam = fmin(t_cam, now() - t0))
+    for (size_t i = (t0 = now(), nh = 0); i < n; i++) {
+        double os[3], ds[3];
+        render_lens_to_scene(org + 3 * i, os);
+        render_lens_to_scene(dir + 3 * i, ds);
+        int near = os[0] * os[0] + os[1] * os[1] + os[2] * os[2] <= rho * rho;
+        if (pdf[i] > 0 && pass[i] &&
+            (near ? scene_intersect_camera(&sc, cull, os, ds, 1e-6, &hit[nh])
+                  : scene_intersect(&sc, os, ds, 1e-6, INFINITY, &hit[nh])))
+            nh++;
+    }
+    for (int rep = 0; rep < 3; rep++, t_alb = fmin(t_alb, now() - t0))
+    for (size_t i = (t0 = now(), 0); i < nh; i++) {
+        double alb[3];
+        scene_albedo(&sc, hit[i].obj, hit[i].p, alb);
+        sink += alb[0];
+    }
+    /* the direct light's uniforms, drawn beforehand (timed above) */
+    for (size_t i = 0; i < nh; i++) {
+        if (scene_is_emitter(&sc.obj[hit[i].obj])) continue;
+        if (i % spp == 0 || nd == 0) ld_pixel_init(&key, ld_pixel_key(2, i / spp));
+        double *u = in + 5 * nd, l2[2], b2[2];
+        ld_2d_px(&key, 2, spp, i % spp, l2);
+        ld_2d_px(&key, 3, spp, i % spp, b2);
+        u[0] = ld_1d_px(&key, 1, spp, i % spp), u[1] = l2[0], u[2] = l2[1], u[3] = b2[0], u[4] = b2[1];
+        hit[nd++] = hit[i];
+    }
+    for (int rep = 0; rep < 3; rep++, t_mis = fmin(t_mis, now() - t0))
+    for (size_t i = (t0 = now(), 0); i < nd; i++) {
+        scene_light_terms t;
+        scene_direct_mis(&sc, &hit[i], in + 5 * i, &t);
+        sink += t.n;
+    }
+    if (sink == 42) printf("#\n");
+    printf("bench render_shared_%s_draws_ns_per_sample %.1f ns\n", name, t_ld / n * 1e9);
+    printf("bench render_shared_%s_line_pupil_ns_per_sample %.1f ns\n", name, t_ps / n * 1e9);
+    printf("bench render_shared_%s_camera_hit_ns_per_sample %.1f ns\n", name, t_cam / n * 1e9);
+    printf("bench render_shared_%s_albedo_ns_per_sample %.1f ns\n", name, t_alb / n * 1e9);
+    printf("bench render_shared_%s_direct_light_ns_per_sample %.1f ns\n", name, t_mis / n * 1e9);
+    printf("bench render_shared_%s_lit_share %.1f %%\n", name, 100.0 * nd / n);
+    rc = 0;
+done_rays:
+    free(org), free(dir), free(eta), free(pass);
+done:
+    free(in), free(cam_in), free(pdf), free(hit);
+    scene_cull_free(cull);
+    render_sampler_free(&smp);
+    render_lens_free(le);
+    scene_free(&sc);
+    lens_free(&lens);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     size_t n = argc > 1 ? (size_t)atol(argv[1]) : 200000;
     if (n < 1) n = 1;
     int rc = run("dgauss", "lenses/dgauss.50mm.lens", 36, 24, n);
     rc |= run("fisheye-ii", "lenses/fisheye-ii.lens", 23.6, 15.7, n);
+    rc |= shared_parts("dgauss", "scenes/dgauss.scene", n);
+    rc |= shared_parts("fisheye", "scenes/fisheye.scene", n);
     return rc;
 }

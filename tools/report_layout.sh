@@ -13,7 +13,7 @@ mkdir -p "$out/lenses"
 # other commands' defaults), drawn with 7 rays each
 cmd=("$BIN"/lens-layout "$lens" --rays 7 --width 1000 --png "$out/lenses/$name-layout.png")
 txt=$("${cmd[@]}" 2>&1) || { echo "report_layout: $name: $txt" >&2; exit 1; }
-echo "## Layout (\`lens-layout $lens --rays 7 --width 1000 --png $name-layout.png\`)"
+echo "## Layout (\`lens-layout $lens --rays 7 --width 1000 --png $out/lenses/$name-layout.png\`)"
 echo
 echo "![meridional section with ray bundles](lenses/$name-layout.png)"
 echo

@@ -14,4 +14,31 @@ int aim_from_sensor(const lens_t *lens, const double *n, double x, double y, dou
 int aim_from_object(const lens_t *lens, const double *n, const double *dir, const double *point,
                     double sx, double sy, lens_ray *r);
 
+/* The same in two steps, for many stop points of one object direction or point: the
+ * search for the ray through the stop centre (a scan and a Newton solve, most of the
+ * cost of one aimed ray) is done once by aim_object_prepare; aim_object_to then follows
+ * the target out from it. Each ray is the one aim_from_object finds, bit for bit.
+ * lens and n must outlive the start. */
+typedef struct {
+    const lens_t *lens;
+    double o[3], e1[3], e2[3], d[3]; /* dir: origin plane; point: o is the point */
+    int finite;
+    double dist; /* how far back to start a ray from infinity */
+} aim_object_ctx;
+
+typedef struct {
+    aim_object_ctx ctx;
+    const double *n;
+    double a, b; /* the start parameters of the ray through the stop centre */
+} aim_object_start;
+
+int aim_object_prepare(const lens_t *lens, const double *n, const double *dir,
+                       const double *point, aim_object_start *st);
+int aim_object_to(const aim_object_start *st, double sx, double sy, lens_ray *r);
+/* aim_object_to with its own bound on the traces it may take (<= 0: none). A stop point
+ * no ray reaches is given up after the bound; aim_object_to's bound (aim.c) lies far
+ * above what any reachable point of the shipped lenses needs (test_aim). */
+int aim_object_to_within(const aim_object_start *st, double sx, double sy, long max_traces,
+                         lens_ray *r);
+
 #endif

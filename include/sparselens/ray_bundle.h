@@ -33,7 +33,9 @@ void bundle_free(ray_bundle *b);
  * model's shifted sensor plane), ok[i] 1 when the ray reaches the sensor. A system is
  * solved by Newton on its Jacobian seeded with `seed` (a sensor ray near the bundle's,
  * its chief ray, on the shifted plane; NULL: the axis), never with the exact trace, so
- * the time is the system's own; a ray whose solve fails counts as vignetted. Returns
+ * the time is the system's own; a ray whose solve fails from the seed is tried again from
+ * its nearest solved neighbours in the stop, and counts as vignetted only when those
+ * fail too (or the system's passage test says so). Returns
  * the seconds spent imaging (wall clock). */
 double bundle_image(const imaging *im, const ray_bundle *b, const double *seed, double *s, int *ok);
 

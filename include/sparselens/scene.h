@@ -34,6 +34,11 @@ typedef struct {
     scene_texture tex;
     double emit[3]; /* radiance per channel (W sr^-1 m^-2 in arbitrary units) */
     long line;      /* scene line, for messages */
+    /* derived when the object is read (the hot loops test them a few times a sample):
+     * radius squared, 1 for an emitter, the emission's luminance, and a plane's or
+     * disk's tangent frame (where a light sample on a disk starts) */
+    double r2, lum, e1[3], e2[3];
+    int emitter;
 } scene_object;
 
 typedef struct {

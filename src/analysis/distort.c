@@ -80,11 +80,14 @@ static int bundle_flux(const imaging *im, const double *n, double lambda, double
      * in the outer ring of the grid, so the whole transmitted bundle is counted. */
     double stop = l->surf[l->stop].semi_diameter, ext = 0;
     static const double fracs[3] = {0.999, 0.7, 0.4};
+    aim_object_start start;
+    if (imaging_aim_prepare(im, n, f, &start) != 0)
+        return -1;
     for (int q = 0; q < 3 && !(ext > 0); q++)
         for (int k = 0; k < 16; k++) {
             double a = 2 * M_PI * k / 16, e;
             lens_ray r;
-            if (imaging_object_ray(im, n, f, fracs[q] * stop * cos(a), fracs[q] * stop * sin(a), &r) != 0)
+            if (aim_object_to(&start, fracs[q] * stop * cos(a), fracs[q] * stop * sin(a), &r) != 0)
                 continue;
             if (finite) {
                 double c = dot(r.d, d);

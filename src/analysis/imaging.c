@@ -100,16 +100,24 @@ int imaging_indices(const imaging *im, double lambda, double *n, lens_err *err)
     return lens_indices(im->lens, lambda, n, err);
 }
 
-int imaging_object_ray(const imaging *im, const double *n, double field, double sx, double sy,
-                       lens_ray *r)
+int imaging_aim_prepare(const imaging *im, const double *n, double field, aim_object_start *st)
 {
     if (isinf(im->object_distance)) {
         double a = field * (M_PI / 180);
         double dir[3] = {0, sin(a), cos(a)};
-        return aim_from_object(im->lens, n, dir, NULL, sx, sy, r) == 0 ? 0 : -1;
+        return aim_object_prepare(im->lens, n, dir, NULL, st) == 0 ? 0 : -1;
     }
     double p[3] = {0, -field, -im->object_distance};
-    return aim_from_object(im->lens, n, NULL, p, sx, sy, r) == 0 ? 0 : -1;
+    return aim_object_prepare(im->lens, n, NULL, p, st) == 0 ? 0 : -1;
+}
+
+int imaging_object_ray(const imaging *im, const double *n, double field, double sx, double sy,
+                       lens_ray *r)
+{
+    aim_object_start st;
+    if (!isfinite(sx) || !isfinite(sy) || imaging_aim_prepare(im, n, field, &st) != 0)
+        return -1;
+    return aim_object_to(&st, sx, sy, r) == 0 ? 0 : -1;
 }
 
 static void shift_sensor(double s[4], double dz)

@@ -70,7 +70,7 @@ static int add_element(layout_drawing *d, const lens_t *lens, size_t i)
     return 0;
 }
 
-static int add_lens(layout_drawing *d, const lens_t *lens, double sensor_half)
+static int add_lens(layout_drawing *d, const lens_t *lens, double sensor_z, double sensor_half)
 {
     for (size_t i = 0; i + 1 < lens->nsurf; i++)
         if (lens->surf[i].medium.kind != GLASS_AIR && add_element(d, lens, i) != 0)
@@ -85,10 +85,10 @@ static int add_lens(layout_drawing *d, const lens_t *lens, double sensor_half)
         zy[0] = zs, zy[1] = side * st->semi_diameter;
         zy[2] = zs, zy[3] = side * (st->semi_diameter + blade);
     }
-    double zs = lens_total_track(lens), *zy = add_line(d, LAYOUT_SENSOR, -1, 2);
+    double *zy = add_line(d, LAYOUT_SENSOR, -1, 2);
     if (!zy)
         return -1;
-    zy[0] = zy[2] = zs, zy[1] = -sensor_half, zy[3] = sensor_half;
+    zy[0] = zy[2] = sensor_z, zy[1] = -sensor_half, zy[3] = sensor_half;
     return 0;
 }
 
@@ -192,7 +192,8 @@ int layout_build(const imaging *lens_im, const imaging *sys_im, const double *fi
         half = fmax(half, lens->surf[i].semi_diameter);
     if (isfinite(lens->sensor_w) && isfinite(lens->sensor_h))
         half = 0.5 * hypot(lens->sensor_w, lens->sensor_h);
-    if (add_lens(d, lens, half) != 0)
+    /* the plane the rays end on: the file's, moved to the focus asked for */
+    if (add_lens(d, lens, track + lens_im->sensor_shift, half) != 0)
         goto oom;
     double *pupil = malloc(sizeof(double) * 2 * (size_t)nrays);
     if (!pupil)

@@ -200,6 +200,9 @@ int spot_trace(const imaging *im, double field, double lambda, pupil_pattern pat
         lens_errf(err, NULL, 0, "out of memory");
         goto out;
     }
+    /* The chief ray was aimed, so the field has a start. */
+    aim_object_start start;
+    int started = imaging_aim_prepare(im, n, field, &start) == 0;
 #pragma omp parallel for schedule(dynamic, 8)
     for (size_t i = 0; i < np; i++) {
         lens_ray r;
@@ -207,7 +210,7 @@ int spot_trace(const imaging *im, double field, double lambda, pupil_pattern pat
         /* The rim itself is a grazing case for aiming; stay a hair inside. */
         double sx = xy[2 * i] * stop * (1 - 1e-9), sy = xy[2 * i + 1] * stop * (1 - 1e-9);
         o[5] = 0;
-        if (imaging_object_ray(im, n, field, sx, sy, &r) == 0 &&
+        if (started && aim_object_to(&start, sx, sy, &r) == 0 &&
             imaging_trace(im, n, lambda, &r, sp->chief, o, &o[4]))
             o[5] = 1;
     }

@@ -45,8 +45,17 @@ int spot_write_png(const spot_figure *fig, const char *path, lens_err *err)
     int H = head + fig->nmodels * (P + foot) + 8;
     const double white[3] = {1, 1, 1}, black[3] = {0, 0, 0}, grey[3] = {0.6, 0.6, 0.6},
                  light[3] = {0.88, 0.88, 0.88};
+    /* the title: the lens and what it shows on one line, the setup (f-number, object,
+     * focus) on the next; the picture is wide enough for each at 80 % of its height (a
+     * one-field picture too), and each shrinks to fit rather than being cut off */
+    char line1[512];
+    const char *setup = strstr(fig->title, "  f/");
+    snprintf(line1, sizeof line1, "%.*s", setup ? (int)(setup - fig->title) : (int)strlen(fig->title),
+             fig->title);
+    double wmin = fmax(420, 2 * gap + fmax(img_text_width(line1, 0.8 * 14),
+                                           setup ? img_text_width(setup + 2, 0.8 * 11) : 0));
     panel *pn = calloc((size_t)(fig->nmodels * fig->nfields), sizeof *pn);
-    img_canvas *c = img_new(W < 420 ? 420 : W, H, white);
+    img_canvas *c = img_new(W < wmin ? (int)ceil(wmin) : W, H, white);
     if (!pn || !c) {
         free(pn);
         img_free(c);
@@ -55,12 +64,6 @@ int spot_write_png(const spot_figure *fig, const char *path, lens_err *err)
     }
     W = img_width(c);
     double half = layout(fig, pn), px = P / (2 * half); /* pixels per mm */
-    /* the title: the lens and what it shows on one line, the setup (f-number, object,
-     * focus) on the next; each shrinks to fit the width rather than being cut off */
-    char line1[512];
-    const char *setup = strstr(fig->title, "  f/");
-    snprintf(line1, sizeof line1, "%.*s", setup ? (int)(setup - fig->title) : (int)strlen(fig->title),
-             fig->title);
     plot_title(c, gap, 22, W - 2 * gap, line1, 14, black);
     if (setup)
         plot_title(c, gap, 42, W - 2 * gap, setup + 2, 11, black);

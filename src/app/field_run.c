@@ -108,6 +108,18 @@ static void print_difference(table_out *t, const design_set *ds, const field_row
     design_set_print_difference(t, ds, text, 5, k, v);
 }
 
+/* The models' largest focal-shift difference, um. */
+static void print_shift_difference(table_out *t, const design_set *ds, const double *shift, int n)
+{
+    double d = 0;
+    for (int i = 0; i < n; i++)
+        d = fmax(d, 1e3 * fabs(shift[n + i] - shift[i]));
+    char text[96];
+    snprintf(text, sizeof text, "focal shifts differ by at most %.4g um", d);
+    const char *k[1] = {"focal_shift_um"};
+    design_set_print_difference(t, ds, text, 1, k, &d);
+}
+
 static int run_focal_shift(field_request *rq, table_out *out, lens_err *err)
 {
     design_set *ds = &rq->set;
@@ -152,6 +164,9 @@ static int run_focal_shift(field_request *rq, table_out *out, lens_err *err)
     if (!out->json)
         fprintf(out->f, "# focal shift: the axial focus of rays close to the axis, from that at %.7g um; "
                         "paraxial: the lens's paraxial focus\n", ref);
+    design_set_print_footer(out, ds, "the close rays");
+    if (ds->nmodels > 1)
+        print_shift_difference(out, ds, shift, n);
     rc = 0;
     if (rq->png) {
         field_shift_figure fig = {ds->nmodels, ds->names, n, lam, shift, rq->title};
@@ -167,12 +182,8 @@ int field_run(field_request *rq, table_out *out, field_row **result, lens_err *e
     design_set *ds = &rq->set;
     if (design_set_focus(ds, err) != 0)
         return -1;
-    if (rq->focal_shift > 1) {
-        if (run_focal_shift(rq, out, err) != 0)
-            return -1;
-        design_set_print_footer(out, ds, "the close rays");
-        return 0;
-    }
+    if (rq->focal_shift > 1)
+        return run_focal_shift(rq, out, err);
     size_t n = (size_t)ds->nmodels * ds->nfields * ds->nl;
     field_row *rows = calloc(n ? n : 1, sizeof *rows);
     if (!rows) {

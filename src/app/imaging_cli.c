@@ -154,6 +154,17 @@ void imaging_cli_setup(const imaging_cli *a, const imaging_models *m, double lam
         snprintf(object, sizeof object, "object at infinity");
     if (a->focus_mode == FOCUS_FILE && isinf(s->file_focus_distance))
         snprintf(sensor, sizeof sensor, "sensor as in the file (focused at infinity)");
+    else if (a->focus_mode == FOCUS_FILE && s->file_focus_distance < 0 && p.sensor_distance < p.bfl)
+        /* no real object is sharp there: say how far short of the infinity focus */
+        snprintf(sensor, sizeof sensor, "sensor as in the file (%.3g mm short of the infinity focus)",
+                 p.bfl - p.sensor_distance);
+    else if (a->focus_mode == FOCUS_FILE && s->file_focus_distance < 0)
+        /* behind the infinity focus, on a point inside the lens (a fisheye's front focus
+         * lies behind its first surface) */
+        snprintf(sensor, sizeof sensor,
+                 "sensor as in the file (%.3g mm beyond the infinity focus, focused %.4g mm behind "
+                 "the first surface)",
+                 p.sensor_distance - p.bfl, -s->file_focus_distance);
     else if (a->focus_mode == FOCUS_FILE)
         snprintf(sensor, sizeof sensor, "sensor as in the file (focused at %.4g mm)",
                  s->file_focus_distance);

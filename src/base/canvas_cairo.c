@@ -25,6 +25,8 @@ struct img_canvas {
     cairo_surface_t *s;
     cairo_t *cr;
     long ops; /* drawing operations so far: a raster canvas is switched to at many */
+    char *texts; /* with SPARSELENS_TEXT_BOXES set: a line per text drawn (text_box) */
+    size_t ntexts, captexts;
 };
 
 /* The font on a context: unhinted metrics, so that a text measured by img_text_width is as
@@ -72,6 +74,7 @@ void img_free(img_canvas *c)
         cairo_destroy(c->cr);
     if (c->s)
         cairo_surface_destroy(c->s);
+    free(c->texts);
     free(c);
 }
 
@@ -192,6 +195,42 @@ static double font_size(cairo_t *cr, double height)
     return size;
 }
 
+/* Where each text lands, for checks that labels stay inside the picture and clear of
+ * each other (tests/cli/pictures.sh): with the environment variable
+ * SPARSELENS_TEXT_BOXES=FILE, writing a picture appends "# picture PATH W H" to FILE
+ * and a line "x0 y0 x1 y1 TEXT" per text drawn (its ink box in pixels). */
+static void text_box(img_canvas *c, double x, double y, const char *text)
+{
+    if (!getenv("SPARSELENS_TEXT_BOXES"))
+        return;
+    cairo_text_extents_t e;
+    cairo_text_extents(c->cr, text, &e);
+    char line[1024];
+    int n = snprintf(line, sizeof line, "%.1f %.1f %.1f %.1f %s\n", x + e.x_bearing,
+                     y + e.y_bearing, x + e.x_bearing + e.width, y + e.y_bearing + e.height, text);
+    if (n <= 0 || (size_t)n >= sizeof line)
+        return;
+    if (c->ntexts + (size_t)n + 1 > c->captexts) {
+        size_t cap = 2 * c->captexts + sizeof line;
+        char *t = realloc(c->texts, cap);
+        if (!t)
+            return;
+        c->texts = t, c->captexts = cap;
+    }
+    memcpy(c->texts + c->ntexts, line, (size_t)n + 1);
+    c->ntexts += (size_t)n;
+}
+
+static void text_boxes_write(const img_canvas *c, const char *path)
+{
+    const char *log = getenv("SPARSELENS_TEXT_BOXES");
+    FILE *f = log && *log ? fopen(log, "a") : NULL;
+    if (!f)
+        return;
+    fprintf(f, "# picture %s %d %d\n%s", path, c->w, c->h, c->texts ? c->texts : "");
+    fclose(f);
+}
+
 void img_text(img_canvas *c, double x, double y, const char *text, double height,
               const double rgb[3])
 {
@@ -199,6 +238,7 @@ void img_text(img_canvas *c, double x, double y, const char *text, double height
         return;
     source(c, rgb, 1);
     font_size(c->cr, height);
+    text_box(c, x, y, text);
     cairo_move_to(c->cr, x, y);
     cairo_show_text(c->cr, text);
     cairo_new_path(c->cr);
@@ -274,6 +314,7 @@ int img_write_png(const img_canvas *c, const char *path, lens_err *err)
                   st != CAIRO_STATUS_SUCCESS ? cairo_status_to_string(st) : "write error");
         return -1;
     }
+    text_boxes_write(c, path);
     return outfile_commit_path(tmp, path, err);
 }
 

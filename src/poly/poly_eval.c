@@ -178,8 +178,9 @@ typedef struct {
 /* The batch kernel once per instruction set, each with the vector width of its
  * registers and a block that keeps its partial sums in registers (AVX-512: 32 rays in
  * 4 x 8 lanes, 16 accumulators of its 32 registers; AVX2: 8 in 2 x 4; SSE: 4 in 2 x 2);
- * batch() runs the widest, a narrower one on a short last block. The loop is bound by loads of values (two 64-byte loads a
- * cycle), so a wider block pays the per-term index and coefficient loads on more rays:
+ * batch() runs the widest, a narrower one on a short last block (kernels()). The loop
+ * is bound by loads of values (two 64-byte loads a cycle), so a wider block pays the
+ * per-term index and coefficient loads on more rays:
  * 32 rays measured 36 -> 29 ns a ray against 16 on the fisheye-ii system. AVX-512 also
  * moves the rows in and out with gathers and scatters (the scalar copy out of a block
  * just stored as vectors cost 4 ns a ray). -O3 for these alone: it unrolls the loops
@@ -199,6 +200,11 @@ typedef struct {
     store_rows8((out), (row), (nres), (k0), (const __m512d *)(cols), (ncol))
 #define KERNEL_LOAD_COLS5(src, cols) load_cols5((src), (__m512d *)(cols))
 #define KERNEL_MASKBITS(ok) ((unsigned)_mm512_test_epi64_mask((__m512i)(ok), (__m512i)(ok)))
+#include "poly/poly_eval_kernel.h"
+#undef KERNEL_NAME
+#undef KBLK
+#define KERNEL_NAME run_blocks_avx512_8
+#define KBLK 8
 #include "poly/poly_eval_kernel.h"
 #undef KERNEL_SCATTER
 #undef KERNEL_MASKBITS
@@ -284,13 +290,20 @@ static int part_plans(const poly_system *s, int what, int p, const poly_plan **p
 }
 
 /* The kernels of this machine, widest first, and how many of them (poly_eval.c
- * builds one per instruction set; the portable 2-lane one alone off x86). */
+ * builds one per instruction set; the portable 2-lane one alone off x86): k[0] runs
+ * blocks of kblk[0] rays, k[t > 0] takes a last partial block of up to kblk[t] rays.
+ * With AVX-512 a second instance of its kernel in blocks of 8 rays takes up to 16
+ * (on the fisheye-ii system a call of 8 rays cost 78 ns a ray through AVX2's kernel,
+ * 55 through it; 16 rays 66-74 and 50 ns; 24 rays are cheaper in one block of 32). */
 static int kernels(run_fn **k, int *kblk)
 {
     int n = 0;
 #if defined(POLY_X86)
-    if (__builtin_cpu_supports("avx512f"))
+    if (__builtin_cpu_supports("avx512f")) {
         k[n] = run_blocks_avx512, kblk[n++] = 32;
+        k[n] = run_blocks_avx512_8, kblk[n++] = 16; /* 2 blocks of 8 beat one of 32 */
+        return n;
+    }
     if (__builtin_cpu_supports("avx2"))
         k[n] = run_blocks_avx2, kblk[n++] = 8;
 #endif
@@ -299,9 +312,9 @@ static int kernels(run_fn **k, int *kblk)
 }
 
 /* n rays (rows idx[0 .. n - 1], or first .. first + n - 1) through the widest kernel,
- * except a last partial block that a narrower kernel holds whole: a block costs its
- * width whatever its rays, so 1 to 8 rays on AVX-512 cost 32 (0.8 us on the fisheye-ii
- * system) where AVX2's block of 8 costs a quarter. Every kernel gives the same bits. */
+ * except a last partial block that a narrower kernel takes (kernels()): a block costs
+ * its width whatever its rays, so 1 to 8 rays in AVX-512's block of 32 cost 32 (0.8 us
+ * on the fisheye-ii system). Every kernel gives the same bits. */
 static void run_rays(run_fn *const *k, const int *kblk, int nk, const poly_system *s,
                      const poly_plan *const *pls, int nview, int what, size_t n,
                      const size_t *idx, size_t first, const double *in, double *out,
@@ -478,9 +491,17 @@ static void batch_job_run(const poly_system *s, int what, size_t count, const do
         job.roff[2] = nout + nj;
     }
     job.deriv[0] = what == RUN_JAC;
-    for (int o = 0; pass && o < nout; o++)
-        if (!poly_circle_covers(s, o))
-            ids[nw + job.nfinite++] = o;
+    if (pass) { /* poly_circle_covers of every output in one pass over the circles (a
+                 * call per output had cost a short batch 0.1 us) */
+        unsigned char *cov = need + 3 * nw; /* scratch: RUN_EVAL alone has pass flags */
+        memset(cov, 0, (size_t)nout);
+        for (int c = 0; c < s->ncircles; c++)
+            if (isfinite(s->circles[c].radius * s->circles[c].radius))
+                cov[s->circles[c].a] = cov[s->circles[c].b] = 1;
+        for (int o = 0; o < nout; o++)
+            if (!cov[o])
+                ids[nw + job.nfinite++] = o;
+    }
     batch(s, what, count, in, out, pass, &job);
     if (!small) {
         free(ids);

@@ -28,6 +28,10 @@ struct render_lens_ctx {
      * not read); the passage outputs are only tested, never stored */
     int sel[7], nsel, eta_at, ap_at;
     double blade_n[RENDER_MAX_BLADES][2], apothem;
+    /* the front surface for front_ray: curvature, (1 + conic) c^2, vertex z; plain = a
+     * conic without aspheric terms (else ray_from_outer) */
+    double front_c, front_kc, front_z;
+    int front_plain;
 };
 
 /* The stop hit (x, y) inside the blades' polygon: within the apothem along every edge's
@@ -161,6 +165,32 @@ static int map_poly(void *ctx, const double in[5], double org[3], double dir[3],
     return 1;
 }
 
+/* ray_from_outer(c->lens, xyuv), value for value, on a front surface without aspheric
+ * terms: the sag and its slope share one square root and the constants are made once
+ * (lens_sag and lens_sag_slope each find 1 / R and their own root, and sum a zero
+ * asphere); a camera ray of the polynomial path pays it where the exact tracer has its
+ * ray already. */
+static int front_ray(const render_lens_ctx *c, const double xyuv[4], lens_ray *r)
+{
+    double x = xyuv[0], y = xyuv[1], u = xyuv[2], v = xyuv[3], h2 = x * x + y * y;
+    double disc = 1.0 - c->front_kc * h2;
+    if (!c->front_plain || !(disc > 0) || !isfinite(x) || !isfinite(y))
+        return ray_from_outer(c->lens, xyuv, r); /* as before, and -1 where disc <= 0 */
+    double w2 = 1.0 - u * u - v * v;
+    if (!(w2 >= 0)) return -1;
+    double sq = sqrt(disc), z = c->front_c * h2 / (1.0 + sq) + 0.0;
+    double sl = c->front_c / (2.0 * sq) + 0.0, a = 2.0 * x * sl, b = 2.0 * y * sl;
+    double inv = 1.0 / sqrt(a * a + b * b + 1.0), n[3] = {a * inv, b * inv, -inv};
+    double k = 1 / (1 - n[2]), w = sqrt(w2);
+    double ex[3] = {1 - k * n[0] * n[0], -k * n[0] * n[1], n[0]};
+    double ey[3] = {ex[1], 1 - k * n[1] * n[1], n[1]};
+    r->o[0] = x;
+    r->o[1] = y;
+    r->o[2] = c->front_z + z;
+    for (int j = 0; j < 3; j++) r->d[j] = u * ex[j] + v * ey[j] + w * n[j];
+    return 0;
+}
+
 static void map_exact_batch(void *ctx, size_t n, const double *in, double *org, double *dir,
                             double *eta, unsigned char *pass)
 {
@@ -268,7 +298,7 @@ static void poly_batch(void *ctx, size_t n, const double *in, double *org, doubl
                 continue;
             }
             lens_ray ray;
-            if (!pass[q] || ray_from_outer(c->lens, yr, &ray)) {
+            if (!pass[q] || front_ray(c, yr, &ray)) {
                 pass[q] = 0;
                 continue;
             }
@@ -355,6 +385,12 @@ render_lens_ctx *render_lens_poly(const poly_system *sys, const lens_t *lens, do
         }
     }
     select_outputs(c);
+    const lens_surface *f = &lens->surf[0];
+    c->front_c = isfinite(f->radius) ? 1.0 / f->radius : 0.0; /* as lens_sag's */
+    c->front_kc = (1.0 + f->conic) * c->front_c * c->front_c;
+    c->front_z = lens->vertex_z[0];
+    c->front_plain = 1;
+    for (int i = 0; i < LENS_ASPHERE_TERMS; i++) c->front_plain &= f->asphere[i] == 0;
     fill_camera(cam, c, map_poly, lens, sw, sh);
     cam->map_batch = map_poly_batch;
     cam->outer = outer_poly;

@@ -19,9 +19,13 @@ uint64_t ld_pixel_key(uint64_t seed, uint64_t pixel);
 
 /* The keys of a pixel's dimensions, derived once per pixel (LD_DIMS pairs and singles). */
 #define LD_DIMS 4
+/* a permutation's key and the three words permute derives from it (made once a pixel) */
 typedef struct {
-    uint64_t perm2[LD_DIMS], scr_a[LD_DIMS], scr_b[LD_DIMS];
-    uint64_t perm1[LD_DIMS], jit1[LD_DIMS];
+    uint64_t k1, m2, k3, m1;
+} ld_perm;
+typedef struct {
+    ld_perm perm2[LD_DIMS], perm1[LD_DIMS];
+    uint64_t scr_a[LD_DIMS], scr_b[LD_DIMS], jit1[LD_DIMS];
 } ld_pixel;
 void ld_pixel_init(ld_pixel *p, uint64_t key);
 /* As ld_2d and ld_1d, for dim < LD_DIMS, with the pixel's keys. */

@@ -11,6 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "render/render_math.h"
 #include "sparselens/data_path.h"
 
 #define MAX_TOKENS 40
@@ -263,6 +264,10 @@ static int add_object(scene_t *s, line_ctx *c, object_kind kind)
         free(o.tex.pix);
         return -1;
     }
+    o.r2 = o.radius * o.radius;
+    o.emitter = o.emit[0] > 0 || o.emit[1] > 0 || o.emit[2] > 0;
+    o.lum = 0.2126 * o.emit[0] + 0.7152 * o.emit[1] + 0.0722 * o.emit[2];
+    if (kind != OBJ_SPHERE) rm_frame(o.n, o.e1, o.e2);
     scene_object *grown = realloc(s->obj, (s->nobj + 1) * sizeof *grown);
     if (!grown) {
         free(o.tex.pix);

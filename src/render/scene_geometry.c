@@ -5,32 +5,34 @@
 
 #include "sparselens/scene.h"
 
-#define EPS_T 1e-6 /* mm: self-intersection guard, far below any scene feature */
+#include "render/render_math.h"
 
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+#define EPS_T 1e-6 /* mm: self-intersection guard, far below any scene feature */
+#define dot3 rm_dot3
 
 int scene_is_emitter(const scene_object *o)
 {
-    return o->emit[0] > 0 || o->emit[1] > 0 || o->emit[2] > 0;
+    return o->emitter;
 }
 
 size_t scene_emitter_count(const scene_t *s)
 {
     size_t k = 0;
-    for (size_t i = 0; i < s->nobj; i++) k += scene_is_emitter(&s->obj[i]);
+    for (size_t i = 0; i < s->nobj; i++) k += s->obj[i].emitter;
     return k;
 }
 
-/* t of the nearest hit with object o, or INFINITY. */
-static double hit_object(const scene_object *o, const double org[3], const double d[3],
-                         double tmin)
+/* t of the nearest hit with object o, or INFINITY; a plane or disk hit at tmax or
+ * beyond may be INFINITY too (a search's nearest so far: no quotient). Inlined: every sample tests a few
+ * dozen objects, and a call costs about as much as a plane's test. */
+static inline __attribute__((always_inline)) double hit_object(const scene_object *o,
+                                                               const double org[3],
+                                                               const double d[3], double tmin,
+                                                               double tmax)
 {
     if (o->kind == OBJ_SPHERE) {
         double oc[3] = {org[0] - o->p[0], org[1] - o->p[1], org[2] - o->p[2]};
-        double b = dot3(oc, d), cc = dot3(oc, oc) - o->radius * o->radius;
+        double b = dot3(oc, d), cc = dot3(oc, oc) - o->r2;
         double disc = b * b - cc;
         if (disc < 0) return INFINITY;
         double sq = sqrt(disc);
@@ -41,14 +43,17 @@ static double hit_object(const scene_object *o, const double org[3], const doubl
         return INFINITY;
     }
     double den = dot3(d, o->n);
-    if (den == 0) return INFINITY;
-    double q[3] = {o->p[0] - org[0], o->p[1] - org[1], o->p[2] - org[2]};
-    double t = dot3(q, o->n) / den;
+    double q[3] = {o->p[0] - org[0], o->p[1] - org[1], o->p[2] - org[2]}, num = dot3(q, o->n);
+    /* behind the origin (or parallel): no quotient; beyond tmax: none either, |num| >=
+     * tmax |den| (a ray in the plane, 0 / 0, fails both) */
+    if (!(num > 0 ? den > 0 : num < 0 && den < 0)) return INFINITY;
+    if (fabs(num) >= tmax * fabs(den)) return INFINITY;
+    double t = num / den;
     if (!(t > tmin)) return INFINITY;
     if (o->kind == OBJ_DISK) {
         double h[3];
         for (int k = 0; k < 3; k++) h[k] = org[k] + t * d[k] - o->p[k];
-        if (dot3(h, h) > o->radius * o->radius) return INFINITY;
+        if (dot3(h, h) > o->r2) return INFINITY;
     }
     return t;
 }
@@ -75,7 +80,7 @@ int scene_intersect(const scene_t *s, const double o[3], const double d[3], doub
     double best = tmax;
     int which = -1;
     for (size_t i = 0; i < s->nobj; i++) {
-        double t = hit_object(&s->obj[i], o, d, tmin);
+        double t = hit_object(&s->obj[i], o, d, tmin, best);
         if (t < best) best = t, which = (int)i;
     }
     if (which < 0) return 0;
@@ -89,16 +94,16 @@ int scene_intersect_emitter(const scene_t *s, const double o[3], const double d[
     double best = INFINITY;
     int which = -1;
     for (size_t i = 0; i < s->nobj; i++) {
-        if (!scene_is_emitter(&s->obj[i])) continue;
-        double t = hit_object(&s->obj[i], o, d, tmin);
+        if (!s->obj[i].emitter) continue;
+        double t = hit_object(&s->obj[i], o, d, tmin, best);
         if (t < best) best = t, which = (int)i;
     }
     if (which < 0) return 0;
     /* an object in front of it, the first found: an emitter there would have been nearer
      * (an equal t keeps the lower index, as scene_intersect does) */
     for (size_t i = 0; i < s->nobj; i++) {
-        if (scene_is_emitter(&s->obj[i])) continue;
-        double t = hit_object(&s->obj[i], o, d, tmin);
+        if (s->obj[i].emitter) continue;
+        double t = hit_object(&s->obj[i], o, d, tmin, INFINITY); /* ties count */
         if (t < best || (t == best && (int)i < which)) return 0;
     }
     fill_hit(s, which, best, o, d, hit);
@@ -112,11 +117,11 @@ int scene_intersect_listed(const scene_t *s, const int *spheres, int nlisted, co
     int which = -1;
     for (size_t i = 0; i < s->nobj; i++) {
         if (s->obj[i].kind == OBJ_SPHERE) continue;
-        double t = hit_object(&s->obj[i], o, d, tmin);
+        double t = hit_object(&s->obj[i], o, d, tmin, best);
         if (t < best) best = t, which = (int)i;
     }
     for (int k = 0; k < nlisted; k++) {
-        double t = hit_object(&s->obj[spheres[k]], o, d, tmin);
+        double t = hit_object(&s->obj[spheres[k]], o, d, tmin, best);
         if (t < best) best = t, which = spheres[k];
     }
     if (which < 0) return 0;
@@ -129,11 +134,12 @@ int scene_visible(const scene_t *s, const double a[3], const double b[3])
     double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     double len = sqrt(dot3(d, d));
     if (!(len > 0)) return 1;
-    for (int k = 0; k < 3; k++) d[k] /= len;
+    double inv = 1 / len;
+    for (int k = 0; k < 3; k++) d[k] *= inv;
     /* any blocker will do: the first one found ends the search */
     double tmax = len * (1 - 1e-9) - EPS_T;
     for (size_t i = 0; i < s->nobj; i++)
-        if (hit_object(&s->obj[i], a, d, EPS_T) < tmax) return 0;
+        if (hit_object(&s->obj[i], a, d, EPS_T, tmax) < tmax) return 0;
     return 1;
 }
 
@@ -159,13 +165,13 @@ void scene_albedo(const scene_t *s, int obj, const double p[3], double rgb[3])
     const scene_texture *t = &o->tex;
     const double *from = t->a;
     rgb[0] = rgb[1] = rgb[2] = 0;
-    if (scene_is_emitter(o)) return;
+    if (o->emitter) return;
     switch (t->kind) {
     case TEX_CONSTANT:
         break;
     case TEX_CHECKER: {
         /* a solid checker: the same pattern on planes and spheres */
-        /* The parity of each cell index from fmod, not a cast to long: a tiny square or
+        /* The parity of each cell index from floor, not a cast to long: a tiny square or
          * a far hit gives indices past LONG_MAX (undefined behaviour when cast). */
         /* On a plane (or disk) the hit is first put back on it exactly: a plane on a
          * cell face (z = 1000 with cubes of 40) would otherwise take either colour by
@@ -176,10 +182,14 @@ void scene_albedo(const scene_t *s, int obj, const double p[3], double rgb[3])
                          (p[2] - o->p[2]) * o->n[2];
             for (int j = 0; j < 3; j++) q[j] -= off * o->n[j];
         }
+        /* f - 2 floor(f / 2) is |fmod(f, 2)| for a whole f (every step exact), NaN for an
+         * infinite one as fmod's: the parities without libm's fmod */
         double k = 0;
-        for (int j = 0; j < 3; j++)
-            k += fabs(fmod(floor(q[j] / t->size), 2.0));
-        if (fmod(k, 2.0) == 1.0) from = t->b;
+        for (int j = 0; j < 3; j++) {
+            double f = floor(q[j] / t->size);
+            k += f - 2 * floor(0.5 * f);
+        }
+        if (k == 1 || k == 3) from = t->b;
         break;
     }
     case TEX_IMAGE: {
@@ -219,7 +229,7 @@ int scene_emitted(const scene_t *s, int obj, const double p[3], const double w[3
 {
     const scene_object *o = &s->obj[obj];
     rgb[0] = rgb[1] = rgb[2] = 0;
-    if (!scene_is_emitter(o)) return 0;
+    if (!o->emitter) return 0;
     double n[3];
     if (o->kind == OBJ_SPHERE)
         for (int k = 0; k < 3; k++) n[k] = p[k] - o->p[k];

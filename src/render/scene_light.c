@@ -19,26 +19,12 @@
 
 #include "sparselens/scene.h"
 
+#include "render/render_math.h"
+
 #define EPS_T 1e-6 /* mm: as scene_geometry.c */
+#define dot3 rm_dot3
 
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static double luminance(const double c[3])
-{
-    return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
-}
-
-/* An orthonormal frame around unit n (Duff et al. 2017, "Building an orthonormal basis,
- * revisited"). */
-static void frame_of(const double n[3], double t[3], double b[3])
-{
-    double s = n[2] >= 0 ? 1 : -1, a = -1 / (s + n[2]), c = n[0] * n[1] * a;
-    t[0] = 1 + s * n[0] * n[0] * a, t[1] = s * c, t[2] = -s * n[0];
-    b[0] = c, b[1] = s + n[1] * n[1] * a, b[2] = -n[1];
-}
+#define frame_of rm_frame
 
 /* The selection weight of emitter o at point p with normal n. */
 static double select_weight(const scene_object *o, const double p[3], const double n[3])
@@ -46,17 +32,18 @@ static double select_weight(const scene_object *o, const double p[3], const doub
     double q[3] = {o->p[0] - p[0], o->p[1] - p[1], o->p[2] - p[2]};
     double d2 = dot3(q, q), d = sqrt(d2), omega;
     if (!(d > 0)) return 0;
+    double inv = 1 / d, inv2 = inv * inv; /* one quotient: every emitter, every sample */
     if (o->kind == OBJ_SPHERE) {
-        omega = d <= o->radius ? 2 * M_PI
-                               : 2 * M_PI * (1 - sqrt(fmax(0, 1 - o->radius * o->radius / d2)));
+        omega = d <= o->radius ? 2 * M_PI : 2 * M_PI * (1 - sqrt(rm_pos(1 - o->r2 * inv2)));
     } else if (o->kind == OBJ_DISK) {
-        double cl = -dot3(o->n, q) / d; /* the disk emits towards its normal */
+        double cl = -dot3(o->n, q) * inv; /* the disk emits towards its normal */
         if (cl <= 0) return 0;
-        omega = fmin(2 * M_PI, M_PI * o->radius * o->radius * cl / d2);
+        omega = M_PI * o->r2 * cl * inv2;
+        if (!(omega < 2 * M_PI)) omega = 2 * M_PI; /* fmin(2 pi, omega), NaN too */
     } else {
         return 0;
     }
-    return luminance(o->emit) * omega * (fmax(0, dot3(n, q) / d) + 0.05);
+    return o->lum * omega * (rm_pos(dot3(n, q) * inv) + 0.05);
 }
 
 /* Solid-angle density with which emitter o's sampling gives direction w from p, hitting
@@ -67,7 +54,7 @@ static double light_pdf(const scene_object *o, const double p[3], const double q
     double c[3] = {o->p[0] - p[0], o->p[1] - p[1], o->p[2] - p[2]};
     double e[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, dq2 = dot3(e, e);
     if (o->kind == OBJ_SPHERE) {
-        double d2 = dot3(c, c), r2 = o->radius * o->radius;
+        double d2 = dot3(c, c), r2 = o->r2;
         if (d2 > r2 * (1 + 1e-12)) {
             double one_minus = 1 - sqrt(1 - r2 / d2);
             return 1 / (2 * M_PI * one_minus);
@@ -85,31 +72,33 @@ static double sample_light(const scene_object *o, const double p[3], double u1, 
                            double w[3], double q[3], double nq[3])
 {
     double c[3] = {o->p[0] - p[0], o->p[1] - p[1], o->p[2] - p[2]};
-    double d2 = dot3(c, c), r2 = o->radius * o->radius;
+    double d2 = dot3(c, c), r2 = o->r2, sn, cs;
+    rm_sincos_turn(u2, &sn, &cs); /* of phi = 2 pi u2 */
     if (o->kind == OBJ_SPHERE && d2 > r2 * (1 + 1e-12)) {
-        double d = sqrt(d2), axis[3] = {c[0] / d, c[1] / d, c[2] / d}, t[3], b[3];
+        double d = sqrt(d2), id = 1 / d, axis[3] = {c[0] * id, c[1] * id, c[2] * id}, t[3], b[3];
         double cos_max = sqrt(1 - r2 / d2), one_minus = 1 - cos_max;
-        double ct = 1 - u1 * one_minus, st = sqrt(fmax(0, 1 - ct * ct)), phi = 2 * M_PI * u2;
+        double ct = 1 - u1 * one_minus, st = sqrt(rm_pos(1 - ct * ct));
         frame_of(axis, t, b);
-        for (int k = 0; k < 3; k++) w[k] = ct * axis[k] + st * (cos(phi) * t[k] + sin(phi) * b[k]);
+        for (int k = 0; k < 3; k++) w[k] = ct * axis[k] + st * (cs * t[k] + sn * b[k]);
         /* the nearer root of |p + s w - centre| = r (it exists: w is inside the cone) */
-        double bb = dot3(c, w), disc = fmax(0, bb * bb - (d2 - r2)), s = bb - sqrt(disc);
-        for (int k = 0; k < 3; k++) q[k] = p[k] + s * w[k], nq[k] = (q[k] - o->p[k]) / o->radius;
+        double bb = dot3(c, w), disc = rm_pos(bb * bb - (d2 - r2)), s = bb - sqrt(disc);
+        double ir = 1 / o->radius;
+        for (int k = 0; k < 3; k++) q[k] = p[k] + s * w[k], nq[k] = (q[k] - o->p[k]) * ir;
         return 1 / (2 * M_PI * one_minus);
     }
     if (o->kind == OBJ_SPHERE) { /* inside: by area */
-        double z = 1 - 2 * u1, r = sqrt(fmax(0, 1 - z * z)), phi = 2 * M_PI * u2;
-        nq[0] = r * cos(phi), nq[1] = r * sin(phi), nq[2] = z;
+        double z = 1 - 2 * u1, r = sqrt(rm_pos(1 - z * z));
+        nq[0] = r * cs, nq[1] = r * sn, nq[2] = z;
         for (int k = 0; k < 3; k++) q[k] = o->p[k] + o->radius * nq[k];
     } else {
-        double e1[3], e2[3], r = o->radius * sqrt(u1), phi = 2 * M_PI * u2;
-        frame_of(o->n, e1, e2);
-        for (int k = 0; k < 3; k++) q[k] = o->p[k] + r * (cos(phi) * e1[k] + sin(phi) * e2[k]);
+        double r = o->radius * sqrt(u1); /* the frame made when the disk was read */
+        for (int k = 0; k < 3; k++) q[k] = o->p[k] + r * (cs * o->e1[k] + sn * o->e2[k]);
         memcpy(nq, o->n, 3 * sizeof *nq);
     }
     double e[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, dq = sqrt(dot3(e, e));
     if (!(dq > 0)) return 0;
-    for (int k = 0; k < 3; k++) w[k] = e[k] / dq;
+    double iq = 1 / dq;
+    for (int k = 0; k < 3; k++) w[k] = e[k] * iq;
     return light_pdf(o, p, q, nq, w);
 }
 
@@ -121,7 +110,7 @@ void scene_direct_mis(const scene_t *s, const scene_hit *h, const double u[5],
     size_t ne = 0;
     int idx[64];
     for (size_t i = 0; i < s->nobj && ne < 64; i++) {
-        if (!scene_is_emitter(&s->obj[i])) continue;
+        if (!s->obj[i].emitter) continue;
         sel[ne] = select_weight(&s->obj[i], h->p, h->n);
         idx[ne++] = (int)i;
         total += sel[ne - 1];
@@ -142,9 +131,10 @@ void scene_direct_mis(const scene_t *s, const scene_hit *h, const double u[5],
         }
     }
     /* the BSDF sample */
-    double r = sqrt(u[3]), phi = 2 * M_PI * u[4], ct = sqrt(fmax(0, 1 - u[3])), tt[3], bb[3], w[3];
+    double r = sqrt(u[3]), ct = sqrt(rm_pos(1 - u[3])), tt[3], bb[3], w[3], sn, cs;
+    rm_sincos_turn(u[4], &sn, &cs); /* of phi = 2 pi u[4] */
     frame_of(h->n, tt, bb);
-    for (int k = 0; k < 3; k++) w[k] = ct * h->n[k] + r * (cos(phi) * tt[k] + sin(phi) * bb[k]);
+    for (int k = 0; k < 3; k++) w[k] = ct * h->n[k] + r * (cs * tt[k] + sn * bb[k]);
     scene_hit g;
     if (!(ct > 0) || !scene_intersect_emitter(s, h->p, w, EPS_T, &g)) return;
     const scene_object *o = &s->obj[g.obj];

@@ -40,6 +40,7 @@ typedef struct {
     double guide_scale;    /* GUIDE / count */
     int count;   /* occupied cells */
     double area; /* count * du * dv */
+    double inv_du, inv_dv, inv_cell; /* 1 / du, 1 / dv, 1 / (du dv): a draw multiplies */
 } pupil_set;
 
 static int occupied(const pupil_set *set, size_t c)
@@ -77,6 +78,7 @@ static int set_finish(pupil_set *set)
         set->row_run[j] = q;
     }
     set->area = set->count * set->du * set->dv;
+    set->inv_du = 1 / set->du, set->inv_dv = 1 / set->dv, set->inv_cell = 1 / (set->du * set->dv);
     set->guide_scale = set->count ? (double)GUIDE / set->count : 0;
     for (int m = 0, q = 0; m < GUIDE && set->count; m++) {
         long k = (long)m * set->count / GUIDE;
@@ -104,7 +106,7 @@ static void set_cell(const pupil_set *set, int k, int *i, int *j)
 
 struct pupil_sampler {
     int nr;
-    double rmax;
+    double rmax, r_scale; /* r_scale = (nr - 1) / rmax: a radius to its set */
     pupil_set *sets;
 };
 
@@ -289,6 +291,7 @@ static pupil_sampler *build_sets(const prober *p, const pupil_sampler_options *o
     }
     ps->nr = opt->radii > 1 ? opt->radii : 64;
     ps->rmax = opt->sensor_radius;
+    ps->r_scale = (ps->nr - 1) / ps->rmax;
     int g = opt->grid > 0 ? opt->grid : 96;
     ps->sets = calloc((size_t)ps->nr, sizeof *ps->sets);
     int failed = !ps->sets;
@@ -382,6 +385,8 @@ pupil_sampler *pupil_sampler_read(FILE *f, lens_err *err)
     int ok = ps && fread(magic, sizeof magic, 1, f) == 1 && !memcmp(magic, cache_magic, sizeof magic) &&
              fread(&ps->nr, sizeof ps->nr, 1, f) == 1 && fread(&ps->rmax, sizeof ps->rmax, 1, f) == 1 &&
              ps->nr > 1 && ps->nr <= 1 << 16 && ps->rmax > 0 && isfinite(ps->rmax);
+    if (ok)
+        ps->r_scale = (ps->nr - 1) / ps->rmax;
     if (ok && !(ps->sets = calloc((size_t)ps->nr, sizeof *ps->sets)))
         ok = 0;
     for (int i = 0; ok && i < ps->nr; i++) {
@@ -419,7 +424,7 @@ static int in_set(const pupil_set *set, double u, double v)
 {
     if (!set->count)
         return 0;
-    double fi = floor((u - set->u0) / set->du), fj = floor((v - set->v0) / set->dv);
+    double fi = floor((u - set->u0) * set->inv_du), fj = floor((v - set->v0) * set->inv_dv);
     if (!(fi >= 0 && fi < set->g && fj >= 0 && fj < set->g))
         return 0;
     return occupied(set, (size_t)fj * set->g + (size_t)fi);
@@ -428,15 +433,18 @@ static int in_set(const pupil_set *set, double u, double v)
 /* The two tabulated radii around r, and the rotation taking (r, 0) to (x, y). */
 static int locate(const pupil_sampler *ps, double x, double y, int *j, double *c, double *s)
 {
-    double r = hypot(x, y);
+    /* sqrt, not hypot, and products, not quotients: a draw a camera sample, and these
+     * were a third of its time (x and y are sensor millimetres: no overflow) */
+    double r = sqrt(x * x + y * y);
     if (!(r <= ps->rmax * (1 + 1e-12)))
         return -1;
-    double t = r / ps->rmax * (ps->nr - 1);
+    double t = r * ps->r_scale;
     int k = (int)t;
     *j = k > ps->nr - 2 ? ps->nr - 2 : k;
     if (r > 0) {
-        *c = x / r;
-        *s = y / r;
+        double inv = 1 / r;
+        *c = x * inv;
+        *s = y * inv;
     } else {
         *c = 1;
         *s = 0;
@@ -468,9 +476,9 @@ static int draw_set(const pupil_sampler *ps, double x, double y, double rnd, pup
     if (t >= a->area || a->count == 0) {
         d->set = b;
         d->other = a;
-        t = fmax(t - a->area, 0);
+        t = t - a->area > 0 ? t - a->area : 0; /* fmax(.., 0), inline (a draw a sample) */
     }
-    d->cells = t / (d->set->du * d->set->dv);
+    d->cells = t * d->set->inv_cell;
     d->k = (int)d->cells;
     if (d->k >= d->set->count)
         d->k = d->set->count - 1;
@@ -517,16 +525,17 @@ int pupil_sampler_sample_rows(const pupil_sampler *ps, double x, double y, const
     int cj = d.cj;
     const pupil_run *row = set->runs + set->row_run[cj], *end = set->runs + set->row_run[cj + 1];
     int nrow = end->cum - row->cum;
-    double fv = fmin((d.cells - row->cum) / nrow, 1);
+    double fv = (d.cells - row->cum) / nrow, fu;
+    fv = fv < 1 ? fv : 1; /* fmin(.., 1) and, below, fmax(.., 0), inline */
     /* rnd[0] the position along the row's occupied cells: monotone in u */
     double t1 = rnd[0] * nrow;
     int q = (int)t1;
     if (q >= nrow)
         q = nrow - 1;
-    double fu = fmin(t1 - q, 1);
+    fu = t1 - q < 1 ? t1 - q : 1;
     while (row + 1 < end && row[1].cum <= row->cum + q)
         q -= row[1].cum - row->cum, row++;
-    finish_draw(&d, set->u0 + (row->i0 + q + fu) * set->du, set->v0 + (cj + fmax(fv, 0)) * set->dv,
+    finish_draw(&d, set->u0 + (row->i0 + q + fu) * set->du, set->v0 + (cj + (fv > 0 ? fv : 0)) * set->dv,
                 u, v, pdf);
     return 0;
 }

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Portability of `make deps` and the build: on a system where the libraries are present
 # but there is no apt-get, dpkg or sudo (and, second, no pkg-config either), deps says
-# what it skipped and succeeds, and a command still compiles, links and runs with the
-# flags the Makefile finds. A missing required part is named, with exit status 1.
+# what it skipped and succeeds, and the library's sources that include an outside
+# library's headers and a command still compile, link and run with the flags the
+# Makefile finds. A missing required part is named, with exit status 1.
 . "$(dirname "$0")/lib.sh"
 # A PATH with every command of this one except those hidden (first wins, as in a PATH).
 restricted_path() { # DIR HIDDEN...
@@ -36,10 +37,22 @@ out=$(PATH=$T/p1 DEPS_INSTALL=no CXX=/nonexistent/c++ tools/install-deps.sh 2>&1
 if [ $rc -eq 1 ] && grep -q 'MISSING (required): c++' <<<"$out"; then ok "deps names a missing required part"
 else fail "deps names a missing required part" "rc $rc: $(tr '\n' ' ' <<<"$out")"; fi
 
-# Compile and link commands against the built library, once with pkg-config and once
-# with the Makefile's fallbacks (the OpenCV shim is in the library; lens-spot links it).
+# Compile the library's sources that include an outside library's headers (cairo,
+# OpenEXR, OpenCV, PROJ, LAPACKE), and compile and link commands against the built
+# library, once with pkg-config and once with the Makefile's fallbacks (the OpenCV shim
+# is in the library; lens-spot links it).
 lib=$BUILD/liblens.a
 [ -f "$lib" ] || { ok "deps build (skipped: $lib not built)"; exit 0; }
+srcs=$(grep -lE '#include <(openexr|cairo|opencv2|geodesic|lapacke)' src/*/*.c src/*/*.cpp)
+for p in p1 p2; do
+  objs=$(sed -E "s#^src/(.*)\.(c|cpp)\$#$T/build-$p/src/\1.o#" <<<"$srcs")
+  # shellcheck disable=SC2086
+  if env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL PATH="$T/$p" make -s --no-print-directory \
+       SANITIZE="$SANITIZE" BUILD="$T/build-$p" $objs >"$T/objs-$p.log" 2>&1; then
+    what="without apt-get/dpkg/sudo"; [ $p = p2 ] && what="$what/pkg-config"
+    ok "compile $what: $(echo $srcs | wc -w) sources that use outside headers"
+  else fail "compile ${p}" "$(tail -3 "$T/objs-$p.log" | tr '\n' ' ')"; fi
+done
 for p in p1 p2; do
   env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL PATH="$T/$p" make -s --no-print-directory -o "$lib" \
     SANITIZE="$SANITIZE" BIN="$T/bin-$p" "$T/bin-$p/lens-info" "$T/bin-$p/lens-spot" >"$T/make-$p.log" 2>&1

@@ -4,8 +4,8 @@
 # installed man pages name no source-tree path, and every installed file they name is
 # there; and the installed commands, from an empty directory with nothing but the staged
 # prefix, find every lens and scene the installed pages' examples name by its short name.
-# (The examples themselves run once, in tests/cli/docs_examples.sh, with the built
-# commands: they are the same programs but for the data directory compiled in.)
+# (The examples themselves run once, in tests/cli/docs_examples.sh, from the installed
+# pages with the installed commands.)
 . "$(dirname "$0")/lib.sh"
 [ -f "$BUILD/liblens.a" ] || { ok "install (skipped: not built)"; exit 0; }
 dest=$T/dest prefix=/opt/sparselens

@@ -14,12 +14,29 @@
 #include "sparselens/layout.h"
 #include "sparselens/ray_bundle.h"
 
+/* Where an outline point lies: on surface i or i + 1 of its element (at a height within
+ * that surface's rim), or on the element's edge (|y| at the wider rim, z between). */
+static int on_element(const lens_t *lens, size_t i, double z, double y)
+{
+    for (size_t k = i; k <= i + 1; k++)
+        if (fabs(y) <= lens->surf[k].semi_diameter + 1e-12 &&
+            fabs(lens->vertex_z[k] + lens_sag(&lens->surf[k], y * y) - z) < 1e-9)
+            return 1;
+    double h = fmax(lens->surf[i].semi_diameter, lens->surf[i + 1].semi_diameter);
+    double za = lens->vertex_z[i] + lens_sag(&lens->surf[i], fmin(h, lens->surf[i].semi_diameter) *
+                                                                 fmin(h, lens->surf[i].semi_diameter));
+    double zb = lens->vertex_z[i + 1] + lens_sag(&lens->surf[i + 1], lens->surf[i + 1].semi_diameter *
+                                                                         lens->surf[i + 1].semi_diameter);
+    return fabs(fabs(y) - h) < 1e-12 && z >= fmin(za, zb) - 1e-9 && z <= fmax(za, zb) + 1e-9;
+}
+
 static void outlines_and_rays(void **state)
 {
     (void)state;
     lens_t lens;
     assert_int_equal(fixture_dgauss50(&lens), 0);
-    imaging im = {.lens = &lens, .object_distance = INFINITY};
+    /* the sensor moved off the file's plane: the rays end on the plane drawn */
+    imaging im = {.lens = &lens, .object_distance = INFINITY, .sensor_shift = 0.3};
     const double field[2] = {0, 12};
     layout_drawing d;
     lens_err err;
@@ -27,7 +44,7 @@ static void outlines_and_rays(void **state)
     int glass = 0, elements = 0, landed = 0;
     for (size_t i = 0; i + 1 < lens.nsurf; i++)
         glass += lens.surf[i].medium.kind != GLASS_AIR;
-    double zs = lens_total_track(&lens);
+    double zs = lens_total_track(&lens) + im.sensor_shift;
     /* the exact tracer's sensor points for the same rays */
     double pupil[10], s[2][20];
     int ok[2][5];
@@ -49,8 +66,23 @@ static void outlines_and_rays(void **state)
             int k = 0;
             while (k < (int)lens.nsurf && fabs(lens.vertex_z[k] + lens_sag(&lens.surf[k], y * y) - z) > 1e-12)
                 k++;
-            assert_true(k < (int)lens.nsurf);
+            assert_true(k + 1 < (int)lens.nsurf);
             assert_true(fabs(fabs(y) - lens.surf[k].semi_diameter) < 1e-12);
+            /* every point on the element's two surfaces or its edge, both vertices drawn */
+            int vertices = 0;
+            for (int p = 0; p < l->n; p++) {
+                double pz = l->zy[2 * p], py = l->zy[2 * p + 1];
+                assert_true(on_element(&lens, (size_t)k, pz, py));
+                vertices += py == 0 && (pz == lens.vertex_z[k] || pz == lens.vertex_z[k + 1]);
+            }
+            assert_int_equal(vertices, 2);
+        }
+        if (l->kind == LAYOUT_SENSOR)
+            assert_true(l->zy[0] == zs && l->zy[2] == zs);
+        if (l->kind == LAYOUT_STOP) {
+            const lens_surface *st = &lens.surf[lens.stop];
+            assert_true(fabs(fabs(l->zy[1]) - st->semi_diameter) < 1e-12);
+            assert_true(fabs(l->zy[0] - lens.vertex_z[lens.stop] - lens_sag(st, st->semi_diameter * st->semi_diameter)) < 1e-12);
         }
         if (l->kind == LAYOUT_RAY) {
             int f = l->field, r = seen[f]++;
