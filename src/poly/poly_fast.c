@@ -237,6 +237,7 @@ fast_sums(const int NA, const poly_fast *f, const double *sc, double *out)
     const int64_t *ix = f->idx;
     const double *cf = f->coef;
     const int *kc = f->kcount;
+    __m512d prev = _mm512_setzero_pd();
     for (int o = 0; o < f->nout; o++, kc += FAST_KINDS) {
         __m512d a = fast_chunks(NA, NO, 0, lo, hi, kc[0], &ix, &cf, _mm512_setzero_pd());
         if (NO >= 1)
@@ -245,7 +246,19 @@ fast_sums(const int NA, const poly_fast *f, const double *sc, double *out)
             a = fast_chunks(NA, NO, 2, lo, hi, kc[2], &ix, &cf, a);
             a = fast_chunks(NA, NO, 3, lo, hi, kc[3], &ix, &cf, a);
         }
-        out[o] = _mm512_reduce_add_pd(a);
+        if (!(o & 1) && o + 1 < f->nout) {
+            prev = a; /* added across lanes with the next output's */
+            continue;
+        }
+        if (!(o & 1)) {
+            out[o] = _mm512_reduce_add_pd(a);
+            continue;
+        }
+        /* two outputs' lanes at once: lanes (2j, 2j + 1) hold their pairs' partial sums */
+        const __m512d t = _mm512_add_pd(_mm512_unpacklo_pd(prev, a), _mm512_unpackhi_pd(prev, a));
+        const __m256d h = _mm256_add_pd(_mm512_castpd512_pd256(t), _mm512_extractf64x4_pd(t, 1));
+        const __m128d q = _mm_add_pd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1));
+        _mm_storeu_pd(out + o - 1, q);
     }
 }
 

@@ -83,6 +83,19 @@ static void test_framed_eval(void **st)
             in[5 * r + 2] = NAN;
     }
     check_against_batch(s, n, in, 0);
+    poly_free(s);
+    /* an even number of outputs (their sums across lanes are taken two at a time) */
+    static const char *const xy[2] = {"x", "y"}, *const o4[4] = {"a", "b", "c", "d"};
+    s = poly_new("four", 2, xy, 4, o4);
+    assert_int_equal(poly_add_part(s, 0, INFINITY), 0);
+    for (int o = 0; o < 4; o++)
+        for (int t = 0; t < 5 + 7 * o; t++) {
+            const int e[2] = {t % 9, (t * 5 + o) % 7};
+            assert_int_equal(poly_add_term(s, 0, o, e, fixture_uniform(&g) - 0.5), 0);
+        }
+    for (int k = 0; k < 2 * n; k++)
+        in[k] = 2 * fixture_uniform(&g) - 1;
+    check_against_batch(s, n, in, 0);
     free(in);
     poly_free(s);
 }
