@@ -56,8 +56,8 @@ is the command as run and what it printed). The commands are `lens-layout`, `len
 
 The diffraction MTF of a perfect pupil and of a lens that is perfect on its axis (a
 plano-hyperbolic singlet, k = -n^2, traced for real) against 2/pi (acos v - v sqrt(1-v^2));
-defocus against its wavefront RMS dz NA^2 / (4 sqrt 3) and its geometric MTF against
-2 J1(x)/x; the wavefront from path lengths against the one integrated from ray errors
+defocus against its wavefront RMS dz NA^2 / (4 sqrt 3), its Strehl ratio against
+sinc^2(k W020 / 2) and its geometric MTF against 2 J1(x)/x; the wavefront from path lengths against the one integrated from ray errors
 (the only one a fitted system has):
 
 MD
@@ -97,6 +97,16 @@ ffl -37.1, bfl 41.24, entrance pupil 11.68 behind the first vertex, exit pupil -
 the last, exit pupil radius 6.406; Seidel sums as field curvatures TCV 0.000734,
 SCV 0.004921, PCV 0.007014 (1/mm), and transverse aberrations at full field and aperture
 TSA -0.043893, TCO 0.010944, DST 0.018387 mm.
+
+Their conventions, and how the comparison meets them: the reference wavelength is
+587.5618 nm (d), as here; the field is an object-space angle, 20 degrees at full field
+(relative fields 0, 0.707, 1), which reaches the paraxial image height 18.1985 mm, as
+lens-field's fields in degrees do; the entrance pupil is 12.5 mm across (f/4), here the
+stop's rim as the file gives it (the same f-number, 4.00008); the Seidel transverse
+measures are taken on the paraxial image plane (so the sparselens runs use
+`--focus paraxial`) and, for coma and distortion, from the chief ray (lens-fan's and
+lens-field's reference), not from a centroid. Field curvature is positive when the focal
+surface curves towards the lens.
 
 First-order data:
 

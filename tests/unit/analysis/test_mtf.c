@@ -141,6 +141,11 @@ static void defocus_closed_forms(void **state)
         double rms = wavefront_rms(&wf), expect = dz * na * na / (4 * sqrt(3));
         printf("defocus %g mm (%s): rms %.6g mm, closed form %.6g mm\n", dz, method ? "rays" : "path", rms, expect);
         assert_true(fabs(rms / expect - 1) < 5e-3);
+        /* a defocus W = W020 rho^2 (rms W020 / sqrt 12) over a uniform disc has the peak
+         * |int exp(i k W020 t) dt|^2 over t = rho^2 in [0, 1]: Strehl sinc^2(k W020 / 2) */
+        double half = M_PI / (GLASS_D_LINE * 1e-3) * rms * sqrt(12), strehl = pow(sin(half) / half, 2);
+        printf("  Strehl %.5f, closed form %.5f\n", mtf_strehl(&wf), strehl);
+        assert_true(fabs(mtf_strehl(&wf) - strehl) < 2e-3);
         const wavefront *w = &wf;
         double r = dz * na / sqrt(1 - na * na), worst = 0;
         for (int k = 1; k <= 10; k++) {
