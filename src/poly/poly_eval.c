@@ -31,12 +31,7 @@ int poly_passes(const poly_system *s, const double *out)
     for (int o = 0; o < s->nout; o++)
         if (!isfinite(out[o]))
             return 0;
-    for (int c = 0; c < s->ncircles; c++) {
-        double a = out[s->circles[c].a], b = out[s->circles[c].b], r = s->circles[c].radius;
-        if (!(a * a + b * b <= r * r))
-            return 0;
-    }
-    return 1;
+    return poly_in_circles(s, out);
 }
 
 int poly_circle_covers(const poly_system *s, int o)

@@ -227,10 +227,9 @@ void poly_frame_rotate(const poly_system *s, const double *in, double *t, double
     cs[0] = 1;
     cs[1] = 0;
     if (s->frame == POLY_FRAME_MERIDIONAL) {
-        double x = in[s->ix], y = in[s->iy], u = in[s->iu], v = in[s->iv];
-        double r = sqrt(x * x + y * y);
-        double ir = 1 / r; /* one divide instead of two: the batch kernel does the same */
-        double c = r > 0 ? x * ir : 1, sn = r > 0 ? y * ir : 0;
+        const double u = in[s->iu], v = in[s->iv];
+        double r, c, sn;
+        poly_frame_angle(in[s->ix], in[s->iy], &r, &c, &sn);
         t[s->ix] = r;
         t[s->iy] = 0;
         t[s->iu] = c * u + sn * v;
@@ -248,12 +247,7 @@ void poly_frame_in(const poly_system *s, const double *in, double *t, double *cs
 
 void poly_frame_out(const poly_system *s, const double *cs, double *out)
 {
-    const double c = cs[0], sn = cs[1];
-    for (int k = 0; k < s->npairs; k++) {
-        double a = out[s->pair[2 * k]], b = out[s->pair[2 * k + 1]];
-        out[s->pair[2 * k]] = c * a - sn * b;
-        out[s->pair[2 * k + 1]] = sn * a + c * b;
-    }
+    poly_frame_turn_back(s, cs[0], cs[1], out);
 }
 
 void poly_frame_out_inverse(const poly_system *s, const double *cs, double *out)
@@ -291,6 +285,11 @@ int poly_eval_part(const poly_system *s, int part, const double *in, double *out
     if (!poly_frame_active(s))
         return poly_eval_part_core(s, part, in, out);
     const int nin = s->nin, nout = s->nout, np = s->frame && s->nplain;
+    if (!np && part >= 0 && part < s->nparts) {
+        int p = poly_fast_eval(s->parts[part].plan.fast, s, in, out);
+        if (p >= 0)
+            return p;
+    }
     double cs[2], buf[64];
     double *t = 2 * nin + nout <= 64 ? buf : malloc((size_t)(2 * nin + nout) * sizeof *t);
     if (!t) {

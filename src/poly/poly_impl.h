@@ -34,6 +34,7 @@
  * without contraction into FMA, so they give the same bits. */
 #include "sparselens/poly.h"
 
+#include <math.h>
 #include <stdint.h>
 
 #include "base/index_hash.h"
@@ -219,12 +220,16 @@ void poly_mono_free(poly_mono *m);
 void poly_plan_free(poly_plan *pl);
 
 /* The vector layout of poly_fast.c for nout sums with exponents (NULL: none, e.g. for
- * derivative sums or more than 7 inputs, or out of memory); poly_fast_run evaluates one
- * ray's sums from its raw inputs (scaled here), 0, or -1 where it cannot (no AVX-512,
- * or f NULL): then the plan's interpreter runs. Agrees with the plan to rounding. */
+ * derivative sums, more than 6 inputs with terms or an exponent above 15, or out of
+ * memory); poly_fast_run evaluates one ray's sums from its raw inputs (scaled here), 0,
+ * or -1 where it cannot (no AVX-512, f NULL, an output not finite): then the plan's
+ * interpreter runs. poly_fast_eval: poly_eval_part whole (frame, transforms, sums,
+ * rotation back; the pass flag) for a system without outputs outside its frame whose
+ * part's plan has f, or -1 likewise. Both agree with the plan to rounding. */
 poly_fast *poly_fast_build(int nin, int nout, const poly_out_terms *sums);
 void poly_fast_free(poly_fast *f);
 int poly_fast_run(const poly_fast *f, const poly_system *s, const double *in, double *out);
+int poly_fast_eval(const poly_fast *f, const poly_system *s, const double *in, double *out);
 
 /* Hooks of the builders in poly.c: a change of scaling or parts rebuilds the views, a
  * new term is added to its view. */
@@ -239,6 +244,39 @@ void poly_frame_rotate(const poly_system *s, const double *in, double *t, double
 void poly_frame_transform(const poly_system *s, double *t);
 void poly_frame_plain_in(const poly_system *s, const double *in, double *t);
 void poly_frame_take_plain(const poly_system *s, const double *from, double *out);
+
+/* The meridional frame of a ray at sensor point (x, y): its radius r and the cos c and
+ * sin s of its angle (1 and 0 on the axis), as every path computes them (the batch
+ * kernel in vectors): one divide, not two. */
+static inline void poly_frame_angle(double x, double y, double *r, double *c, double *s)
+{
+    const double rr = sqrt(x * x + y * y), ir = 1 / rr;
+    *r = rr;
+    *c = rr > 0 ? x * ir : 1;
+    *s = rr > 0 ? y * ir : 0;
+}
+
+/* The turned pairs of out rotated back by the frame's (c, s) (poly_frame_out). */
+static inline void poly_frame_turn_back(const poly_system *sys, double c, double s, double *out)
+{
+    for (int k = 0; k < sys->npairs; k++) {
+        const double a = out[sys->pair[2 * k]], b = out[sys->pair[2 * k + 1]];
+        out[sys->pair[2 * k]] = c * a - s * b;
+        out[sys->pair[2 * k + 1]] = s * a + c * b;
+    }
+}
+
+/* The circles of the pass test (poly_passes, after its check that the outputs are
+ * finite): 1 when out is inside every one. */
+static inline int poly_in_circles(const poly_system *s, const double *out)
+{
+    for (int c = 0; c < s->ncircles; c++) {
+        const double a = out[s->circles[c].a], b = out[s->circles[c].b], r = s->circles[c].radius;
+        if (!(a * a + b * b <= r * r))
+            return 0;
+    }
+    return 1;
+}
 
 /* 1 when evaluation needs the frame or a transform around the core. */
 static inline int poly_frame_active(const poly_system *s) { return s->frame != 0 || s->nxform > 0; }

@@ -98,6 +98,116 @@ static void axis_limit(const poly_system *s, int np, const poly_chain_cols *k, s
 #define IVDEP
 #endif
 
+/* The chain rule of the meridional frame without outputs outside it, and without a
+ * transform on the inputs it turns (every lens-poly 2 fit): in one pass per output or
+ * turned pair, as 2 x 2 rotations. With r, c, s of the frame, u', v' the turned direction
+ * and F the frame view's outputs (d_r, d_u', d_v' its derivatives, from k->J):
+ *   d/dx = c d_r - (s/r) G,  d/dy = s d_r + (c/r) G,  G = v' d_u' - u' d_v',
+ *   d/du = c d_u' - s d_v',  d/dv = s d_u' + c d_v',
+ * (d c / dx = s^2 / r, d s / dx = -c s / r, ...; d u' / dx = -s v' / r, ...) and the
+ * inputs the frame does not turn through their transforms alone. A turned pair (A, B),
+ * out (a, b) = (c A - s B, s A + c B), turns its rows by the same c, s, and adds the
+ * rotation's own derivative: (s/r) b, -(s/r) a to the x column, -(c/r) b, (c/r) a to y.
+ * On the axis (r = 0: 1/r taken as 0) d / dy is replaced by its limit (axis_limit).
+ * The same arithmetic as the general form below to rounding (fewer operations: it cost
+ * the batch Jacobian as much as its derivative sums). */
+static inline __attribute__((always_inline)) void chain_meridional(const poly_system *s,
+                                                                   const poly_chain_cols *k,
+                                                                   size_t n)
+{
+    const int nin = s->nin, nout = s->nout, ix = s->ix, iy = s->iy, iu = s->iu, iv = s->iv;
+#define COL(p, i) ((p) + (size_t)(i) * n)
+    double *g = k->g, *sir = COL(g, nin), *cir = COL(g, nin + 1);
+    const double *c = k->c, *sn = k->sn, *rad = COL(k->w, ix);
+    const double *up = COL(k->w, iu), *vp = COL(k->w, iv);
+    for (int i = 0; i < nin; i++) { /* d(1/w^2)/dw, or 1 (axis_limit reads them) */
+        double *gi = COL(g, i);
+        const double *wi = COL(k->w, i);
+        if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
+            IVDEP
+            for (size_t r = 0; r < n; r++)
+                gi[r] = -2 / (wi[r] * wi[r] * wi[r]);
+        else
+            IVDEP
+            for (size_t r = 0; r < n; r++)
+                gi[r] = 1;
+    }
+    IVDEP
+    for (size_t r = 0; r < n; r++) {
+        const double ir = rad[r] > 0 ? 1 / rad[r] : 0;
+        sir[r] = sn[r] * ir;
+        cir[r] = c[r] * ir;
+    }
+    for (int o = 0; o < nout; o++) {
+        int a = o, b = -1; /* a turned pair is done with its first output */
+        for (int q = 0; q < s->npairs; q++)
+            if (s->pair[2 * q] == o)
+                b = s->pair[2 * q + 1];
+            else if (s->pair[2 * q + 1] == o)
+                a = -1;
+        if (a < 0 || (k->outs && !k->outs[o]))
+            continue;
+        const double *JA = COL(k->J, a * nin), *JB = COL(k->J, (b < 0 ? a : b) * nin);
+        double *ja = COL(k->jac, a * nin), *jb = COL(k->jac, (b < 0 ? a : b) * nin);
+        const double *A = COL(k->o, a), *B = COL(k->o, b < 0 ? a : b);
+        for (int j = 0; j < nin; j++) { /* the inputs the frame does not turn */
+            if (j == ix || j == iy || j == iu || j == iv)
+                continue;
+            const double *gj = COL(g, j), *Ja = COL(JA, j), *Jb = COL(JB, j);
+            double *oa = COL(ja, j), *ob = COL(jb, j);
+            if (b < 0)
+                IVDEP
+                for (size_t r = 0; r < n; r++)
+                    oa[r] = Ja[r] * gj[r];
+            else
+                IVDEP
+                for (size_t r = 0; r < n; r++) {
+                    const double dA = Ja[r] * gj[r], dB = Jb[r] * gj[r];
+                    oa[r] = c[r] * dA - sn[r] * dB;
+                    ob[r] = sn[r] * dA + c[r] * dB;
+                }
+        }
+        const double *Jar = COL(JA, ix), *Jau = COL(JA, iu), *Jav = COL(JA, iv);
+        const double *Jbr = COL(JB, ix), *Jbu = COL(JB, iu), *Jbv = COL(JB, iv);
+        double *ax = COL(ja, ix), *ay = COL(ja, iy), *au = COL(ja, iu), *av = COL(ja, iv);
+        double *bx = COL(jb, ix), *by = COL(jb, iy), *bu = COL(jb, iu), *bv = COL(jb, iv);
+        if (b < 0) {
+            IVDEP
+            for (size_t r = 0; r < n; r++) {
+                const double G = vp[r] * Jau[r] - up[r] * Jav[r];
+                ax[r] = c[r] * Jar[r] - sir[r] * G;
+                ay[r] = sn[r] * Jar[r] + cir[r] * G;
+                au[r] = c[r] * Jau[r] - sn[r] * Jav[r];
+                av[r] = sn[r] * Jau[r] + c[r] * Jav[r];
+            }
+            continue;
+        }
+        IVDEP
+        for (size_t r = 0; r < n; r++) {
+            const double cr = c[r], sr = sn[r];
+            const double GA = vp[r] * Jau[r] - up[r] * Jav[r];
+            const double GB = vp[r] * Jbu[r] - up[r] * Jbv[r];
+            const double Ax = cr * Jar[r] - sir[r] * GA, Ay = sr * Jar[r] + cir[r] * GA;
+            const double Au = cr * Jau[r] - sr * Jav[r], Av = sr * Jau[r] + cr * Jav[r];
+            const double Bx = cr * Jbr[r] - sir[r] * GB, By = sr * Jbr[r] + cir[r] * GB;
+            const double Bu = cr * Jbu[r] - sr * Jbv[r], Bv = sr * Jbu[r] + cr * Jbv[r];
+            const double va = cr * A[r] - sr * B[r], vb = sr * A[r] + cr * B[r];
+            ax[r] = (cr * Ax - sr * Bx) + sir[r] * vb;
+            bx[r] = (sr * Ax + cr * Bx) - sir[r] * va;
+            ay[r] = (cr * Ay - sr * By) - cir[r] * vb;
+            by[r] = (sr * Ay + cr * By) + cir[r] * va;
+            au[r] = cr * Au - sr * Bu;
+            bu[r] = sr * Au + cr * Bu;
+            av[r] = cr * Av - sr * Bv;
+            bv[r] = sr * Av + cr * Bv;
+        }
+    }
+    for (size_t r = 0; r < n; r++) /* on the axis, d / dy as its limit */
+        if (rad[r] == 0)
+            axis_limit(s, 0, k, r);
+#undef COL
+}
+
 /* Chain rule: jac = d out / d in from the cores' values and Jacobians. With the frame,
  * t depends on in through the rotation (c and s vary with x and y) and on the transforms;
  * the outputs through the rotation back. On the axis (r = 0) the angle is undefined:
@@ -110,6 +220,12 @@ static inline __attribute__((always_inline)) void chain(const poly_system *s, in
                                                         const poly_chain_cols *k, size_t n)
 {
     const int nin = s->nin, nout = s->nout;
+    if (s->frame == POLY_FRAME_MERIDIONAL && !np && !s->xform[s->ix] && !s->xform[s->iy] &&
+        !s->xform[s->iu] &&
+        !s->xform[s->iv]) {
+        chain_meridional(s, k, n);
+        return;
+    }
 #define COL(p, i) ((p) + (size_t)(i) * n)
 #define ON(o) (!k->outs || k->outs[o]) /* an output asked for */
     double *g = k->g, *gp = COL(g, nin), *d = COL(g, 2 * nin);

@@ -33,6 +33,7 @@
  * about as much as 30 rays) */
 #define BLOCK 512
 #define MAX_WAVE (RENDER_HERO > 3 ? RENDER_HERO : 3)
+#define DRAWS 9
 
 /* sample dimensions (render_samples.h): pairs and singles are numbered apart */
 enum { DIM_PIXEL, DIM_PUPIL, DIM_LIGHT, DIM_BSDF };       /* 2D */
@@ -80,22 +81,11 @@ static double colour_at(const scene_t *sc, const wave_set *w, int j, const doubl
     return render_rgb_spectrum(rgb, w->lambda[j]);
 }
 
-/* The uniforms of sample k's direct-light estimate (drawn only where a path needs them). */
-static void light_uniforms(const ld_pixel *key, long spp, long k, double u[5])
-{
-    double l2[2];
-    u[0] = ld_1d_px(key, DIM_SELECT, spp, k);
-    ld_2d_px(key, DIM_LIGHT, spp, k, l2);
-    u[1] = l2[0], u[2] = l2[1];
-    ld_2d_px(key, DIM_BSDF, spp, k, l2);
-    u[3] = l2[0], u[4] = l2[1];
-}
-
 /* Radiance leaving the scene along the camera ray (o, d) (scene frame), at the
- * wavelengths j0 .. j1-1 of w, into L[j]; sample k of the pixel with key. */
+ * wavelengths j0 .. j1-1 of w, into L[j]; u: the sample's uniforms for direct light
+ * (selection, light 2, BSDF 2). */
 static void scene_radiance(const scene_t *sc, const wave_set *w, int j0, int j1,
-                           const scene_hit *h, const double d[3], const ld_pixel *key, long spp,
-                           long k, double *L)
+                           const scene_hit *h, const double d[3], const double u[5], double *L)
 {
     const scene_object *ob = &sc->obj[h->obj];
     for (int j = j0; j < j1; j++) L[j] = 0;
@@ -109,8 +99,6 @@ static void scene_radiance(const scene_t *sc, const wave_set *w, int j0, int j1,
     scene_albedo(sc, h->obj, h->p, alb);
     if (alb[0] <= 0 && alb[1] <= 0 && alb[2] <= 0) return;
     scene_light_terms t;
-    double u[5];
-    light_uniforms(key, spp, k, u);
     scene_direct_mis(sc, h, u, &t);
     for (int i = 0; i < t.n; i++)
         for (int j = j0; j < j1; j++)
@@ -129,7 +117,9 @@ typedef struct {
     double eta[BLOCK * MAX_WAVE], pdf[BLOCK];
     double o4[BLOCK * MAX_WAVE * 4], jac[BLOCK * MAX_WAVE * 16]; /* full estimator */
     unsigned char pass[BLOCK * MAX_WAVE];
-    wave_set waves[BLOCK];
+    wave_set waves[BLOCK]; /* spectral: each sample's; else waves[0] serves all */
+    /* each sample's low-discrepancy numbers: pixel 2, pupil 2, direct light 5 */
+    double draw[BLOCK * DRAWS];
     int px[BLOCK];  /* each sample's pixel (column of the row) */
     long k[BLOCK];  /* and its index among the pixel's spp */
 } block_buf;
@@ -199,6 +189,25 @@ typedef struct {
     pixel_acc *acc;
 } row_state;
 
+/* The block's low-discrepancy numbers, a pixel's run of samples at a time (ld_2d_run:
+ * four samples a step); the direct light's only where a hit can need them. */
+static void block_draws(const scene_t *sc, const row_state *row, long spp, int m, block_buf *b)
+{
+    int lit = 0;
+    for (size_t o = 0; o < sc->nobj; o++) lit |= !sc->obj[o].emitter;
+    for (int i = 0, e; i < m; i = e) {
+        for (e = i + 1; e < m && b->px[e] == b->px[i] && b->k[e] == b->k[e - 1] + 1; e++) continue;
+        const ld_pixel *key = &row->key[b->px[i]];
+        double *d = b->draw + (size_t)DRAWS * i;
+        ld_2d_run(key, DIM_PIXEL, spp, b->k[i], e - i, d, DRAWS);
+        ld_2d_run(key, DIM_PUPIL, spp, b->k[i], e - i, d + 2, DRAWS);
+        if (!lit) continue;
+        ld_1d_run(key, DIM_SELECT, spp, b->k[i], e - i, d + 4, DRAWS);
+        ld_2d_run(key, DIM_LIGHT, spp, b->k[i], e - i, d + 5, DRAWS);
+        ld_2d_run(key, DIM_BSDF, spp, b->k[i], e - i, d + 7, DRAWS);
+    }
+}
+
 /* Samples b->px[i], b->k[i] (i < m) of the row: lens, scene, sums. */
 static void render_block(const render_job *job, const camera_cull *cc, const row_state *row,
                          int m, block_buf *b)
@@ -211,19 +220,21 @@ static void render_block(const render_job *job, const camera_cull *cc, const row
     double rad = job->filter_radius > 0 ? job->filter_radius : 1;
     /* the camera rays of the block */
     int nray = 0; /* rays per sample */
+    int spectral = sc->mode == SCENE_SPECTRAL;
+    if (!spectral) waves_of(sc, 0, &b->waves[0]); /* the same for every sample */
+    block_draws(sc, row, spp, m, b);
     for (int i = 0; i < m; i++) {
         long k = b->k[i];
         int px = b->px[i];
         const ld_pixel *key = &row->key[px];
-        double q[2], p2[2];
-        ld_2d_px(key, DIM_PIXEL, spp, k, q);
+        double q[2] = {b->draw[DRAWS * i], b->draw[DRAWS * i + 1]};
+        const double *p2 = b->draw + DRAWS * i + 2;
         if (job->filter == RENDER_FILTER_TENT) q[0] = 0.5 + tent(q[0], rad), q[1] = 0.5 + tent(q[1], rad);
         double x = ((px + q[0]) / sc->width - 0.5) * cam->sensor_w;
         double y = ((py + q[1]) / sc->height - 0.5) * cam->sensor_h;
-        wave_set *w = &b->waves[i];
-        waves_of(sc, sc->mode == SCENE_SPECTRAL ? ld_1d_px(key, DIM_LAMBDA, spp, k) : 0, w);
+        wave_set *w = &b->waves[spectral ? i : 0];
+        if (spectral) waves_of(sc, ld_1d_px(key, DIM_LAMBDA, spp, k), w);
         double uu, vv;
-        ld_2d_px(key, DIM_PUPIL, spp, k, p2);
         b->pdf[i] = render_sampler_sample_2d(job->sampler, x, y, p2[0], p2[1], &uu, &vv);
         nray = job->achromatic ? 1 : w->nwave;
         for (int j = 0; j < nray; j++) {
@@ -235,10 +246,8 @@ static void render_block(const render_job *job, const camera_cull *cc, const row
     if (full) full_block(job, (size_t)m * nray, b);
     else lens_block(job, (size_t)m * nray, b);
     for (int i = 0; i < m; i++) {
-        long k = b->k[i];
-        const ld_pixel *key = &row->key[b->px[i]];
         pixel_acc *acc = &row->acc[b->px[i]];
-        const wave_set *w = &b->waves[i];
+        const wave_set *w = &b->waves[spectral ? i : 0];
         double a[3] = {0, 0, 0};
         int any = 0;
         for (int j = 0; j < nray && b->pdf[i] > 0; j++) {
@@ -266,7 +275,7 @@ static void render_block(const render_job *job, const camera_cull *cc, const row
                     acc->fallback++;
             }
             int j0 = job->achromatic ? 0 : j, j1 = job->achromatic ? w->nwave : j + 1;
-            scene_radiance(sc, w, j0, j1, &h, ds, key, spp, k, L);
+            scene_radiance(sc, w, j0, j1, &h, ds, b->draw + DRAWS * i + 4, L);
             for (int jj = j0; jj < j1; jj++)
                 for (int c = 0; c < 3; c++) a[c] += wt * L[jj] * w->score[jj][c];
         }

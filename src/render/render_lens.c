@@ -31,7 +31,7 @@ struct render_lens_ctx {
     /* the front surface for front_ray: curvature, (1 + conic) c^2, vertex z; plain = a
      * conic without aspheric terms (else ray_from_outer) */
     double front_c, front_kc, front_z;
-    int front_plain;
+    int front_plain, front_sphere;
 };
 
 /* The stop hit (x, y) inside the blades' polygon: within the apothem along every edge's
@@ -165,11 +165,12 @@ static int map_poly(void *ctx, const double in[5], double org[3], double dir[3],
     return 1;
 }
 
-/* ray_from_outer(c->lens, xyuv), value for value, on a front surface without aspheric
- * terms: the sag and its slope share one square root and the constants are made once
- * (lens_sag and lens_sag_slope each find 1 / R and their own root, and sum a zero
- * asphere); a camera ray of the polynomial path pays it where the exact tracer has its
- * ray already. */
+/* ray_from_outer(c->lens, xyuv) on a front surface without aspheric terms: the sag and
+ * its slope share one square root and the constants are made once (lens_sag and
+ * lens_sag_slope each find 1 / R and their own root, and sum a zero asphere): value for
+ * value. On a sphere (conic 0) the unit normal and the tangent frame need no further root
+ * and one quotient (the same ray to rounding). A camera ray of the polynomial path pays
+ * this where the exact tracer has its ray already. */
 static int front_ray(const render_lens_ctx *c, const double xyuv[4], lens_ray *r)
 {
     double x = xyuv[0], y = xyuv[1], u = xyuv[2], v = xyuv[3], h2 = x * x + y * y;
@@ -178,6 +179,15 @@ static int front_ray(const render_lens_ctx *c, const double xyuv[4], lens_ray *r
         return ray_from_outer(c->lens, xyuv, r); /* as before, and -1 where disc <= 0 */
     double w2 = 1.0 - u * u - v * v;
     if (!(w2 >= 0)) return -1;
+    if (c->front_sphere) { /* the unit normal is (c x, c y, -sqrt(disc)) as it stands */
+        double sq = sqrt(disc), k = 1 / (1 + sq), w = sqrt(w2);
+        double n[3] = {c->front_c * x, c->front_c * y, -sq};
+        double ex[3] = {1 - k * n[0] * n[0], -k * n[0] * n[1], n[0]};
+        double ey[3] = {ex[1], 1 - k * n[1] * n[1], n[1]};
+        r->o[0] = x, r->o[1] = y, r->o[2] = c->front_z + c->front_c * h2 * k;
+        for (int j = 0; j < 3; j++) r->d[j] = u * ex[j] + v * ey[j] + w * n[j];
+        return 0;
+    }
     double sq = sqrt(disc), z = c->front_c * h2 / (1.0 + sq) + 0.0;
     double sl = c->front_c / (2.0 * sq) + 0.0, a = 2.0 * x * sl, b = 2.0 * y * sl;
     double inv = 1.0 / sqrt(a * a + b * b + 1.0), n[3] = {a * inv, b * inv, -inv};
@@ -391,6 +401,7 @@ render_lens_ctx *render_lens_poly(const poly_system *sys, const lens_t *lens, do
     c->front_z = lens->vertex_z[0];
     c->front_plain = 1;
     for (int i = 0; i < LENS_ASPHERE_TERMS; i++) c->front_plain &= f->asphere[i] == 0;
+    c->front_sphere = c->front_plain && f->conic == 0;
     fill_camera(cam, c, map_poly, lens, sw, sh);
     cam->map_batch = map_poly_batch;
     cam->outer = outer_poly;

@@ -2,6 +2,7 @@
 #include "render/render_samples.h"
 
 #include <math.h>
+#include <stddef.h>
 
 static uint64_t mix64(uint64_t z)
 {
@@ -23,12 +24,23 @@ static ld_perm perm_of(uint64_t key)
 
 /* A bijection of [0, 2^bits) (xor, odd multiply and xorshift steps are each invertible
  * modulo 2^bits), walked until it lands in [0, n): a permutation of [0, n). */
-static inline uint64_t permute(uint64_t i, uint64_t n, const ld_perm *p)
+typedef struct {
+    uint64_t n, mask;
+    int s;
+} perm_size;
+
+static inline perm_size size_of(uint64_t n)
 {
+    int bits = n <= 1 ? 0 : 64 - __builtin_clzll(n - 1);
+    perm_size z = {n, bits == 64 ? ~0ull : (1ull << bits) - 1, bits / 2 + 1};
+    return z;
+}
+
+static inline uint64_t permute_sized(uint64_t i, perm_size z, const ld_perm *p)
+{
+    uint64_t n = z.n, mask = z.mask;
+    int s = z.s;
     if (n <= 1) return 0;
-    int bits = 64 - __builtin_clzll(n - 1);
-    uint64_t mask = bits == 64 ? ~0ull : (1ull << bits) - 1;
-    int s = bits / 2 + 1;
     do {
         i = ((i ^ p->k1) * p->m2) & mask;
         i ^= i >> s;
@@ -36,6 +48,11 @@ static inline uint64_t permute(uint64_t i, uint64_t n, const ld_perm *p)
         i ^= i >> s;
     } while (i >= n);
     return i;
+}
+
+static inline uint64_t permute(uint64_t i, uint64_t n, const ld_perm *p)
+{
+    return permute_sized(i, size_of(n), p);
 }
 
 static double shift_of(uint64_t key)
@@ -116,9 +133,9 @@ void ld_pixel_init(ld_pixel *p, uint64_t key)
     }
 }
 
-void ld_2d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k, double out[2])
+static inline void draw_2d(const ld_pixel *p, int dim, perm_size z, uint64_t k, double out[2])
 {
-    uint32_t j = (uint32_t)permute(k, n, &p->perm2[dim]);
+    uint32_t j = (uint32_t)permute_sized(k, z, &p->perm2[dim]);
     /* van der Corput is j reversed: its scramble starts from j itself; 32 digits are
      * finer than any use here needs */
     uint32_t a = owen_reversed(j, p->scr_a[dim]);
@@ -127,10 +144,102 @@ void ld_2d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k, double out[2])
     out[1] = b * 0x1.0p-32;
 }
 
+void ld_2d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k, double out[2])
+{
+    draw_2d(p, dim, size_of(n), k, out);
+}
+
+void ld_2d_px2(const ld_pixel *p, int dim_a, int dim_b, uint64_t n, uint64_t k, double a[2],
+               double b[2])
+{
+    perm_size z = size_of(n);
+    draw_2d(p, dim_a, z, k, a);
+    draw_2d(p, dim_b, z, k, b);
+}
+
 double ld_1d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k)
 {
     uint64_t j = permute(k, n, &p->perm1[dim]);
     return ((double)j + shift_of(mix64(p->jit1[dim] + j))) / (double)n;
+}
+
+/* Runs of a pixel's samples, four at a time (lens-render draws a block's samples pixel
+ * by pixel): the integers of draw_2d and ld_1d_px lane by lane. With n < 2^32 every step
+ * of permute keeps to the low 32 bits (a product's low half depends on the operands' low
+ * halves only), so 32-bit lanes give its values; the Sobol tables are read lane by lane. */
+typedef uint32_t v4u __attribute__((vector_size(16)));
+typedef unsigned char v16b __attribute__((vector_size(16)));
+
+static inline v4u reverse4(v4u x)
+{
+    const v16b swap = {3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12};
+    x = (v4u)__builtin_shuffle((v16b)x, swap);
+    x = ((x & 0x0f0f0f0fu) << 4) | ((x >> 4) & 0x0f0f0f0fu);
+    x = ((x & 0x33333333u) << 2) | ((x >> 2) & 0x33333333u);
+    return ((x & 0x55555555u) << 1) | ((x >> 1) & 0x55555555u);
+}
+
+static inline v4u owen4(v4u r, uint64_t key)
+{
+    uint32_t k1 = (uint32_t)key, k2 = (uint32_t)(key >> 32);
+    r += k1;
+    r ^= r * (k2 << 1);
+    r *= k1 | 1u;
+    r ^= r * ((k1 ^ k2) & ~1u);
+    r += k2;
+    return reverse4(r);
+}
+
+/* permute_sized on four indices; a lane that has landed in [0, n) keeps its value */
+static inline v4u permute4(v4u i, perm_size z, const ld_perm *p)
+{
+    uint32_t k1 = (uint32_t)p->k1, m2 = (uint32_t)p->m2, k3 = (uint32_t)p->k3, m1 = (uint32_t)p->m1;
+    uint32_t mask = (uint32_t)z.mask, n = (uint32_t)z.n;
+    v4u todo = {~0u, ~0u, ~0u, ~0u};
+    for (;;) {
+        v4u x = ((i ^ k1) * m2) & mask;
+        x ^= x >> z.s;
+        x = ((x + k3) * m1) & mask;
+        x ^= x >> z.s;
+        i = (x & todo) | (i & ~todo);
+        todo &= (v4u)(i >= n);
+        if (!(todo[0] | todo[1] | todo[2] | todo[3])) return i;
+    }
+}
+
+void ld_2d_run(const ld_pixel *p, int dim, uint64_t n, uint64_t k0, int count, double *out,
+               int stride)
+{
+    perm_size z = size_of(n);
+    int c = 0;
+    for (; n > 1 && n < 0xffffffffu && c + 4 <= count; c += 4) {
+        uint32_t k = (uint32_t)(k0 + c);
+        v4u j = permute4((v4u){k, k + 1, k + 2, k + 3}, z, &p->perm2[dim]);
+        v4u s = {sobol_dim2_reversed(j[0]), sobol_dim2_reversed(j[1]), sobol_dim2_reversed(j[2]),
+                 sobol_dim2_reversed(j[3])};
+        v4u a = owen4(j, p->scr_a[dim]), b = owen4(s, p->scr_b[dim]);
+        for (int l = 0; l < 4; l++) {
+            double *o = out + (size_t)(c + l) * stride;
+            o[0] = a[l] * 0x1.0p-32;
+            o[1] = b[l] * 0x1.0p-32;
+        }
+    }
+    for (; c < count; c++) draw_2d(p, dim, z, k0 + c, out + (size_t)c * stride);
+}
+
+void ld_1d_run(const ld_pixel *p, int dim, uint64_t n, uint64_t k0, int count, double *out,
+               int stride)
+{
+    perm_size z = size_of(n);
+    int c = 0;
+    for (; n > 1 && n < 0xffffffffu && c + 4 <= count; c += 4) {
+        uint32_t k = (uint32_t)(k0 + c);
+        v4u j = permute4((v4u){k, k + 1, k + 2, k + 3}, z, &p->perm1[dim]);
+        for (int l = 0; l < 4; l++)
+            out[(size_t)(c + l) * stride] =
+                ((double)j[l] + shift_of(mix64(p->jit1[dim] + j[l]))) / (double)n;
+    }
+    for (; c < count; c++) out[(size_t)c * stride] = ld_1d_px(p, dim, n, k0 + c);
 }
 
 void ld_2d(uint64_t key, int dim, uint64_t n, uint64_t k, double out[2])

@@ -30,7 +30,16 @@ typedef struct {
 void ld_pixel_init(ld_pixel *p, uint64_t key);
 /* As ld_2d and ld_1d, for dim < LD_DIMS, with the pixel's keys. */
 void ld_2d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k, double out[2]);
+/* Two pairs of one sample at once (a, b: dimensions dim_a, dim_b), as two ld_2d_px. */
+void ld_2d_px2(const ld_pixel *p, int dim_a, int dim_b, uint64_t n, uint64_t k, double a[2],
+               double b[2]);
 double ld_1d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k);
+/* ld_2d_px and ld_1d_px for samples k0 .. k0 + count - 1 of the pixel (as many calls,
+ * the same values, four samples at a time), sample c's values at out + c * stride. */
+void ld_2d_run(const ld_pixel *p, int dim, uint64_t n, uint64_t k0, int count, double *out,
+               int stride);
+void ld_1d_run(const ld_pixel *p, int dim, uint64_t n, uint64_t k0, int count, double *out,
+               int stride);
 /* Sample k of n in dimension pair dim (its two coordinates in [0, 1)). */
 void ld_2d(uint64_t key, int dim, uint64_t n, uint64_t k, double out[2]);
 /* Sample k of n in the single dimension dim. */
