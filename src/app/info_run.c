@@ -68,12 +68,16 @@ static void check_focus(info_report *rep, const paraxial_data *p)
     double shift = p->sensor_distance - p->bfl; /* + : behind the infinity focus */
     if (!isfinite(p->focus_distance) || p->afocal)
         return;
+    /* Negative with the sensor nearer than the infinity focus: the conjugate is past
+     * infinity. Negative with it beyond: the conjugate object is real-side of the
+     * front focal point but still behind the first surface (fisheye.lens, whose front
+     * focal point lies deep inside the lens). Either way no real object is sharp. */
     if (p->focus_distance < 0)
-        warn(rep, "focus_distance %.6g mm is negative: the sensor is %.3g mm nearer the lens "
-                  "than the infinity focus, so no real object is sharp (a virtual one %.6g mm "
-                  "behind the first surface is); for objects at infinity that is a defocus of "
-                  "%.3g mm",
-             p->focus_distance, -shift, -p->focus_distance, fabs(shift));
+        warn(rep, "focus_distance %.6g mm is negative: the sensor is %.3g mm %s the infinity "
+                  "focus, so no real object is sharp (a virtual one %.6g mm behind the first "
+                  "surface is); for objects at infinity that is a defocus of %.3g mm",
+             p->focus_distance, fabs(shift), shift < 0 ? "nearer the lens than" : "beyond",
+             -p->focus_distance, fabs(shift));
     else if (p->focus_distance < 1000 * fabs(p->efl))
         warn(rep, "focus_distance %.6g mm: the sensor is focused on a near object, %.3g mm "
                   "behind the infinity focus; an object at infinity (lens-spot's and "

@@ -60,10 +60,12 @@ then ok info_precision_no_warning; else fail info_precision_no_warning "$(cat $T
 # focused at 77 mm; kreitzer-tele f/3.11 against f/5.6, focused "past infinity"
 run $BIN/lens-info $FE >/dev/null 2>$T/fe.err
 run $BIN/lens-info $KT --json >$T/kt.json 2>$T/kt.err
+run $BIN/lens-info fisheye >/dev/null 2>$T/fo.err
 if grep -q "^lens-info: warning: $FE: the computed f-number (1.749) differs from the header's (2.8) by 38 %" $T/fe.err &&
    grep -q "^lens-info: warning: $FE: focus_distance 77.226 mm: the sensor is focused on a near object, 1.07 mm behind the infinity focus" $T/fe.err &&
    grep -q "^lens-info: warning: $KT: the computed f-number (3.112) differs from the header's (5.6)" $T/kt.err &&
    grep -q "^lens-info: warning: $KT: focus_distance -519887 mm is negative: the sensor is 0.309 mm nearer the lens than the infinity focus" $T/kt.err &&
+   grep -q "^lens-info: warning: fisheye: focus_distance -32.5445 mm is negative: the sensor is 2.14 mm beyond the infinity focus" $T/fo.err &&
    [ "$(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["warnings"]))' $T/kt.json)" = "$(grep -c warning $T/kt.err)" ]
 then ok info_questions_the_data; else fail info_questions_the_data "$(cat $T/fe.err $T/kt.err)"; fi
 
