@@ -14,7 +14,8 @@
  * low-discrepancy draws (five), the line pupil's draw, the camera ray's scene
  * intersection, and at the hits that are not emitters (their share of the samples
  * given) the albedo and the direct light (scene_direct_mis: a light sample, a shadow ray,
- * a BSDF ray). What lens-render spends besides these and the lens map is its loop.
+ * a BSDF ray), and the direct light's two rays alone. What lens-render spends besides
+ * these and the lens map is its loop.
  * Usage: bench_render [RAYS]   (default 200000; from the repository root) */
 #include <math.h>
 #include <stdio.h>
@@ -29,6 +30,7 @@
 #include "sparselens/render_lens.h"
 #include "sparselens/scene.h"
 #include "sparselens/trace.h"
+#include "render/render_math.h"
 #include "render/render_samples.h"
 
 static double now(void)
@@ -174,6 +176,51 @@ done:
     return rc;
 }
 
+/* Seconds (best of 3) for the direct light's two rays alone at the nd lit hits with
+ * uniforms u (5 a hit): a shadow ray to a point drawn on an emitter by area, the emitter
+ * chosen in proportion to its luminance times area over distance squared (the
+ * estimator's choice less its cosines; the ray's test is the same whatever drew it), and
+ * a cosine-weighted BSDF ray to the emitters. */
+static void light_rays(const scene_t *sc, const scene_hit *hit, size_t nd, const double *u,
+                       double *t_shadow, double *t_bsdf)
+{
+    double *q = malloc((nd + 1) * 3 * sizeof *q), *w = malloc((nd + 1) * 3 * sizeof *w), sink = 0;
+    *t_shadow = *t_bsdf = INFINITY;
+    for (size_t i = 0; q && w && i < nd; i++) { /* the rays, made beforehand */
+        const double *ui = u + 5 * i;
+        double sel[64], total = 0, nl[3], pdf, t[3], b[3], sn, cs;
+        int idx[64], ne = 0;
+        for (size_t o = 0; o < sc->nobj && ne < 64; o++) {
+            const scene_object *ob = &sc->obj[o];
+            if (!ob->emitter || ob->kind == OBJ_PLANE) continue;
+            double c[3] = {ob->p[0] - hit[i].p[0], ob->p[1] - hit[i].p[1], ob->p[2] - hit[i].p[2]};
+            total += sel[ne] = ob->lum * ob->r2 / (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+            idx[ne++] = (int)o;
+        }
+        int j = 0;
+        for (double x = ui[0] * total; j + 1 < ne && x >= sel[j]; j++) x -= sel[j];
+        scene_sample_emitter(sc, ne ? idx[j] : 0, ui[1], ui[2], q + 3 * i, nl, &pdf);
+        rm_frame(hit[i].n, t, b);
+        rm_sincos_turn(ui[4], &sn, &cs);
+        double r = sqrt(ui[3]), ct = sqrt(1 - ui[3]);
+        for (int k = 0; k < 3; k++) w[3 * i + k] = ct * hit[i].n[k] + r * (cs * t[k] + sn * b[k]);
+    }
+    for (int rep = 0; q && w && rep < 3; rep++) {
+        double t0 = now();
+        for (size_t i = 0; i < nd; i++) sink += scene_visible(sc, hit[i].p, q + 3 * i);
+        *t_shadow = fmin(*t_shadow, now() - t0);
+        t0 = now();
+        for (size_t i = 0; i < nd; i++) {
+            scene_hit g;
+            sink += scene_intersect_emitter(sc, hit[i].p, w + 3 * i, 1e-6, &g);
+        }
+        *t_bsdf = fmin(*t_bsdf, now() - t0);
+    }
+    if (sink == 0.5) printf("#\n"); /* keep the loops */
+    free(q);
+    free(w);
+}
+
 /* ns per call of each shared part (see the head of the file), over n camera samples */
 static int shared_parts(const char *name, const char *path, size_t n)
 {
@@ -278,6 +325,10 @@ static int shared_parts(const char *name, const char *path, size_t n)
     printf("bench render_shared_%s_camera_hit_ns_per_sample %.1f ns\n", name, t_cam / n * 1e9);
     printf("bench render_shared_%s_albedo_ns_per_sample %.1f ns\n", name, t_alb / n * 1e9);
     printf("bench render_shared_%s_direct_light_ns_per_sample %.1f ns\n", name, t_mis / n * 1e9);
+    double t_sh, t_bs;
+    light_rays(&sc, hit, nd, in, &t_sh, &t_bs);
+    printf("bench render_shared_%s_shadow_ray_ns_per_sample %.1f ns\n", name, t_sh / n * 1e9);
+    printf("bench render_shared_%s_bsdf_ray_ns_per_sample %.1f ns\n", name, t_bs / n * 1e9);
     printf("bench render_shared_%s_lit_share %.1f %%\n", name, 100.0 * nd / n);
     rc = 0;
 done_rays:

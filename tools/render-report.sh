@@ -128,7 +128,9 @@ echo "\"camera path\" is the scene's camera before one emitting plane (line pupi
 echo "the draws, one intersection, no light sampling), \"whole\" the shipped scene. The parts"
 echo "(\`$BUILD/bench/bench_render 100000\`, each timed alone over the same kind of samples,"
 echo "best of 3; the direct light and the albedo counted per camera sample, at the share of"
-echo "samples that hit a lit surface) are what the two paths share besides the lens map:"
+echo "samples that hit a lit surface; the direct light's two rays timed alone, the shadow"
+echo "ray's end drawn on an emitter by area) are what the two paths share besides the lens"
+echo "map:"
 echo
 echo "| | dgauss | fisheye |"
 echo "|---|---|---|"
@@ -141,9 +143,13 @@ echo "| lens map alone, exact | $(bench render_batch_exact_dgauss_ns_per_ray) | 
 echo "| camera rays that pass the lens (line pupil) | $(bench render_line_pupil_pass_dgauss)% | $(bench render_line_pupil_pass_fisheye-ii)% |"
 for part in "draws:five low-discrepancy draws" "line_pupil:the line pupil's draw" \
             "camera_hit:the camera ray's scene hit" "albedo:the albedo" \
-            "direct_light:direct light (light sample, shadow ray, BSDF ray, MIS)"; do
+            "direct_light:direct light (light sample, shadow ray, BSDF ray, MIS)" \
+            "shadow_ray:- of which the shadow ray" "bsdf_ray:- of which the BSDF ray"; do
   echo "| ${part#*:} | $(bench render_shared_dgauss_${part%%:*}_ns_per_sample) | $(bench render_shared_fisheye_${part%%:*}_ns_per_sample) |"
 done
+rest() { awk -v a="$(bench render_shared_$1_direct_light_ns_per_sample)" -v b="$(bench render_shared_$1_shadow_ray_ns_per_sample)" \
+             -v c="$(bench render_shared_$1_bsdf_ray_ns_per_sample)" 'BEGIN{printf "%.1f", a - b - c}'; }
+echo "| - the rest: weighing the emitters, drawing the two directions, MIS | $(rest dgauss) | $(rest fisheye) |"
 echo "| share of samples on a lit surface | $(bench render_shared_dgauss_lit_share)% | $(bench render_shared_fisheye_lit_share)% |"
 echo
 for s in dgauss fisheye; do
