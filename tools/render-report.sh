@@ -83,9 +83,10 @@ echo "rejected before its quotient; sin and cos of 2 pi u by a reduced Taylor se
 echo "took about 130 instructions a pair, two pairs a sample); fmin, fmax and fmod (the"
 echo "checker's parities) inline; the line pupil's draw with sqrt for hypot and reciprocals"
 echo "made once; the second Sobol dimension by two byte tables (its loop's trip count"
-echo "varied from draw to draw); and the polynomial path's ray at the front surface with one"
-echo "square root shared by the sag and its slope (front_ray, value for value"
-echo "ray_from_outer). \"Original\" (\"-\" for the two scenes added since) is the renderer"
+echo "varied from draw to draw) and a block's draws four samples at a time in 32-bit lanes;"
+echo "and the polynomial path's ray at the front surface with one square root for the sag,"
+echo "its slope and, on a sphere, the normal (front_ray; ray_from_outer took four roots and"
+echo "six quotients). \"Original\" (\"-\" for the two scenes added since) is the renderer"
 echo "before issue 17."
 echo
 echo "Polynomial path against exact tracing at equal noise (exact noise x s over polynomial"
@@ -137,6 +138,7 @@ echo "| camera path, polynomial | ${NS[dgauss cam poly]} | ${NS[fisheye cam poly
 echo "| camera path, exact | ${NS[dgauss cam exact]} | ${NS[fisheye cam exact]} |"
 echo "| lens map alone, polynomial (blocks of 512) | $(bench render_batch_poly_dgauss_ns_per_ray) | $(bench render_batch_poly_fisheye-ii_ns_per_ray) |"
 echo "| lens map alone, exact | $(bench render_batch_exact_dgauss_ns_per_ray) | $(bench render_batch_exact_fisheye-ii_ns_per_ray) |"
+echo "| camera rays that pass the lens (line pupil) | $(bench render_line_pupil_pass_dgauss)% | $(bench render_line_pupil_pass_fisheye-ii)% |"
 for part in "draws:five low-discrepancy draws" "line_pupil:the line pupil's draw" \
             "camera_hit:the camera ray's scene hit" "albedo:the albedo" \
             "direct_light:direct light (light sample, shadow ray, BSDF ray, MIS)"; do
@@ -168,9 +170,13 @@ echo "and combines the two by MIS. Each part was profiled (valgrind --tool=callg
 echo "rid of its calls into libm (sin, cos, hypot, fmod, fmin, fmax), of repeated quotients"
 echo "and square roots, of per-object values computed again each sample, and of branches"
 echo "whose outcome varied from sample to sample; what remains is the arithmetic on doubles"
-echo "that the estimator needs, one sample at a time. Halving it again would take the scene queries and the sampling of many samples at once"
-echo "in vector registers (a packet renderer), which this renderer, a test bed for the lens"
-echo "model, is not. Where the scene's share is smaller (the bokeh scenes: emitters only, no"
+echo "that the estimator needs, one sample at a time. Tried and not kept, no change beyond"
+echo "the timing noise: plane tests without branches (a quotient always), and a shadow ray"
+echo "that skips its own emitter. The draws run four samples at a time in 32-bit lanes"
+echo "(a third fewer instructions). A further quarter off the shared work would need the"
+echo "scene queries and the light sampling done for many samples at once in vector"
+echo "registers (a packet renderer), which this renderer, a test bed for the lens model, is"
+echo "not. Where the scene's share is smaller (the bokeh scenes: emitters only, no"
 echo "light sampling; lateral colour: a camera ray per wavelength) the ratio is the lens"
 echo "map's."
 echo

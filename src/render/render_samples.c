@@ -102,15 +102,21 @@ static inline uint32_t sobol_dim2_reversed(uint32_t j)
  * fraction x (MSB = 1/2): each digit is flipped by a
  * hash of the digits above it. With the bits reversed, "above" becomes "below", and
  * adding a constant, multiplying by an odd number or xoring with x times an even number
- * change a bit only as a function of the bits below it (Laine and Karras 2011). */
+ * change a bit only as a function of the bits below it (Laine and Karras 2011). The
+ * steps are written once for a 32-bit word and for four lanes of them (owen4). */
+#define OWEN_STEPS(r, key)                                                                   \
+    do {                                                                                     \
+        uint32_t k1_ = (uint32_t)(key), k2_ = (uint32_t)((key) >> 32);                       \
+        r += k1_;                                                                            \
+        r ^= r * (k2_ << 1);                                                                 \
+        r *= k1_ | 1u;                                                                       \
+        r ^= r * ((k1_ ^ k2_) & ~1u);                                                        \
+        r += k2_;                                                                            \
+    } while (0)
+
 static uint32_t owen_reversed(uint32_t r, uint64_t key)
 {
-    uint32_t k1 = (uint32_t)key, k2 = (uint32_t)(key >> 32);
-    r += k1;
-    r ^= r * (k2 << 1);
-    r *= k1 | 1u;
-    r ^= r * ((k1 ^ k2) & ~1u);
-    r += k2;
+    OWEN_STEPS(r, key);
     return reverse32(r);
 }
 
@@ -181,12 +187,7 @@ static inline v4u reverse4(v4u x)
 
 static inline v4u owen4(v4u r, uint64_t key)
 {
-    uint32_t k1 = (uint32_t)key, k2 = (uint32_t)(key >> 32);
-    r += k1;
-    r ^= r * (k2 << 1);
-    r *= k1 | 1u;
-    r ^= r * ((k1 ^ k2) & ~1u);
-    r += k2;
+    OWEN_STEPS(r, key);
     return reverse4(r);
 }
 
@@ -207,14 +208,26 @@ static inline v4u permute4(v4u i, perm_size z, const ld_perm *p)
     }
 }
 
+/* The samples of a run that go four at a time (the lanes hold n: below 2^32), and the
+ * permuted indices of samples k0 + c .. k0 + c + 3. */
+static int in_fours(uint64_t n, int count)
+{
+    return n > 1 && n < 0xffffffffu ? count / 4 * 4 : 0;
+}
+
+static inline v4u permuted4(uint64_t k0, int c, perm_size z, const ld_perm *p)
+{
+    uint32_t k = (uint32_t)(k0 + c);
+    return permute4((v4u){k, k + 1, k + 2, k + 3}, z, p);
+}
+
 void ld_2d_run(const ld_pixel *p, int dim, uint64_t n, uint64_t k0, int count, double *out,
                int stride)
 {
     perm_size z = size_of(n);
-    int c = 0;
-    for (; n > 1 && n < 0xffffffffu && c + 4 <= count; c += 4) {
-        uint32_t k = (uint32_t)(k0 + c);
-        v4u j = permute4((v4u){k, k + 1, k + 2, k + 3}, z, &p->perm2[dim]);
+    int c = 0, fours = in_fours(n, count);
+    for (; c < fours; c += 4) {
+        v4u j = permuted4(k0, c, z, &p->perm2[dim]);
         v4u s = {sobol_dim2_reversed(j[0]), sobol_dim2_reversed(j[1]), sobol_dim2_reversed(j[2]),
                  sobol_dim2_reversed(j[3])};
         v4u a = owen4(j, p->scr_a[dim]), b = owen4(s, p->scr_b[dim]);
@@ -230,11 +243,9 @@ void ld_2d_run(const ld_pixel *p, int dim, uint64_t n, uint64_t k0, int count, d
 void ld_1d_run(const ld_pixel *p, int dim, uint64_t n, uint64_t k0, int count, double *out,
                int stride)
 {
-    perm_size z = size_of(n);
-    int c = 0;
-    for (; n > 1 && n < 0xffffffffu && c + 4 <= count; c += 4) {
-        uint32_t k = (uint32_t)(k0 + c);
-        v4u j = permute4((v4u){k, k + 1, k + 2, k + 3}, z, &p->perm1[dim]);
+    int c = 0, fours = in_fours(n, count);
+    for (; c < fours; c += 4) {
+        v4u j = permuted4(k0, c, size_of(n), &p->perm1[dim]);
         for (int l = 0; l < 4; l++)
             out[(size_t)(c + l) * stride] =
                 ((double)j[l] + shift_of(mix64(p->jit1[dim] + j[l]))) / (double)n;

@@ -22,9 +22,10 @@ size_t scene_emitter_count(const scene_t *s)
     return k;
 }
 
-/* t of the nearest hit with object o, or INFINITY; a plane or disk hit at tmax or
- * beyond may be INFINITY too (a search's nearest so far: no quotient). Inlined: every sample tests a few
- * dozen objects, and a call costs about as much as a plane's test. */
+/* t of the nearest hit with object o, or INFINITY; a plane's or disk's hit at tmax or
+ * beyond may be INFINITY too (tmax: a search's nearest so far, which spares the
+ * quotient). Inlined: every sample tests a few dozen objects, and a call costs about as
+ * much as a plane's test. */
 static inline __attribute__((always_inline)) double hit_object(const scene_object *o,
                                                                const double org[3],
                                                                const double d[3], double tmin,
