@@ -25,6 +25,9 @@ typedef struct {
     double sensor_shift;        /* set by design_set_focus, mm along +z */
     int focused;                /* design_set_focus has run */
     double seconds[2];          /* imaging time per model, summed by the analyses */
+    /* fields a model cannot image (design_set_imaged): one line each, "MODEL: WHY; TAIL" */
+    report_warning warning[2 * IMAGING_MAX_FIELDS];
+    int nwarnings;
 } design_set;
 
 /* Moves every model's sensor plane to the focus asked for (the first model's plane for
@@ -32,9 +35,17 @@ typedef struct {
 int design_set_focus(design_set *ds, lens_err *err);
 
 /* The chief ray of a field at a wavelength through model m on its sensor plane; an
- * error of a system is prefixed with its name. */
+ * error of a system is prefixed with its name. 1 when no chief ray reaches the sensor,
+ * -1 on other errors (err set both times). */
 int design_set_chief(const design_set *ds, int m, double field, double lambda, double s[4],
                      lens_err *err);
+
+/* Whether model m images field f: its chief ray reaches the sensor at every wavelength
+ * of the set (all_lambda) or at the primary one. 0 when it does; 1 when it does not,
+ * with a warning "MODEL: field F deg: ...; TAIL" added to the set (the command then
+ * keeps the field's rows as nan and exits 2: design_run_end); -1 with err set on other
+ * errors. */
+int design_set_imaged(design_set *ds, int m, int f, int all_lambda, const char *tail, lens_err *err);
 
 /* What every designer command prints after its tables: the sensor shift (when the
  * plane moved) and the time each model spent imaging `what`; text: comment lines
@@ -58,6 +69,7 @@ typedef struct {
     imaging_setup setup;        /* what the numbers were taken with (imaging_cli_setup) */
     char title[512];            /* the lens's name (or the input's), WHAT, the setup */
     table_out t;
+    design_set *set;            /* the job's set, for its warnings */
 } design_run;
 
 /* Loads the models of a, takes the fields of --fields, or without it the default fields
@@ -69,8 +81,10 @@ void design_run_begin(const char *prog, design_run *r, imaging_cli *a, const out
                       int spread, const char *what, design_set *set);
 
 /* The end of a designer command whose job returned rc: the setup (when the job
- * succeeded), the end of the output (valid JSON even after an error), the error on
- * stderr; frees the models. Returns the exit status. */
+ * succeeded), the set's warnings ("prog: warning: ..." on stderr, and the JSON's
+ * "warnings"), the end of the output (valid JSON even after an error), the error on
+ * stderr; frees the models. Returns the exit status: 1 after an error, 2 when a model
+ * could not image a field, else 0. */
 int design_run_end(const char *prog, design_run *r, int rc, const lens_err *err);
 
 #endif

@@ -65,7 +65,7 @@ void imaging_setup_print(table_out *t, const imaging_setup *s, const imaging_mod
 /* The input's file name without its directories, for picture titles. */
 const char *imaging_cli_basename(const imaging_cli *a);
 
-/* Ends a spot or distortion table: each warning (a field a model cannot image) goes to
+/* Ends a spot, distortion or designer table: each warning (a field a model cannot image) goes to
  * `log` as "prog: warning: ..." and into the table's end (JSON carries them too). */
 void imaging_cli_end_table(table_out *t, FILE *log, const char *prog,
                            report_warning *warnings, int nwarnings);

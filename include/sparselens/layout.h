@@ -40,10 +40,11 @@ typedef struct {
 } layout_drawing;
 
 /* Builds the drawing of model lens_im's lens, with nrays rays per field through the
- * stop's meridian at lambda, and the same rays through sys_im's system (may be NULL).
- * -1 with err set. */
-int layout_build(const imaging *lens_im, const imaging *sys_im, const double *field, int nf,
-                 double lambda, int nrays, layout_drawing *d, lens_err *err);
+ * stop's meridian at lambda, and the same rays through sys_im's system (may be NULL)
+ * but for the fields f with sys_skip[f] set (sys_skip may be NULL: none; a field the
+ * system cannot image). -1 with err set. */
+int layout_build(const imaging *lens_im, const imaging *sys_im, const unsigned char *sys_skip,
+                 const double *field, int nf, double lambda, int nrays, layout_drawing *d, lens_err *err);
 void layout_free(layout_drawing *d);
 
 /* Writes the drawing: SVG in mm (y up on the page), or PNG width pixels wide. */

@@ -39,7 +39,9 @@ void bundle_free(ray_bundle *b);
  * the seconds spent imaging (wall clock). */
 double bundle_image(const imaging *im, const ray_bundle *b, const double *seed, double *s, int *ok);
 
-/* The sensor ray of the chief ray (stop centre) through model im; -1 with err set. */
+/* The sensor ray of the chief ray (stop centre) through model im; 1 with err set when no
+ * chief ray reaches the sensor (the model cannot image the field), -1 with err set on
+ * other errors. */
 int bundle_chief(const imaging *im, double field, double lambda, double s[4], lens_err *err);
 
 /* Seconds on a monotonic clock (for timing models against each other). */

@@ -26,6 +26,9 @@ int ray_fan_trace(const imaging *im, double field, double lambda, const double r
                   const double seed[4], int npts, ray_fan *fan, lens_err *err);
 void ray_fan_free(ray_fan *fan);
 
+/* The fans of a field the model cannot image: npts pupil points, every error nan. */
+int ray_fan_not_imaged(int npts, ray_fan *fan, lens_err *err);
+
 /* Picture: a row of two panels (tangential ey, sagittal ex, in um) per field, one scale
  * for all; wavelengths in their colours, the first model as lines and a second one as
  * dots over them. fans[(m * nfields + f) * nl + l]. */

@@ -76,7 +76,7 @@ int field_write_png(const field_figure *fig, const char *path, lens_err *err)
     double ftop = 0;
     for (int f = 0; f < fig->nfields; f++)
         ftop = fmax(ftop, fig->field[f]);
-    const char *unit = fig->finite ? "field mm" : "field deg";
+    const char *unit = fig->finite ? "field, mm" : "field, °";
     const char *titles[3] = {"field curves, mm", "distortion, %", "lateral colour, µm"};
     for (int k = 0; k < 3; k++) {
         plot_panel p = {c, left + k * (PW + gap), top, PW, PH, 0, 1, 0, ftop > 0 ? ftop : 1};

@@ -180,8 +180,8 @@ static void extent(layout_drawing *d)
         }
 }
 
-int layout_build(const imaging *lens_im, const imaging *sys_im, const double *field, int nf,
-                 double lambda, int nrays, layout_drawing *d, lens_err *err)
+int layout_build(const imaging *lens_im, const imaging *sys_im, const unsigned char *sys_skip,
+                 const double *field, int nf, double lambda, int nrays, layout_drawing *d, lens_err *err)
 {
     memset(d, 0, sizeof *d);
     d->nfields = nf, d->field = field, d->finite = isfinite(lens_im->object_distance);
@@ -210,7 +210,7 @@ int layout_build(const imaging *lens_im, const imaging *sys_im, const double *fi
             return -1;
         }
         int rc = add_rays(d, lens_im, &b, f, lead);
-        if (rc == 0 && sys_im) {
+        if (rc == 0 && sys_im && !(sys_skip && sys_skip[f])) {
             double chief[4];
             if (bundle_chief(sys_im, field[f], lambda, chief, err) != 0) {
                 bundle_free(&b);

@@ -18,10 +18,10 @@ static void hex(const double rgb[3], char s[8])
              (int)lround(255 * rgb[2]));
 }
 
-/* A field's label for legends. */
+/* A field's label for legends: "10°" or "100 mm" (the PNG's and the SVG's text is UTF-8). */
 static void field_label(const layout_drawing *d, int f, char *s, size_t n)
 {
-    snprintf(s, n, "%g %s", d->field[f], d->finite ? "mm" : "deg");
+    snprintf(s, n, "%g%s", d->field[f], d->finite ? " mm" : "°");
 }
 
 int layout_write_svg(const layout_drawing *d, const char *path, lens_err *err)

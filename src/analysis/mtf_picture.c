@@ -38,8 +38,7 @@ int mtf_write_png(const mtf_figure *fig, const char *path, lens_err *err)
     for (int f = 0; f < fig->nfields; f++) {
         plot_panel p = {c, left + (f % cols) * (PW + gap), top + (f / cols) * (PH + 60), PW, PH, xmin, xmax, 0, 1.02};
         char t[128];
-        snprintf(t, sizeof t, "field %g %s%s", fig->field[f], fig->finite ? "mm" : "deg",
-                 fig->through_focus > 0 ? "" : "");
+        snprintf(t, sizeof t, "field %g%s", fig->field[f], fig->finite ? " mm" : "°");
         plot_axes(&p, t, fig->through_focus > 0 ? "focus shift, mm" : "cycles/mm", "MTF");
         if (fig->nu_c > 0 && !(fig->through_focus > 0)) {
             int k = 0;

@@ -153,7 +153,7 @@ int bundle_chief(const imaging *im, double field, double lambda, double s[4], le
         lens_errf(err, NULL, 0, "out of memory");
         return -1;
     }
-    int rc = imaging_indices(im, lambda, n, err) != 0 ? -1 : imaging_chief(im, n, lambda, field, s, err);
+    int rc = imaging_indices(im, lambda, n, err) != 0 ? -1 : imaging_chief(im, n, lambda, field, s, err) != 0;
     free(n);
     return rc;
 }

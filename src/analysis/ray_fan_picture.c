@@ -44,8 +44,8 @@ int ray_fan_write_png(const ray_fan_figure *fig, const char *path, lens_err *err
         for (int side = 0; side < 2; side++) {
             plot_panel p = {c, left + side * (PW + gap), top + f * (PH + rowgap), PW, PH, -1, 1, lo, hi};
             char t[128];
-            snprintf(t, sizeof t, "%s  field %g %s", side ? "sagittal ex" : "tangential ey",
-                     fig->field[f], fig->finite ? "mm" : "deg");
+            snprintf(t, sizeof t, "%s  field %g%s", side ? "sagittal ex" : "tangential ey",
+                     fig->field[f], fig->finite ? " mm" : "°");
             plot_axes(&p, t, side ? "px" : "py", "µm");
             for (int m = 0; m < fig->nmodels; m++)
                 for (int l = 0; l < fig->nl; l++) {

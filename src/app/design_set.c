@@ -26,15 +26,16 @@ int design_set_focus(design_set *ds, lens_err *err)
         int rc = 0;
         imaging im = ds->im[0];
         im.sensor_shift = 0;
-        for (size_t i = 0; i < n && rc == 0; i++)
+        for (size_t i = 0; i < n && rc >= 0; i++)
             rc = spot_trace(&im, ds->field[i / (size_t)ds->nl], ds->lambda[i % (size_t)ds->nl],
                             PUPIL_HEXAPOLAR, 400, 1, &sp[i], err);
-        if (rc == 0)
+        /* a field the lens cannot image (rc 1) has no rays, so no say in the plane */
+        if (rc >= 0)
             shift = spot_best_shift(sp, n);
         for (size_t i = 0; i < n; i++)
             spot_free(&sp[i]);
         free(sp);
-        if (rc != 0)
+        if (rc < 0)
             return -1;
     }
     ds->sensor_shift = shift;
@@ -90,10 +91,33 @@ const char *design_set_field_unit(const design_set *ds)
 int design_set_chief(const design_set *ds, int m, double field, double lambda, double s[4],
                      lens_err *err)
 {
-    if (bundle_chief(&ds->im[m], field, lambda, s, err) == 0)
-        return 0;
-    run_error_model(err, m, ds->names[m]);
-    return -1;
+    int rc = bundle_chief(&ds->im[m], field, lambda, s, err);
+    if (rc != 0)
+        run_error_model(err, m, ds->names[m]);
+    return rc;
+}
+
+int design_set_imaged(design_set *ds, int m, int f, int all_lambda, const char *tail, lens_err *err)
+{
+    for (int l = 0; l < ds->nl; l++) {
+        if (!all_lambda && l != ds->primary)
+            continue;
+        double s[4];
+        lens_err why;
+        int rc = bundle_chief(&ds->im[m], ds->field[f], ds->lambda[l], s, &why);
+        if (rc < 0) {
+            *err = why;
+            run_error_model(err, m, ds->names[m]);
+            return -1;
+        }
+        if (rc > 0) { /* the first wavelength that fails says why */
+            if (ds->nwarnings < 2 * IMAGING_MAX_FIELDS)
+                snprintf(ds->warning[ds->nwarnings++], sizeof ds->warning[0], "%s: %s; %s", ds->names[m],
+                         why.msg, tail);
+            return 1;
+        }
+    }
+    return 0;
 }
 
 /* The fields: --fields, or the default ones (spread: that many from 0 to the largest). */
@@ -116,6 +140,7 @@ void design_run_begin(const char *prog, design_run *r, imaging_cli *a, const out
                       int spread, const char *what, design_set *ds)
 {
     memset(ds, 0, sizeof *ds);
+    r->set = ds;
     ds->nmodels = imaging_cli_load(prog, a, &r->models, ds->im, ds->names);
     ds->lambda = a->lambda, ds->nl = a->nl, ds->primary = a->nl / 2;
     ds->focus = a->focus_mode;
@@ -139,11 +164,16 @@ void design_run_begin(const char *prog, design_run *r, imaging_cli *a, const out
 
 int design_run_end(const char *prog, design_run *r, int rc, const lens_err *err)
 {
-    if (rc == 0)
+    int status = rc != 0;
+    if (rc == 0) {
         imaging_setup_print(&r->t, &r->setup, &r->models);
-    table_out_end(&r->t, NULL, 0);
-    if (rc != 0)
+        /* a field a model cannot image: the table is whole (nan rows), the status says so */
+        imaging_cli_end_table(&r->t, stderr, prog, r->set->warning, r->set->nwarnings);
+        status = r->set->nwarnings ? 2 : 0;
+    } else {
+        table_out_end(&r->t, NULL, 0);
         diag_print(prog, err);
+    }
     imaging_models_free(&r->models);
-    return rc != 0;
+    return status;
 }

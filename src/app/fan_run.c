@@ -68,7 +68,18 @@ int fan_run(fan_request *rq, table_out *out, ray_fan **result, lens_err *err)
     double chief_diff = 0;
     for (int f = 0; f < ds->nfields; f++) {
         double ref[2][4];
+        int imaged = 0;
         for (int m = 0; m < ds->nmodels; m++) {
+            int st = design_set_imaged(ds, m, f, 1, "its rows are nan", err);
+            if (st < 0)
+                goto fail;
+            if (st > 0) {
+                for (int l = 0; l < ds->nl; l++)
+                    if (ray_fan_not_imaged(rq->npts, &fans[((size_t)m * ds->nfields + f) * ds->nl + l], err) != 0)
+                        goto fail;
+                continue;
+            }
+            imaged++;
             if (design_set_chief(ds, m, ds->field[f], ds->lambda[ds->primary], ref[m], err) != 0)
                 goto fail;
             for (int l = 0; l < ds->nl; l++) {
@@ -81,7 +92,7 @@ int fan_run(fan_request *rq, table_out *out, ray_fan **result, lens_err *err)
                 ds->seconds[m] += fn->seconds;
             }
         }
-        if (ds->nmodels > 1)
+        if (imaged > 1) /* not across a field one model cannot image */
             chief_diff = fmax(chief_diff, 1e3 * hypot(ref[1][0] - ref[0][0], ref[1][1] - ref[0][1]));
     }
     print_rows(out, rq, fans);

@@ -38,8 +38,21 @@ int layout_run(layout_request *rq, table_out *out, lens_err *err)
     imaging lens_im = ds->im[0];
     lens_im.sys = NULL;
     const imaging *sys_im = ds->im[0].sys ? &ds->im[0] : ds->nmodels > 1 ? &ds->im[1] : NULL;
+    /* a field a model cannot image at the primary wavelength: the lens's rays are drawn
+     * as far as they go, the system's not at all */
+    unsigned char sys_skip[IMAGING_MAX_FIELDS] = {0};
+    for (int f = 0; f < ds->nfields; f++)
+        for (int m = 0; m < ds->nmodels; m++) {
+            int sys = ds->im[m].sys != NULL;
+            int st = design_set_imaged(ds, m, f, 0, sys ? "its rays are not drawn" : "its rays are drawn as far as they go", err);
+            if (st < 0)
+                return -1;
+            if (sys && st > 0)
+                sys_skip[f] = 1;
+        }
     layout_drawing d;
-    if (layout_build(&lens_im, sys_im, ds->field, ds->nfields, ds->lambda[ds->primary], rq->rays, &d, err) != 0)
+    if (layout_build(&lens_im, sys_im, sys_skip, ds->field, ds->nfields, ds->lambda[ds->primary], rq->rays, &d,
+                     err) != 0)
         return -1;
     d.title = rq->title;
     print_surfaces(out, lens_im.lens);

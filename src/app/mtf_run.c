@@ -72,6 +72,37 @@ static int make_otfs(wavefront *wf, int nl, double **otf, int *msz)
     return 0;
 }
 
+/* The k-th x of a field's rows: a focus shift (mm) through focus, else a frequency from
+ * 0 to Nyquist (cycles/mm). */
+static double row_x(const mtf_request *rq, int k)
+{
+    if (rq->focus_freq > 0)
+        return rq->focus_range * (2.0 * k / (rq->focus_steps - 1) - 1);
+    return 1000 / (2 * rq->pixel_um) * k / rq->steps;
+}
+
+/* The rows and summaries of a field model m cannot image: at the same x as the others,
+ * every figure nan. */
+static int not_imaged(row_list *list, const mtf_request *rq, int m, int f, wf_summary *sum)
+{
+    const design_set *ds = &rq->set;
+    int nx = rq->focus_freq > 0 ? rq->focus_steps : rq->steps + 1;
+    int nrow = ds->nl > 1 ? ds->nl + 1 : 1;
+    for (int k = 0; k < nx; k++) {
+        double x = row_x(rq, k);
+        for (int w = 0; w < nrow; w++) {
+            mtf_row *r = row_add(list);
+            if (!r)
+                return -1;
+            *r = (mtf_row){.model = m, .field = f, .lambda = w, .x = x, .diff = {NAN, NAN}, .geo = {NAN, NAN}};
+        }
+    }
+    for (int l = 0; l < ds->nl; l++)
+        sum[((size_t)m * ds->nfields + f) * ds->nl + l] =
+            (wf_summary){m, f, l, NAN, NAN, {NAN, NAN}, 0};
+    return 0;
+}
+
 /* Every field of model m: wavefronts, OTFs, rows. */
 static int run_model(mtf_request *rq, int m, row_list *list, wf_summary *sum, lens_err *err)
 {
@@ -81,9 +112,16 @@ static int run_model(mtf_request *rq, int m, row_list *list, wf_summary *sum, le
     wavefront *wp[IMAGING_MAX_WAVELENGTHS];
     double *otf[IMAGING_MAX_WAVELENGTHS] = {0};
     int msz[IMAGING_MAX_WAVELENGTHS], nwf = 0, rc = -1;
-    double nyquist = 1000 / (2 * rq->pixel_um);
     for (int f = 0; f < ds->nfields; f++) {
         double ref[4];
+        int st = design_set_imaged(ds, m, f, 1, "its rows are nan", err);
+        if (st < 0)
+            goto out;
+        if (st > 0) {
+            if (not_imaged(list, rq, m, f, sum) != 0)
+                goto oom;
+            continue;
+        }
         if (design_set_chief(ds, m, ds->field[f], ds->lambda[ds->primary], ref, err) != 0)
             goto out;
         for (nwf = 0; nwf < ds->nl; nwf++) {
@@ -102,7 +140,7 @@ static int run_model(mtf_request *rq, int m, row_list *list, wf_summary *sum, le
         }
         if (rq->focus_freq > 0) {
             for (int k = 0; k < rq->focus_steps; k++) {
-                double dz = rq->focus_range * (2.0 * k / (rq->focus_steps - 1) - 1);
+                double dz = row_x(rq, k);
                 for (int l = 0; l < ds->nl; l++)
                     if (wavefront_refocus(&wf[l], dz) != 0) {
                         lens_errf(err, NULL, 0, "field %g: the wavefront fit failed at focus %g mm",
@@ -116,7 +154,7 @@ static int run_model(mtf_request *rq, int m, row_list *list, wf_summary *sum, le
             if (make_otfs(wf, ds->nl, otf, msz) != 0)
                 goto oom;
             for (int k = 0; k <= rq->steps; k++)
-                if (add_rows(list, rq, m, f, nyquist * k / rq->steps, wp, otf, msz, 0) != 0)
+                if (add_rows(list, rq, m, f, row_x(rq, k), wp, otf, msz, 0) != 0)
                     goto oom;
         }
         for (int l = 0; l < nwf; l++)
@@ -201,8 +239,9 @@ static void print_difference(table_out *t, const design_set *ds, const mtf_row *
     double v[2] = {0, 0};
     for (size_t i = 0; i < half; i++)
         for (int d = 0; d < 2; d++) {
-            v[0] = fmax(v[0], fabs(rows[half + i].diff[d] - rows[i].diff[d]));
-            v[1] = fmax(v[1], fabs(rows[half + i].geo[d] - rows[i].geo[d]));
+            double dd = fabs(rows[half + i].diff[d] - rows[i].diff[d]), dg = fabs(rows[half + i].geo[d] - rows[i].geo[d]);
+            if (isfinite(dd) && isfinite(dg)) /* not a field one model cannot image */
+                v[0] = fmax(v[0], dd), v[1] = fmax(v[1], dg);
         }
     char text[128];
     snprintf(text, sizeof text, "diffraction MTF differs by at most %.4f, geometric by %.4f", v[0], v[1]);

@@ -40,7 +40,7 @@ static void outlines_and_rays(void **state)
     const double field[2] = {0, 12};
     layout_drawing d;
     lens_err err;
-    assert_int_equal(layout_build(&im, NULL, field, 2, GLASS_D_LINE, 5, &d, &err), 0);
+    assert_int_equal(layout_build(&im, NULL, NULL, field, 2, GLASS_D_LINE, 5, &d, &err), 0);
     int glass = 0, elements = 0, landed = 0;
     for (size_t i = 0; i + 1 < lens.nsurf; i++)
         glass += lens.surf[i].medium.kind != GLASS_AIR;
