@@ -40,6 +40,12 @@ echo "shared with other jobs: load average $load0 when the timing began. Every t
 echo "processor time of one thread, best of 3; on a machine this busy, processor times of"
 echo "one binary still vary by about 10% between runs, so read gains under 1.2x as noise)."
 echo
+echo "Equation numbers (Eq. 3, 8, 12, 13) are those of the supplement: Q. Zheng, C. Zheng,"
+echo "\"Supplemental Document for adaptive sparse polynomial regression for camera lens"
+echo "simulation\", the supplemental material of their paper in *The Visual Computer* 33"
+echo "(2017); [1] and [2] of the README's References. lens-render implements Eq. 13, and"
+echo "with \`--estimator full\` Eq. 3 with Eq. 8 and 12."
+echo
 echo "## Equal-time noise (issue 17)"
 echo
 echo "Each shipped scene at its own resolution and spp, one thread (\`tools/render-noise.sh\`:"
