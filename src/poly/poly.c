@@ -119,6 +119,7 @@ static void free_part(poly_part *p, int nin, int nout)
     poly_mono_free(&p->dmono);
     poly_plan_free(&p->plan);
     poly_plan_free(&p->dplan);
+    poly_plan_free(&p->vplan);
 }
 
 void poly_free(poly_system *s)
@@ -202,6 +203,14 @@ void poly_set_domain(poly_system *s, int i, double lo, double hi)
     s->hi[i] = hi;
 }
 
+/* The part's vplan (poly_impl.h) after its dplan; left unbuilt (start NULL) where a term
+ * has no split over dplan's values or memory runs out: the batch Jacobian then runs
+ * the whole value plan, as the one-ray one does then. */
+static void values_plan(const poly_system *s, poly_part *p)
+{
+    poly_plan_values_over(&p->vplan, &p->dplan, &p->dmono, s->nin, s->nout, p->out);
+}
+
 /* Tables for a part without terms: no terms, the monomial tables with the constant and
  * the inputs, empty plans. 0, or -1 when out of memory (nothing left allocated). */
 static int part_tables(const poly_system *s, poly_part *p)
@@ -217,6 +226,7 @@ static int part_tables(const poly_system *s, poly_part *p)
         free_part(p, s->nin, s->nout);
         return -1;
     }
+    values_plan(s, p);
     return 0;
 }
 
@@ -328,8 +338,10 @@ int poly_add_term(poly_system *s, int part, int output, const int *exps, double 
                 p->dout[output * nin + i].nterms--;
         poly_plan_build(&p->plan, &p->mono, nin, s->nout, p->out);
         poly_plan_build(&p->dplan, &p->dmono, nin, s->nout * nin, p->dout);
+        values_plan(s, p);
         return -1;
     }
+    values_plan(s, p);
     p->mono.used_by[slot] |= bit;
     poly_frame_on_term(s, part, output, exps, coef);
     return 0;
@@ -350,6 +362,7 @@ int poly_bulk_end(poly_system *s)
         if (poly_plan_build(&p->plan, &p->mono, s->nin, s->nout, p->out) != 0 ||
             poly_plan_build(&p->dplan, &p->dmono, s->nin, s->nout * s->nin, p->dout) != 0)
             return -1;
+        values_plan(s, p);
     }
     poly_frame_on_change(s);
     return 0;

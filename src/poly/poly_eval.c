@@ -120,10 +120,12 @@ static void sums_one(const poly_plan *pl, const double *v, const unsigned char *
 #undef LONE_ONE
 #undef RUN_ONE
 
-/* Runs plan pl on one ray: out[pl->nout], the sums need says (NULL: all; the others 0).
+/* Runs plan pl on one ray: out[pl->nout], the sums need says (NULL: all; the others 0);
+ * then plan vp (if not NULL: a vplan over pl's values) into vout, the sums vneed says.
  * Returns -1 when out of memory. */
 static int run_one(const poly_system *s, const poly_plan *pl, const double *in,
-                   const unsigned char *need, double *out)
+                   const unsigned char *need, double *out, const poly_plan *vp,
+                   const unsigned char *vneed, double *vout)
 {
     double buf[512];
     double *v = pl->nvals <= 512 ? buf : malloc((size_t)pl->nvals * sizeof(double));
@@ -131,6 +133,8 @@ static int run_one(const poly_system *s, const poly_plan *pl, const double *in,
         return -1;
     values_one(s, pl, in, v);
     sums_one(pl, v, need, out);
+    if (vp)
+        sums_one(vp, v, vneed, vout);
     if (v != buf)
         free(v);
     return 0;
@@ -140,7 +144,7 @@ int poly_eval_values_core(const poly_system *s, int part, const double *in, doub
 {
     if (part >= 0 && part < s->nparts && poly_fast_run(s->parts[part].plan.fast, s, in, out) == 0)
         return 0;
-    if (part < 0 || part >= s->nparts || run_one(s, &s->parts[part].plan, in, NULL, out) != 0) {
+    if (part < 0 || part >= s->nparts || run_one(s, &s->parts[part].plan, in, NULL, out, NULL, NULL, NULL) != 0) {
         fill_nan(out, s->nout);
         return -1;
     }
@@ -173,6 +177,7 @@ typedef struct {
     const int *sel, *finite;
     const unsigned char *need[3];
     int kind[3], roff[3], deriv[3];
+    int vview; /* RUN_JACF: the plan of the frame view's values (its derivatives: 1 - vview) */
 } batch_job;
 
 /* The batch kernel once per instruction set, each with the vector width of its
@@ -266,13 +271,15 @@ static void job_fail(int nsel, size_t count, double *out, unsigned char *pass)
 
 /* The plans the kernel runs for part p: the part's plan, or with outputs outside the frame
  * the frame view's and the plain view's (poly_impl.h; the system itself for a view that
- * could not be built, as poly_eval_part does). Returns how many. */
-static int part_plans(const poly_system *s, int what, int p, const poly_plan **pls)
+ * could not be built, as poly_eval_part does). RUN_JACF: the frame view's values and
+ * derivatives (vview 1: its derivative plan first, then the values over its values,
+ * vplan), then the plain view's derivatives. Returns how many. */
+static int part_plans(const poly_system *s, int what, int p, int vview, const poly_plan **pls)
 {
     if (what == RUN_JACF) { /* the views exist (poly_eval_jacobian_batch checks) */
         const poly_system *vf = s->frame && s->nplain ? s->vframe : s;
-        pls[0] = &vf->parts[p].plan;
-        pls[1] = &vf->parts[p].dplan;
+        pls[vview] = vview ? &vf->parts[p].vplan : &vf->parts[p].plan;
+        pls[1 - vview] = &vf->parts[p].dplan;
         if (!(s->frame && s->nplain))
             return 2;
         pls[2] = &s->vplain->parts[p].dplan;
@@ -359,7 +366,7 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
     size_t maxoff = 1;
     for (int p = 0; p < s->nparts; p++) {
         const poly_plan *pls[3];
-        const int nview = part_plans(s, what, p, pls);
+        const int nview = part_plans(s, what, p, job->vview, pls);
         size_t no = 0;
         int nsums = 0;
         for (int w = 0; w < nview; w++) {
@@ -401,7 +408,7 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
     memset(res, 0, sr); /* outputs a block leaves out stay 0 (never garbage, never subnormal) */
     if (s->nparts == 1) {
         const poly_plan *pls[3];
-        const int nview = part_plans(s, what, 0, pls);
+        const int nview = part_plans(s, what, 0, job->vview, pls);
         run_rays(k, kblk, nk, s, pls, nview, what, count, NULL, 0, in, out, pass, job, v, res,
                  fb, off);
     } else {
@@ -419,7 +426,7 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
                 idx[cur[part[r]]++] = c0 + r;
             for (int q = 0; q < s->nparts; q++) {
                 const poly_plan *pls[3];
-                const int nview = part_plans(s, what, q, pls);
+                const int nview = part_plans(s, what, q, job->vview, pls);
                 if (start[q + 1] > start[q])
                     run_rays(k, kblk, nk, s, pls, nview, what, (size_t)(start[q + 1] - start[q]),
                              idx + start[q], 0, in, out, pass, job, v, res, fb, off);
@@ -493,8 +500,19 @@ static void batch_job_run(const poly_system *s, int what, size_t count, const do
         job.roff[1] = nout;
         job.kind[2] = 1;
         job.roff[2] = nout + nj;
+        if (poly_jacf_vplan(s)) { /* the values after the derivatives, over their values */
+            const unsigned char *nv = job.need[0];
+            job.need[0] = job.need[1];
+            job.need[1] = nv;
+            job.deriv[0] = 1;
+            job.deriv[1] = 0;
+            job.roff[0] = nout;
+            job.roff[1] = 0;
+            job.vview = 1;
+        }
     }
-    job.deriv[0] = what == RUN_JAC;
+    if (what != RUN_JACF)
+        job.deriv[0] = what == RUN_JAC;
     if (pass) { /* poly_circle_covers of every output in one pass over the circles (a
                  * call per output had cost a short batch 0.1 us) */
         unsigned char *cov = need + 3 * nw; /* scratch: RUN_EVAL alone has pass flags */
@@ -544,20 +562,28 @@ void poly_eval_jacobian_batch_core(const poly_system *s, size_t count, const dou
 }
 
 int poly_eval_jacobian_core(const poly_system *s, const double *in, const unsigned char *needv,
-                            const unsigned char *needd, double *out, double *jac)
+                            const unsigned char *needd, double *out, double *jac, double *over,
+                            const unsigned char *needo)
 {
     const int nin = s->nin, nout = s->nout, part = s->nparts ? poly_select_part(s, in) : -1;
     int pass = 0;
     if (needv) {
-        if (part < 0 || run_one(s, &s->parts[part].plan, in, needv, out) != 0)
+        if (part < 0 || run_one(s, &s->parts[part].plan, in, needv, out, NULL, NULL, NULL) != 0)
             fill_nan(out, nout);
-    } else if (part < 0 || run_one(s, &s->parts[part].plan, in, NULL, out) != 0) {
+    } else if (part < 0 || run_one(s, &s->parts[part].plan, in, NULL, out, NULL, NULL, NULL) != 0) {
         fill_nan(out, nout);
     } else { /* the plan's interpreter, not poly_fast: the batch Jacobian's bits */
         pass = poly_passes(s, out);
     }
-    if (part < 0 || run_one(s, &s->parts[part].dplan, in, needd, jac) != 0) {
+    const poly_plan *vp = over && part >= 0 ? &s->parts[part].vplan : NULL;
+    if (over && !(vp && vp->start))
+        fill_nan(over, nout);
+    if (part < 0 ||
+        run_one(s, &s->parts[part].dplan, in, needd, jac, vp && vp->start ? vp : NULL, needo,
+                over) != 0) {
         fill_nan(jac, nin * nout);
+        if (over)
+            fill_nan(over, nout);
         return 0;
     }
     for (int k = 0; k < nin * nout; k++)

@@ -256,8 +256,9 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
         }
         vn *res = (vn *)resbuf;
         if (jf) { /* poly_frame.c's chain rule on the block's columns, into jcol */
-            const poly_chain_cols k = {KBLK, raw, wcol, cb, sb, resbuf,
-                                       resbuf + (size_t)job->roff[1] * KBLK,
+            const poly_chain_cols k = {KBLK, raw, wcol, cb, sb,
+                                       resbuf + (size_t)job->roff[job->vview] * KBLK,
+                                       resbuf + (size_t)job->roff[1 - job->vview] * KBLK,
                                        nview > 2 ? resbuf + (size_t)job->roff[2] * KBLK : NULL,
                                        gcol, jcol, NULL};
             poly_frame_chain(s, nview > 2, &k);

@@ -92,6 +92,10 @@ typedef struct {
     poly_out_terms *dout; /* noutputs x ninputs; exps unused */
     poly_mono dmono;
     poly_plan dplan;
+    /* The outputs' values as items over dplan's values, no products of their own
+     * (poly_plan_values_over; start NULL: some term has no split there): the batch
+     * Jacobian's values for the chain rule through the frame. */
+    poly_plan vplan;
     /* 0: the tables above are the system's shared empty ones (poly_system.empty), read
      * only: a part costs no table of its own (about 48 bytes per input and output for
      * the derivative sums) until its first term. 1: its own. */
@@ -168,11 +172,17 @@ int poly_eval_part_core(const poly_system *sys, int part, const double *in, doub
 int poly_eval_values_core(const poly_system *sys, int part, const double *in, double *out);
 void poly_eval_batch_core(const poly_system *sys, size_t count, const double *in, double *out,
                           unsigned char *pass);
+/* Whether every part of s's frame view (s itself without outputs outside the frame) has
+ * its vplan: then the batch Jacobian takes the chain rule's values from it, and so does
+ * poly_eval_jacobian (poly_eval_jacobian_core's over). */
+int poly_jacf_vplan(const poly_system *s);
 /* The core's values and derivatives at one ray: the values needv says (NULL: all, and
  * the pass test; else no pass test, 0) and the derivative sums needd says (NULL: all);
- * the others come out 0. */
+ * the others come out 0. over (if not NULL): the values needo says (NULL: all) again,
+ * by the part's vplan over the derivative plan's values (nan without a vplan). */
 int poly_eval_jacobian_core(const poly_system *sys, const double *in, const unsigned char *needv,
-                            const unsigned char *needd, double *out, double *jac);
+                            const unsigned char *needd, double *out, double *jac, double *over,
+                            const unsigned char *needo);
 /* The batch Jacobian, derivative sums sel[0 .. nsel - 1] (k = o * nin + i; sel NULL:
  * all) written per ray in that order. _core: of the core alone (inputs taken as in the
  * frame). _frame: of a framed system whose views exist (when it has outputs outside the
@@ -218,6 +228,8 @@ int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
 void poly_terms_free(poly_out_terms *t, int n);
 void poly_mono_free(poly_mono *m);
 void poly_plan_free(poly_plan *pl);
+int poly_plan_values_over(poly_plan *vp, const poly_plan *dp, const poly_mono *dm, int nin,
+                          int nout, const poly_out_terms *sums);
 
 /* The vector layout of poly_fast.c for nout sums with exponents (NULL: none, e.g. for
  * derivative sums, more than 6 inputs with terms or an exponent above 15, or out of

@@ -388,6 +388,17 @@ void poly_eval_jacobian_batch(const poly_system *s, size_t count, const double *
     poly_eval_jacobian_batch_outputs(s, count, in, s->nout, all, jac);
 }
 
+int poly_jacf_vplan(const poly_system *s)
+{
+    const poly_system *vf = s->frame && s->nplain ? s->vframe : s;
+    if (!vf)
+        return 0;
+    for (int p = 0; p < vf->nparts; p++)
+        if (!vf->parts[p].vplan.start)
+            return 0;
+    return vf->nparts > 0;
+}
+
 /* poly_eval_jacobian, of the outputs outs says alone (NULL: all, with the pass flag;
  * else 0, and the other outputs' values and derivatives come out 0). outs must hold the
  * turned partner of every output it holds. */
@@ -420,15 +431,22 @@ static int jacobian_one(const poly_system *s, const double *in, const unsigned c
     }
     int pass = 0;
     if (!poly_frame_active(s)) {
-        pass = poly_eval_jacobian_core(s, in, nv[0], nd[0], out, jac);
+        pass = poly_eval_jacobian_core(s, in, nv[0], nd[0], out, jac, NULL, NULL);
     } else {
         double *w = buf, *t = w + nn, *p = t + nn, *g = p + nn, *J = g + 2 * nn + 9;
-        double *Jp = J + nn * no, *op = Jp + nn * no, cs[2];
+        double *Jp = J + nn * no, *op = Jp + nn * no, cs[2], cv[POLY_MAX_OUTPUTS];
+        const poly_system *vf = s->vframe ? s->vframe : s;
         jacobian_inputs(s, np, in, w, t, p, cs);
-        poly_eval_jacobian_core(s->vframe ? s->vframe : s, t, nv[0], nd[0], out, J);
+        /* the chain rule's values as the batch Jacobian takes them (vplan) where it does:
+         * of the turned pairs asked for alone */
+        const int over = poly_jacf_vplan(s);
+        unsigned char turned[POLY_MAX_OUTPUTS] = {0};
+        for (int q = 0; q < 2 * s->npairs; q++)
+            turned[s->pair[q]] = !outs || outs[s->pair[q]];
+        poly_eval_jacobian_core(vf, t, nv[0], nd[0], out, J, over ? cv : NULL, turned);
         if (np)
-            poly_eval_jacobian_core(s->vplain ? s->vplain : s, p, nv[1], nd[1], op, Jp);
-        const poly_chain_cols k = {1, in, w, &cs[0], &cs[1], out, J, Jp, g, jac, outs};
+            poly_eval_jacobian_core(s->vplain ? s->vplain : s, p, nv[1], nd[1], op, Jp, NULL, NULL);
+        const poly_chain_cols k = {1, in, w, &cs[0], &cs[1], over ? cv : out, J, Jp, g, jac, outs};
         chain(s, np, &k, 1);
         if (np)
             poly_frame_take_plain(s, op, out);

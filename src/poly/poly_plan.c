@@ -363,3 +363,105 @@ int poly_plan_build(poly_plan *pl, const poly_mono *m, int nin, int nout,
     *pl = n;
     return 0;
 }
+
+/* The kept value of dp whose monomial with value u's makes e (u a kept value, 0 the
+ * constant), or -1; fa its number. */
+static int split_over(const poly_plan *dp, const poly_mono *dm, const int *val, int nin,
+                      const int *e, int u, int *g)
+{
+    const int *eu = dm->exps + (size_t)dp->vslot[u] * (size_t)nin;
+    for (int i = 0; i < nin; i++)
+        if ((g[i] = e[i] - eu[i]) < 0)
+            return -1;
+    const int k = poly_mono_find(dm, nin, g);
+    return k >= 0 ? val[k] : -1;
+}
+
+/* The values of nout sums (exponents in sums) as items over the derivative plan dp's
+ * kept values (table dm): each term c s^e as c v[a] v[b] with a, b kept and their
+ * monomials adding up to e, v[b] preferably an input (e - 1_i is often kept: its
+ * derivative term). Then the values cost no products of their own: the batch Jacobian
+ * runs vp after dp on the same values. Grouped by b as poly_plan_build groups (quads,
+ * pairs, lone terms; no single terms). -1 when a term has no such split or out of
+ * memory (vp then has start NULL: not built). */
+int poly_plan_values_over(poly_plan *vp, const poly_plan *dp, const poly_mono *dm, int nin,
+                          int nout, const poly_out_terms *sums)
+{
+    poly_plan_free(vp);
+    int nt = 0, g[POLY_MAX_INPUTS];
+    for (int o = 0; o < nout; o++)
+        nt += sums[o].nterms;
+    poly_plan n = {0};
+    plan_work w = {0};
+    int *val = malloc(((size_t)dm->nslots + 1) * sizeof(int));
+    if (!val || plan_alloc(&n, &w, dm->nslots + 1, nout, nt) != 0 || nin > POLY_MAX_INPUTS) {
+        free(val);
+        plan_work_free(&w);
+        poly_plan_free(&n);
+        return -1;
+    }
+    for (int k = 0; k < dm->nslots; k++)
+        val[k] = -1;
+    for (int k = 0; k < dp->nvals; k++)
+        val[dp->vslot[k]] = k;
+    n.nvals = dp->nvals;
+    n.nout = nout;
+    int q = 0, ok = 1;
+    for (int o = 0; o < nout && ok; o++) {
+        const poly_out_terms *ot = &sums[o];
+        int nf = 0;
+        n.start[o] = q;
+        for (int t = 0; t < ot->nterms && ok; t++) {
+            const int *e = ot->exps + (size_t)t * (size_t)nin;
+            int a = -1, b = 0;
+            for (int i = 0; i < nin && a < 0; i++)
+                if (e[i] || i == nin - 1)
+                    a = split_over(dp, dm, val, nin, e, b = e[i] ? 1 + i : 0, g);
+            for (int u = 1 + nin; u < dp->nvals && a < 0; u++)
+                a = split_over(dp, dm, val, nin, e, b = u, g);
+            ok = a >= 0;
+            w.fz[3 * nf] = t;
+            w.fz[3 * nf + 1] = a;
+            w.fz[3 * nf + 2] = b;
+            nf++;
+        }
+        n.nsingle[o] = 0;
+        n.nquad[o] = n.npair[o] = 0;
+        /* groups by b in the order of their first term (plan_output's passes) */
+        int *gr = w.fz + 3 * (nt + 1), ngr = 0;
+        for (int f = 0; f < nf; f++)
+            if (!w.done[f])
+                for (int h = f; h < nf; h++)
+                    if (!w.done[h] && w.fz[3 * h + 2] == w.fz[3 * f + 2]) {
+                        gr[ngr++] = h;
+                        w.done[h] = 1;
+                    }
+        memset(w.done, 0, (size_t)nf);
+        for (int pass = 4; pass >= 1 && ok; pass /= 2)
+            for (int i = 0, j; i < nf; i = j) {
+                for (j = i; j < nf && w.fz[3 * gr[j] + 2] == w.fz[3 * gr[i] + 2]; j++)
+                    ;
+                const int nq = (j - i) / 4 * 4, np = (j - i - nq) / 2 * 2;
+                const int from = pass == 4 ? i : pass == 2 ? i + nq : i + nq + np;
+                const int to = pass == 4 ? i + nq : pass == 2 ? i + nq + np : j;
+                n.nquad[o] += pass == 4 ? nq / 4 : 0;
+                n.npair[o] += pass == 2 ? np / 2 : 0;
+                for (int h = from; h < to; h++) {
+                    const int f = gr[h];
+                    n.coef[q] = ot->coef[w.fz[3 * f]];
+                    n.fa[q] = w.fz[3 * f + 1];
+                    n.fb[q] = w.fz[3 * f + 2];
+                    n.src[q++] = w.fz[3 * f];
+                }
+            }
+    }
+    n.start[nout] = q;
+    free(val);
+    plan_work_free(&w);
+    if (!ok) {
+        poly_plan_free(&n);
+        return -1;
+    }
+    *vp = n;
+    return 0;
+}
