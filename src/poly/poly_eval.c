@@ -200,7 +200,9 @@ typedef struct {
     store_rows8((out), (row), (nres), (k0), (const __m512d *)(cols), (ncol))
 #define KERNEL_LOAD_COLS5(src, cols) load_cols5((src), (__m512d *)(cols))
 #define KERNEL_MASKBITS(ok) ((unsigned)_mm512_test_epi64_mask((__m512i)(ok), (__m512i)(ok)))
+#define KERNEL_WHOLE_ROWS 128
 #include "poly/poly_eval_kernel.h"
+#undef KERNEL_WHOLE_ROWS
 #undef KERNEL_NAME
 #undef KBLK
 #define KERNEL_NAME run_blocks_avx512_8
@@ -375,7 +377,9 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
     int kblk[3];
     const int nk = kernels(k, kblk);
     /* the raw inputs, r, c, s; with RUN_JACF the kernel's columns for the chain rule */
-    const size_t nfb = (size_t)s->nin + 3 + (what == RUN_JACF ? 3 * (size_t)s->nin + 9 + nj : 0);
+    size_t nfb = (size_t)s->nin + 3 + (what == RUN_JACF ? 3 * (size_t)s->nin + 9 + nj : 0);
+    if (job->nsel > 32 && job->nsel <= 128)
+        nfb += (size_t)job->nsel; /* a block's rows, KERNEL_WHOLE_ROWS */
     const size_t nch = s->nparts > 1 ? (count < CHUNK ? count : CHUNK) : 0;
     const size_t sv = span64((size_t)maxv * BLK, sizeof(double));
     const size_t sr = span64((size_t)maxo * BLK, sizeof(double));

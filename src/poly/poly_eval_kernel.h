@@ -3,7 +3,9 @@
  *   KERNEL_TARGET  its target attribute (empty for the baseline)
  *   VW             doubles per hardware vector of that set (8 AVX-512, 4 AVX2, 2 SSE)
  *   KERNEL_SQRT    the square root of a vector of VW doubles (that set's instruction)
- * and KBLK (rays per block, a multiple of VW) and RUN_EVAL / RUN_JAC / RUN_CORE / RUN_JACF.
+ * and KBLK (rays per block, a multiple of VW) and RUN_EVAL / RUN_JAC / RUN_CORE / RUN_JACF;
+ * optionally KERNEL_WHOLE_ROWS: rows of more than 32 and at most that many columns (a
+ * Jacobian's) put together block by block in fbuf and copied out whole.
  *
  * Runs the plans pls[0 .. nview - 1] (one part's views, see part_plans()) on n rays: ray r
  * is row idx[r] of in (row first + r if idx is NULL) and goes to the same row of out (and
@@ -15,7 +17,8 @@
  * vectors; the loops over q < NV have constant bounds and are unrolled, so the partial
  * sums stay in registers (one vector type of KBLK lanes would be split by the compiler
  * through the stack). vbuf (nvals x KBLK), resbuf (every plan's sums x KBLK), fbuf ((nin
- * + 3) x KBLK, with RUN_JACF (4 nin + 12 + nout nin) x KBLK) and offbuf (2 nprod + 2
+ * + 3) x KBLK, with RUN_JACF (4 nin + 12 + nout nin) x KBLK, and then with rows of 33
+ * to 128 columns KBLK x the columns more) and offbuf (2 nprod + 2
  * nterms per plan) are scratch, 64-byte
  * aligned; value k of lane r is vbuf[k * KBLK + r]. Unused lanes of the last block repeat
  * its first ray so no lane computes on garbage. Only IEEE multiplies, adds, divides and
@@ -73,6 +76,16 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
     }
     const double *vd = (const double *)v;
     vn *d = v + (1 + nin) * NV;
+#ifdef KERNEL_WHOLE_ROWS
+    /* A row's 8-column stores each straddle a cache line and touch every line of the
+     * block's rows several times; in place first, then copied out line after line:
+     * bench_poly, the 19-output fisheye-ii fit's Jacobian (95 columns), 20000 rays: 267-302
+     * -> 201-214 ns a ray; no change at 25 columns (5 outputs). In fbuf after the
+     * columns in use (batch() sizes it; on the stack here it had cost the 5-output
+     * Jacobian 1-2 % by moving the kernel's frame) */
+    double *sbuf = jf ? jcol + (size_t)s->nout * (size_t)nin * KBLK : wcol;
+    const int whole = nst > 32 && nst <= KERNEL_WHOLE_ROWS && !idx;
+#endif
     for (size_t b0 = 0; b0 < n; b0 += KBLK) {
         const int m = n - b0 < KBLK ? (int)(n - b0) : KBLK;
         size_t row[KBLK];
@@ -279,14 +292,32 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
         else
 #endif
 #ifdef KERNEL_STORE_ROWS8
+        {
+            double *dst = out; /* rows row[r] of dst */
+            const size_t *at = row;
+#ifdef KERNEL_WHOLE_ROWS
+            size_t here[KBLK]; /* the block's rows first in sbuf, in order */
+            const int st = whole && m == KBLK;
+            if (st) {
+                for (int r = 0; r < KBLK; r++)
+                    here[r] = (size_t)r;
+                dst = sbuf;
+                at = here;
+            }
+#endif
             for (int q = 0; q < NV; q++)
                 for (int k0 = 0; k0 < nst; k0 += 8) {
                     vn cols[8];
                     const int nc = nst - k0 < 8 ? nst - k0 : 8;
                     for (int j = 0; j < nc; j++)
                         cols[j] = res[sel[k0 + j] * NV + q];
-                    KERNEL_STORE_ROWS8(out, row + q * VW, (size_t)nst, (size_t)k0, cols, nc);
+                    KERNEL_STORE_ROWS8(dst, at + q * VW, (size_t)nst, (size_t)k0, cols, nc);
                 }
+#ifdef KERNEL_WHOLE_ROWS
+            if (st)
+                memcpy(out + (first + b0) * (size_t)nst, sbuf, sizeof(double) * (size_t)nst * KBLK);
+#endif
+        }
 #else
             for (int q = 0; q < NV; q++) {
                 vidx at;

@@ -459,6 +459,49 @@ static void test_batch_frame_layouts(void **st)
     free(jb);
 }
 
+/* Rows of more than 32 columns (a Jacobian of 9 outputs: 45) go out of the kernel a
+ * whole block at a time: the batch Jacobian, with the frame and without, gives the bits
+ * of one ray, and of calls that start at other rays and end in a partial block. */
+static void test_jacobian_wide_rows(void **st)
+{
+    (void)st;
+    enum { N = 203, NO = 9, NJ = 5 * NO };
+    static const char *const names[NO] = {"out_x", "out_y", "out_u", "out_v", "out_eta",
+                                           "a",     "b",     "c",     "d"};
+    double *in = malloc(N * 5 * sizeof *in), *jb = malloc(N * NJ * sizeof *jb);
+    double *jp = malloc(N * NJ * sizeof *jp);
+    assert_true(in && jb && jp);
+    fixture_rng g = {55};
+    for (int r = 0; r < N; r++)
+        fixture_ray(&g, in + r * 5);
+    for (int framed = 0; framed < 2; framed++) {
+        poly_system *s = poly_new("wide", 5, fixture_inputs, NO, names);
+        assert_int_equal(poly_add_part(s, 0, INFINITY), 0);
+        for (int i = 0; i < 5; i++)
+            poly_set_scaling(s, i, i == 4 ? 0.55 : 0, i < 2 ? 18 : i < 4 ? 0.6 : 0.15);
+        for (int o = 0; o < NO; o++)
+            for (int t = 0; t < 25; t++) {
+                int e[5];
+                fixture_monomial(&g, 7, o == 0 || o == 2, o == 1 || o == 3, e);
+                fixture_add(s, 0, o, e, &g);
+            }
+        if (framed)
+            assert_int_equal(poly_set_frame(s, POLY_FRAME_MERIDIONAL), 0);
+        poly_eval_jacobian_batch(s, N, in, jb);
+        for (int r = 0; r < N; r++) {
+            double o[NO], j1[NJ];
+            poly_eval_jacobian(s, in + r * 5, o, j1);
+            assert_memory_equal(j1, jb + (size_t)r * NJ, sizeof j1);
+        }
+        poly_eval_jacobian_batch(s, N - 7, in + 7 * 5, jp);
+        assert_memory_equal(jp, jb + 7 * NJ, (size_t)(N - 7) * NJ * sizeof *jp);
+        poly_free(s);
+    }
+    free(in);
+    free(jb);
+    free(jp);
+}
+
 /* A monomial that is inf or nan reaches only the outputs with a term on it, in
  * poly_eval as in the batch kernel (poly_fast.c evaluates such a ray again by the plan):
  * out_x depends on x and y alone, out_y on u and v, out_u is a constant. */
@@ -500,7 +543,7 @@ int main(void)
         cmocka_unit_test(test_batch_one_part),  cmocka_unit_test(test_batch_three_parts),
         cmocka_unit_test(test_jacobian_fd), cmocka_unit_test(test_jacobian_axis),     cmocka_unit_test(test_part_selection),
         cmocka_unit_test(test_pass_and_domain), cmocka_unit_test(test_batch_frame_layouts),
-        cmocka_unit_test(test_scalar_nonfinite),
+        cmocka_unit_test(test_scalar_nonfinite), cmocka_unit_test(test_jacobian_wide_rows),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
