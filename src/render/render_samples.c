@@ -174,12 +174,12 @@ double ld_1d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k)
  * of permute keeps to the low 32 bits (a product's low half depends on the operands' low
  * halves only), so 32-bit lanes give its values; the Sobol tables are read lane by lane. */
 typedef uint32_t v4u __attribute__((vector_size(16)));
-typedef unsigned char v16b __attribute__((vector_size(16)));
 
 static inline v4u reverse4(v4u x)
 {
-    const v16b swap = {3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12};
-    x = (v4u)__builtin_shuffle((v16b)x, swap);
+    /* the bytes swapped by shifts and masks: GCC's __builtin_shuffle is unknown to clang
+     * (the fuzz build), and compilers turn this into one byte shuffle anyway */
+    x = (x >> 24) | ((x >> 8) & 0xff00u) | ((x << 8) & 0xff0000u) | (x << 24);
     x = ((x & 0x0f0f0f0fu) << 4) | ((x >> 4) & 0x0f0f0f0fu);
     x = ((x & 0x33333333u) << 2) | ((x >> 2) & 0x33333333u);
     return ((x & 0x55555555u) << 1) | ((x >> 1) & 0x55555555u);
