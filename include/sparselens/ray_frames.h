@@ -26,6 +26,29 @@ typedef struct {
     double d[3]; /* unit direction */
 } lens_ray;
 
+/* Tangent frame at the unit normal n (n.z < 0, towards the object): the images of the
+ * x and y axes under the smallest rotation that takes -z to n,
+ *   ex = (1 - k n.x^2, -k n.x n.y, n.x),  ey = (-k n.x n.y, 1 - k n.y^2, n.y),
+ *   k = 1 / (1 - n.z).
+ * Turning the lens's point and ray about the axis turns this frame with them, so the
+ * outer pupil's (u, v) turn like any direction, and a fit in the meridional frame
+ * models them too (lens-fit --frame). Defined wherever n.z < 1: every front surface;
+ * -1 elsewhere. Inline: the renderer's polynomial path makes one a camera ray. */
+static inline int lens_outer_frame(const double n[3], double ex[3], double ey[3])
+{
+    double q = 1 - n[2];
+    if (!(q > 1e-300))
+        return -1;
+    double k = 1 / q;
+    ex[0] = 1 - k * n[0] * n[0];
+    ex[1] = -k * n[0] * n[1];
+    ex[2] = n[0];
+    ey[0] = ex[1];
+    ey[1] = 1 - k * n[1] * n[1];
+    ey[2] = n[1];
+    return 0;
+}
+
 /* Conversions between parametrisations and lens-frame rays. */
 void ray_from_sensor(const lens_t *lens, const double xyuv[4], lens_ray *r);
 void ray_to_sensor(const lens_t *lens, const lens_ray *r, double xyuv[4]);

@@ -179,21 +179,18 @@ static int front_ray(const render_lens_ctx *c, const double xyuv[4], lens_ray *r
         return ray_from_outer(c->lens, xyuv, r); /* as before, and -1 where disc <= 0 */
     double w2 = 1.0 - u * u - v * v;
     if (!(w2 >= 0)) return -1;
+    double sq = sqrt(disc), n[3], z;
     if (c->front_sphere) { /* the unit normal is (c x, c y, -sqrt(disc)) as it stands */
-        double sq = sqrt(disc), k = 1 / (1 + sq), w = sqrt(w2);
-        double n[3] = {c->front_c * x, c->front_c * y, -sq};
-        double ex[3] = {1 - k * n[0] * n[0], -k * n[0] * n[1], n[0]};
-        double ey[3] = {ex[1], 1 - k * n[1] * n[1], n[1]};
-        r->o[0] = x, r->o[1] = y, r->o[2] = c->front_z + c->front_c * h2 * k;
-        for (int j = 0; j < 3; j++) r->d[j] = u * ex[j] + v * ey[j] + w * n[j];
-        return 0;
+        n[0] = c->front_c * x, n[1] = c->front_c * y, n[2] = -sq;
+        z = c->front_c * h2 * (1 / (1 + sq));
+    } else {
+        double sl = c->front_c / (2.0 * sq) + 0.0, a = 2.0 * x * sl, b = 2.0 * y * sl;
+        double inv = 1.0 / sqrt(a * a + b * b + 1.0);
+        n[0] = a * inv, n[1] = b * inv, n[2] = -inv;
+        z = c->front_c * h2 / (1.0 + sq) + 0.0;
     }
-    double sq = sqrt(disc), z = c->front_c * h2 / (1.0 + sq) + 0.0;
-    double sl = c->front_c / (2.0 * sq) + 0.0, a = 2.0 * x * sl, b = 2.0 * y * sl;
-    double inv = 1.0 / sqrt(a * a + b * b + 1.0), n[3] = {a * inv, b * inv, -inv};
-    double k = 1 / (1 - n[2]), w = sqrt(w2);
-    double ex[3] = {1 - k * n[0] * n[0], -k * n[0] * n[1], n[0]};
-    double ey[3] = {ex[1], 1 - k * n[1] * n[1], n[1]};
+    double ex[3], ey[3], w = sqrt(w2);
+    lens_outer_frame(n, ex, ey); /* n.z < 0 here */
     r->o[0] = x;
     r->o[1] = y;
     r->o[2] = c->front_z + z;
@@ -208,9 +205,9 @@ static void map_exact_batch(void *ctx, size_t n, const double *in, double *org, 
         pass[r] = (unsigned char)map_exact(ctx, in + 5 * r, org + 3 * r, dir + 3 * r, eta + r);
 }
 
-/* The batch maps go POLY_CHUNK rays a call: each poly_eval_batch_outputs call pays a
- * set-up (a dozen allocations, a cleared block of results) worth tens of rays, so a
- * chunk is a whole block of lens-render's (render_image.c's 512 samples). */
+/* The batch maps go POLY_CHUNK rays a call, a whole block of lens-render's
+ * (render_image.c's 512 samples): a call's set-up is small now (scratch on the stack),
+ * but long calls keep the kernel in its widest blocks. */
 #define POLY_CHUNK 512
 
 /* The system's input rows of m camera samples (x y u v lambda each). */

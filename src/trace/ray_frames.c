@@ -32,35 +32,13 @@ void ray_to_sensor(const lens_t *lens, const lens_ray *r, double xyuv[4])
         xyuv[0] = xyuv[1] = xyuv[2] = xyuv[3] = NAN;
 }
 
-/* Tangent frame at the unit normal n (n.z < 0, towards the object): the images of the
- * x and y axes under the smallest rotation that takes -z to n,
- *   ex = (1 - k n.x^2, -k n.x n.y, n.x),  ey = (-k n.x n.y, 1 - k n.y^2, n.y),
- *   k = 1 / (1 - n.z).
- * Turning the lens's point and ray about the axis turns this frame with them, so the
- * outer pupil's (u, v) turn like any direction, and a fit in the meridional frame
- * models them too (lens-fit --frame). Defined wherever n.z < 1: every front surface. */
-static int outer_frame(const double n[3], double ex[3], double ey[3])
-{
-    double q = 1 - n[2];
-    if (!(q > 1e-300))
-        return -1;
-    double k = 1 / q;
-    ex[0] = 1 - k * n[0] * n[0];
-    ex[1] = -k * n[0] * n[1];
-    ex[2] = n[0];
-    ey[0] = ex[1];
-    ey[1] = 1 - k * n[1] * n[1];
-    ey[2] = n[1];
-    return 0;
-}
-
 void ray_to_outer(const lens_t *lens, const lens_ray *r, double xyuv[4])
 {
     double n[3], ex[3], ey[3];
     surface_normal(&lens->surf[0], r->o[0], r->o[1], n);
     xyuv[0] = r->o[0];
     xyuv[1] = r->o[1];
-    if (outer_frame(n, ex, ey)) {
+    if (lens_outer_frame(n, ex, ey)) {
         xyuv[2] = xyuv[3] = NAN;
         return;
     }
@@ -78,7 +56,7 @@ int ray_from_outer(const lens_t *lens, const double xyuv[4], lens_ray *r)
     if (!isfinite(z) || !(w2 >= 0) || !isfinite(x) || !isfinite(y))
         return -1;
     surface_normal(s, x, y, n);
-    if (outer_frame(n, ex, ey))
+    if (lens_outer_frame(n, ex, ey))
         return -1;
     double w = sqrt(w2);
     r->o[0] = x;
