@@ -20,6 +20,8 @@
 #include "sparselens/scene.h"
 
 #include "render/render_math.h"
+#include "render/scene_light_block.h"
+#include "render/scene_light_simd.h"
 
 #define EPS_T 1e-6 /* mm: as scene_geometry.c */
 #define dot3 rm_dot3
@@ -102,28 +104,24 @@ static double sample_light(const scene_object *o, const double p[3], double u1, 
     return light_pdf(o, p, q, nq, w);
 }
 
-void scene_direct_mis(const scene_t *s, const scene_hit *h, const double u[5],
-                      scene_light_terms *t)
+/* The terms of scene_direct_mis at h, given the selection weights sel[j * stride] of the
+ * emitters idx[j] (j < ne) and their sum, and the BSDF sample's direction w and cosine ct
+ * (drawn from u[3], u[4]). */
+static void direct_terms(const scene_t *s, const scene_hit *h, const double u[5], const double *sel,
+                         size_t stride, const int *idx, size_t ne, double total, const double w[3],
+                         double ct, scene_light_terms *t)
 {
     t->n = 0;
-    double sel[64], total = 0;
-    size_t ne = 0;
-    int idx[64];
-    for (size_t i = 0; i < s->nobj && ne < 64; i++) {
-        if (!s->obj[i].emitter) continue;
-        sel[ne] = select_weight(&s->obj[i], h->p, h->n);
-        idx[ne++] = (int)i;
-        total += sel[ne - 1];
-    }
     /* the light sample */
     if (total > 0) {
         double x = u[0] * total, acc = 0;
         size_t j = 0;
-        while (j + 1 < ne && (acc + sel[j] <= x || sel[j] == 0)) acc += sel[j++];
+        while (j + 1 < ne && (acc + sel[j * stride] <= x || sel[j * stride] == 0))
+            acc += sel[stride * j++];
         const scene_object *o = &s->obj[idx[j]];
-        double P = sel[j] / total, w[3] = {0, 0, 0}, q[3], nq[3];
-        double pdf = P > 0 ? sample_light(o, h->p, u[1], u[2], w, q, nq) : 0;
-        double cr = dot3(h->n, w), back[3] = {-w[0], -w[1], -w[2]}, le[3];
+        double P = sel[j * stride] / total, wl[3] = {0, 0, 0}, q[3], nq[3];
+        double pdf = P > 0 ? sample_light(o, h->p, u[1], u[2], wl, q, nq) : 0;
+        double cr = dot3(h->n, wl), back[3] = {-wl[0], -wl[1], -wl[2]}, le[3];
         if (pdf > 0 && cr > 0 && scene_emitted(s, idx[j], q, back, le) && scene_visible(s, h->p, q)) {
             double pl = P * pdf, pb = cr / M_PI;
             t->emitter[t->n] = idx[j];
@@ -131,10 +129,6 @@ void scene_direct_mis(const scene_t *s, const scene_hit *h, const double u[5],
         }
     }
     /* the BSDF sample */
-    double r = sqrt(u[3]), ct = sqrt(rm_pos(1 - u[3])), tt[3], bb[3], w[3], sn, cs;
-    rm_sincos_turn(u[4], &sn, &cs); /* of phi = 2 pi u[4] */
-    frame_of(h->n, tt, bb);
-    for (int k = 0; k < 3; k++) w[k] = ct * h->n[k] + r * (cs * tt[k] + sn * bb[k]);
     scene_hit g;
     if (!(ct > 0) || !scene_intersect_emitter(s, h->p, w, EPS_T, &g)) return;
     const scene_object *o = &s->obj[g.obj];
@@ -146,9 +140,74 @@ void scene_direct_mis(const scene_t *s, const scene_hit *h, const double u[5],
             if (idx[j] == g.obj) {
                 double nq[3];
                 for (int k = 0; k < 3; k++) nq[k] = g.n[k];
-                pl = sel[j] / total * light_pdf(o, h->p, g.p, nq, w);
+                pl = sel[j * stride] / total * light_pdf(o, h->p, g.p, nq, w);
             }
     double pb = ct / M_PI;
     t->emitter[t->n] = g.obj;
     t->w[t->n++] = pb * pb / (pb * pb + pl * pl);
+}
+
+/* The emitters light sampling weighs: the first 64 in the scene's order. */
+static size_t emitters_of(const scene_t *s, int idx[64])
+{
+    size_t ne = 0;
+    for (size_t i = 0; i < s->nobj && ne < 64; i++)
+        if (s->obj[i].emitter) idx[ne++] = (int)i;
+    return ne;
+}
+
+void scene_direct_mis(const scene_t *s, const scene_hit *h, const double u[5],
+                      scene_light_terms *t)
+{
+    double sel[64], total = 0;
+    int idx[64];
+    size_t ne = emitters_of(s, idx);
+    for (size_t j = 0; j < ne; j++) {
+        sel[j] = select_weight(&s->obj[idx[j]], h->p, h->n);
+        total += sel[j];
+    }
+    double r = sqrt(u[3]), ct = sqrt(rm_pos(1 - u[3])), tt[3], bb[3], w[3], sn, cs;
+    rm_sincos_turn(u[4], &sn, &cs); /* of phi = 2 pi u[4] */
+    frame_of(h->n, tt, bb);
+    for (int k = 0; k < 3; k++) w[k] = ct * h->n[k] + r * (cs * tt[k] + sn * bb[k]);
+    direct_terms(s, h, u, sel, 1, idx, ne, total, w, ct, t);
+}
+
+/* Points a step of scene_direct_mis_many: the kernels' arrays on the stack (the
+ * selection weights of up to 64 emitters, 32 KB) */
+#define MANY 64
+
+void scene_direct_mis_many(const scene_t *s, int m, const scene_hit *h, const double *u,
+                           scene_light_terms *t)
+{
+    if (!scene_simd_ok()) {
+        for (int i = 0; i < m; i++) scene_direct_mis(s, h + i, u + 5 * i, t + i);
+        return;
+    }
+    int idx[64];
+    size_t ne = emitters_of(s, idx);
+    double P[3 * MANY], N[3 * MANY], u3[MANY], u4[MANY], W[3 * MANY], ct[MANY], sel[64 * MANY];
+    for (int i0 = 0; i0 < m; i0 += MANY) {
+        int c = m - i0 < MANY ? m - i0 : MANY, c8 = (c + 7) / 8 * 8;
+        for (int i = 0; i < c8; i++) { /* lanes past c repeat the first point */
+            const scene_hit *hi = h + i0 + (i < c ? i : 0);
+            const double *ui = u + 5 * (size_t)(i0 + (i < c ? i : 0));
+            for (int k = 0; k < 3; k++) P[k * MANY + i] = hi->p[k], N[k * MANY + i] = hi->n[k];
+            u3[i] = ui[3], u4[i] = ui[4];
+        }
+        for (size_t j = 0; j < ne; j++) {
+            const scene_object *o = &s->obj[idx[j]];
+            if (o->kind == OBJ_SPHERE || o->kind == OBJ_DISK)
+                scene_simd_select(o, c8, MANY, P, N, sel + j * MANY);
+            else
+                for (int i = 0; i < c8; i++) sel[j * MANY + i] = 0;
+        }
+        scene_simd_bsdf_dir(c8, MANY, N, u3, u4, W, ct);
+        for (int i = 0; i < c; i++) {
+            double total = 0, w[3] = {W[i], W[MANY + i], W[2 * MANY + i]};
+            for (size_t j = 0; j < ne; j++) total += sel[j * MANY + i];
+            direct_terms(s, h + i0 + i, u + 5 * (size_t)(i0 + i), sel + i, MANY, idx, ne, total, w,
+                         ct[i], t + i0 + i);
+        }
+    }
 }

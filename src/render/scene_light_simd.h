@@ -1,0 +1,25 @@
+#ifndef RENDER_SCENE_LIGHT_SIMD_H
+#define RENDER_SCENE_LIGHT_SIMD_H
+/* The direct light's per-point arithmetic that does not branch on the point
+ * (scene_light_simd.c): eight points at a time in AVX-512 registers where the processor
+ * has them. Each lane does the operations of scene_light.c's scalar code in the same
+ * order (sums, products, quotients and square roots rounded alike; no fused multiply-add:
+ * the build contracts none), so a block's values are those of the per-point code, bit for
+ * bit. Arrays are structure of arrays: coordinate k of point i at X[k * stride + i]; m is
+ * a multiple of 8. */
+#include "sparselens/scene.h"
+
+/* 1 when the kernels below may run (AVX-512F present and compiled for). */
+int scene_simd_ok(void);
+
+/* The selection weight (scene_light.c's select_weight) of emitter o at the m points P
+ * with unit normals N, into sel[i]. */
+void scene_simd_select(const scene_object *o, int m, int stride, const double *P, const double *N,
+                       double *sel);
+
+/* The BSDF sample's direction (cosine-weighted about N from the uniforms u3, u4) into W,
+ * its cosine into ct. */
+void scene_simd_bsdf_dir(int m, int stride, const double *N, const double *u3, const double *u4,
+                         double *W, double *ct);
+
+#endif
