@@ -126,7 +126,8 @@ AVX512 void scene_simd_bsdf_dir(int m, int stride, const double *N, const double
     }
 }
 /* hit_object (scene_geometry.c) on eight rays (org, d): t, or INFINITY */
-AVX512 static inline vd hit8(const scene_object *o, const vd org[3], const vd d[3], vd tmin, vd tmax)
+AVX512 __attribute__((always_inline)) static inline vd hit8(const scene_object *o, const vd org[3],
+                                                            const vd d[3], vd tmin, vd tmax)
 {
     const vd inf = vset(INFINITY), zero = _mm512_setzero_pd();
     if (o->kind == OBJ_SPHERE) {
@@ -214,6 +215,29 @@ AVX512 void scene_simd_emitter(const scene_t *s, int m, int stride, const double
         _mm512_storeu_pd(w8, wh);
         _mm512_storeu_pd(t + i, best);
         for (int l = 0; l < 8; l++) which[i + l] = blocked >> l & 1 ? -1 : (int)w8[l];
+    }
+}
+
+AVX512 void scene_simd_camera(const scene_t *s, int m, int stride, const double *O, const double *D,
+                              double tmin, int *which, double *t)
+{
+    const vd t0 = vset(tmin);
+    for (int i = 0; i < m; i += 8) {
+        vd org[3], d[3], best = vset(INFINITY), wh = vset(-1);
+        load3(O, stride, i, org);
+        load3(D, stride, i, d);
+        for (int sphere = 0; sphere < 2; sphere++) /* scene_intersect_listed's order */
+            for (size_t o = 0; o < s->nobj; o++) {
+                if ((s->obj[o].kind == OBJ_SPHERE) != sphere) continue;
+                vd tt = hit8(&s->obj[o], org, d, t0, best);
+                __mmask8 nearer = _mm512_cmp_pd_mask(tt, best, _CMP_LT_OQ);
+                best = _mm512_mask_blend_pd(nearer, best, tt);
+                wh = _mm512_mask_blend_pd(nearer, wh, vset((double)o));
+            }
+        double w8[8];
+        _mm512_storeu_pd(w8, wh);
+        _mm512_storeu_pd(t + i, best);
+        for (int l = 0; l < 8; l++) which[i + l] = (int)w8[l];
     }
 }
 #endif

@@ -39,6 +39,12 @@ void scene_simd_visible(const scene_t *s, int m, int stride, const double *A, co
  * non-emitter in front) into which[i], its ray parameter into t[i]. */
 void scene_simd_emitter(const scene_t *s, int m, int stride, const double *O, const double *D,
                         int *which, double *t);
+
+/* The nearest hit of the m rays (O_i, D_i) beyond tmin over the scene's planes and disks
+ * and then its spheres, each in the scene's order (scene_intersect_listed with every
+ * sphere listed): the object (-1: none) into which[i], the ray parameter into t[i]. */
+void scene_simd_camera(const scene_t *s, int m, int stride, const double *O, const double *D,
+                       double tmin, int *which, double *t);
 #else
 #define SCENE_SIMD 0
 #endif

@@ -8,7 +8,8 @@
  *  - the low-discrepancy pixel samples: stratified (a 1D dimension has one sample per
  *    stratum; 32 2D samples one per elementary box of area 1/32), and unbiased over
  *    pixels (the mean of many pixels' points is 1/2);
- *  - the camera rays' direction culling against the full intersection loop;
+ *  - the camera rays' direction culling against the full intersection loop, and the
+ *    block version of the culled search (scene_intersect_camera_many) against it;
  *  - direct light for a block of points at once (scene_direct_mis_many, eight lanes a
  *    step where the processor has AVX-512) against scene_direct_mis point by point, bit
  *    for bit. */
@@ -23,6 +24,7 @@
 #include <cmocka.h>
 
 #include "render/render_samples.h"
+#include "render/scene_camera_block.h"
 #include "render/scene_light_block.h"
 #include "render/scene_light_simd.h"
 #include "sparselens/render.h"
@@ -257,7 +259,8 @@ static void test_cull_exact(void **state)
 {
     (void)state;
     char text[20000];
-    int len = snprintf(text, sizeof text, "camera a.lens\nplane 0 0 3000 0 0 -1 albedo 0.5\n");
+    int len = snprintf(text, sizeof text, "camera a.lens\nplane 0 0 3000 0 0 -1 albedo 0.5\n"
+                                          "disk 100 0 800 0.6 0 -0.8 300 albedo 0.3\n");
     uint64_t st = 99;
     for (int k = 0; k < 120; k++) {
         double th = acos(1 - 1.1 * ((lcg(&st) >> 11) * 0x1.0p-53)), ph = 2 * M_PI * ((lcg(&st) >> 11) * 0x1.0p-53);
@@ -271,9 +274,11 @@ static void test_cull_exact(void **state)
     double rho = 25;
     scene_cull *c = scene_cull_new(&s, rho);
     assert_non_null(c);
-    int hits = 0;
+    int hits = 0, nb = 0;
+    enum { NB = 1000 };
+    double O[3 * NB], D[3 * NB];
     for (int i = 0; i < 200000; i++) {
-        double o[3], d[3], n;
+        double *o = O + 3 * nb, *d = D + 3 * nb, n;
         do {
             for (int k = 0; k < 3; k++) o[k] = rho * (2 * ((lcg(&st) >> 11) * 0x1.0p-53) - 1);
         } while (o[0] * o[0] + o[1] * o[1] + o[2] * o[2] > rho * rho);
@@ -287,10 +292,25 @@ static void test_cull_exact(void **state)
         if (ha) {
             assert_int_equal(a.obj, b.obj);
             assert_true(a.t == b.t);
-            hits += a.obj > 0;
+            hits += a.obj > 1;
         }
+        if (++nb < NB) continue;
+        /* the block version (eight rays a step where it can) gives the same records */
+        scene_hit many[NB];
+        unsigned char ok[NB];
+        scene_intersect_camera_many(&s, c, NB, O, D, 1e-6, many, ok);
+        for (int k = 0; k < NB; k++) {
+            scene_hit one;
+            assert_int_equal(ok[k], scene_intersect_camera(&s, c, O + 3 * k, D + 3 * k, 1e-6, &one));
+            if (!ok[k]) continue;
+            assert_int_equal(many[k].obj, one.obj);
+            assert_memory_equal(&many[k].t, &one.t, sizeof one.t);
+            assert_memory_equal(many[k].p, one.p, sizeof one.p);
+            assert_memory_equal(many[k].n, one.n, sizeof one.n);
+        }
+        nb = 0;
     }
-    assert_true(hits > 1000); /* the spheres were met, not only the plane */
+    assert_true(hits > 1000); /* the spheres were met, not only the plane and the disk */
     scene_cull_free(c);
     scene_free(&s);
 }
