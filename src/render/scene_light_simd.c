@@ -1,17 +1,19 @@
-/* The direct light's branch-free arithmetic, eight points a step (scene_light_simd.h).
- * Why: the renderer shades a block of hundreds of points, and the selection weights of
- * every emitter (a square root, a quotient and, for a sphere, a second root each) and the
- * BSDF direction (two roots, a sine and cosine, a frame) were a third of the direct
- * light's time one point at a time, bound by the latency of the roots and quotients.
- * The lanes mirror scene_light.c and render_math.h operation for operation; a select
- * stands for each branch, with the comparison's NaN outcome of the scalar test. */
+/* The direct light's arithmetic, eight points a step (scene_light_simd.h). Why: the
+ * renderer shades a block of hundreds of points, and one point at a time the selection
+ * weights (a root, a quotient and for a sphere a second root per emitter), the BSDF
+ * direction, and the shadow and BSDF rays' tests against every object were most of the
+ * direct light's time, bound by the latency of roots and quotients. The lanes mirror
+ * scene_light.c, scene_geometry.c and render_math.h operation for operation; a select
+ * stands for each branch, with the comparison's NaN outcome of the scalar test; a ray's
+ * tests go on past a blocker (the scalar search stops there: the same answer). */
 #include "render/scene_light_simd.h"
 
 #include <math.h>
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#define EPS_T 1e-6 /* mm: as scene_geometry.c */
+
+#if SCENE_SIMD
 #include <immintrin.h>
-#define SIMD_OK 1
 #define AVX512 __attribute__((target("avx512f")))
 
 typedef __m512d vd;
@@ -40,8 +42,8 @@ AVX512 static inline vd vdot(vd a0, vd a1, vd a2, vd b0, vd b1, vd b2)
                          _mm512_mul_pd(a2, b2));
 }
 
-AVX512 static void select8(const scene_object *o, int m, int stride, const double *P,
-                           const double *N, double *sel)
+AVX512 void scene_simd_select(const scene_object *o, int m, int stride, const double *P,
+                              const double *N, double *sel)
 {
     const vd one = vset(1), two_pi = vset(2 * M_PI), zero = _mm512_setzero_pd();
     const vd ox = vset(o->p[0]), oy = vset(o->p[1]), oz = vset(o->p[2]), r2 = vset(o->r2);
@@ -98,8 +100,8 @@ AVX512 static void sincos8(vd t, vd *s, vd *c)
     *c = _mm512_mask_blend_pd(q3, _mm512_mask_blend_pd(q2, _mm512_mask_blend_pd(q1, cs, nsn), ncs), sn);
 }
 
-AVX512 static void bsdf8(int m, int stride, const double *N, const double *u3, const double *u4,
-                         double *W, double *ct)
+AVX512 void scene_simd_bsdf_dir(int m, int stride, const double *N, const double *u3,
+                                const double *u4, double *W, double *ct)
 {
     const vd one = vset(1), mone = vset(-1);
     for (int i = 0; i < m; i += 8) {
@@ -123,37 +125,106 @@ AVX512 static void bsdf8(int m, int stride, const double *N, const double *u3, c
         _mm512_storeu_pd(ct + i, c);
     }
 }
-#else
-#define SIMD_OK 0
+/* hit_object (scene_geometry.c) on eight rays (org, d): t, or INFINITY */
+AVX512 static inline vd hit8(const scene_object *o, const vd org[3], const vd d[3], vd tmin, vd tmax)
+{
+    const vd inf = vset(INFINITY), zero = _mm512_setzero_pd();
+    if (o->kind == OBJ_SPHERE) {
+        vd oc[3] = {_mm512_sub_pd(org[0], vset(o->p[0])), _mm512_sub_pd(org[1], vset(o->p[1])),
+                    _mm512_sub_pd(org[2], vset(o->p[2]))};
+        vd b = vdot(oc[0], oc[1], oc[2], d[0], d[1], d[2]);
+        vd cc = _mm512_sub_pd(vdot(oc[0], oc[1], oc[2], oc[0], oc[1], oc[2]), vset(o->r2));
+        vd disc = _mm512_sub_pd(_mm512_mul_pd(b, b), cc), sq = _mm512_sqrt_pd(disc), nb = vneg(b);
+        vd t0 = _mm512_sub_pd(nb, sq), t1 = _mm512_add_pd(nb, sq);
+        vd t = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(t1, tmin, _CMP_GT_OQ), inf, t1);
+        t = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(t0, tmin, _CMP_GT_OQ), t, t0);
+        return _mm512_mask_blend_pd(_mm512_cmp_pd_mask(disc, zero, _CMP_NLT_UQ), inf, t);
+    }
+    vd n0 = vset(o->n[0]), n1 = vset(o->n[1]), n2 = vset(o->n[2]);
+    vd den = vdot(d[0], d[1], d[2], n0, n1, n2);
+    vd q0 = _mm512_sub_pd(vset(o->p[0]), org[0]), q1 = _mm512_sub_pd(vset(o->p[1]), org[1]);
+    vd q2 = _mm512_sub_pd(vset(o->p[2]), org[2]), num = vdot(q0, q1, q2, n0, n1, n2);
+    __mmask8 npos = _mm512_cmp_pd_mask(num, zero, _CMP_GT_OQ);
+    __mmask8 ok = (npos & _mm512_cmp_pd_mask(den, zero, _CMP_GT_OQ)) |
+                  (~npos & _mm512_cmp_pd_mask(num, zero, _CMP_LT_OQ) &
+                   _mm512_cmp_pd_mask(den, zero, _CMP_LT_OQ));
+    ok &= _mm512_cmp_pd_mask(_mm512_abs_pd(num), _mm512_mul_pd(tmax, _mm512_abs_pd(den)), _CMP_NGE_UQ);
+    vd t = _mm512_div_pd(num, den);
+    ok &= _mm512_cmp_pd_mask(t, tmin, _CMP_GT_OQ);
+    if (o->kind == OBJ_DISK) {
+        vd h0 = _mm512_sub_pd(_mm512_add_pd(org[0], _mm512_mul_pd(t, d[0])), vset(o->p[0]));
+        vd h1 = _mm512_sub_pd(_mm512_add_pd(org[1], _mm512_mul_pd(t, d[1])), vset(o->p[1]));
+        vd h2 = _mm512_sub_pd(_mm512_add_pd(org[2], _mm512_mul_pd(t, d[2])), vset(o->p[2]));
+        ok &= _mm512_cmp_pd_mask(vdot(h0, h1, h2, h0, h1, h2), vset(o->r2), _CMP_NGT_UQ);
+    }
+    return _mm512_mask_blend_pd(ok, inf, t);
+}
+
+AVX512 static inline void load3(const double *X, int stride, int i, vd v[3])
+{
+    for (int k = 0; k < 3; k++) v[k] = _mm512_loadu_pd(X + k * stride + i);
+}
+
+AVX512 void scene_simd_visible(const scene_t *s, int m, int stride, const double *A,
+                               const double *B, unsigned char *vis)
+{
+    const vd eps = vset(EPS_T), zero = _mm512_setzero_pd();
+    for (int i = 0; i < m; i += 8) {
+        vd a[3], b[3], d[3];
+        load3(A, stride, i, a);
+        load3(B, stride, i, b);
+        for (int k = 0; k < 3; k++) d[k] = _mm512_sub_pd(b[k], a[k]);
+        vd len = _mm512_sqrt_pd(vdot(d[0], d[1], d[2], d[0], d[1], d[2]));
+        vd inv = _mm512_div_pd(vset(1), len);
+        for (int k = 0; k < 3; k++) d[k] = _mm512_mul_pd(d[k], inv);
+        vd tmax = _mm512_sub_pd(_mm512_mul_pd(len, vset(1 - 1e-9)), eps);
+        __mmask8 blocked = 0;
+        for (size_t o = 0; o < s->nobj; o++)
+            blocked |= _mm512_cmp_pd_mask(hit8(&s->obj[o], a, d, eps, tmax), tmax, _CMP_LT_OQ);
+        blocked &= _mm512_cmp_pd_mask(len, zero, _CMP_GT_OQ);
+        for (int l = 0; l < 8; l++) vis[i + l] = !(blocked >> l & 1);
+    }
+}
+
+AVX512 void scene_simd_emitter(const scene_t *s, int m, int stride, const double *O,
+                               const double *D, int *which, double *t)
+{
+    const vd eps = vset(EPS_T), inf = vset(INFINITY);
+    for (int i = 0; i < m; i += 8) {
+        vd org[3], d[3], best = inf, wh = vset(-1);
+        load3(O, stride, i, org);
+        load3(D, stride, i, d);
+        for (size_t o = 0; o < s->nobj; o++) {
+            if (!s->obj[o].emitter) continue;
+            vd tt = hit8(&s->obj[o], org, d, eps, best);
+            __mmask8 nearer = _mm512_cmp_pd_mask(tt, best, _CMP_LT_OQ);
+            best = _mm512_mask_blend_pd(nearer, best, tt);
+            wh = _mm512_mask_blend_pd(nearer, wh, vset((double)o));
+        }
+        /* a non-emitter in front (ties to the lower index, as scene_intersect_emitter) */
+        __mmask8 blocked = 0;
+        for (size_t o = 0; o < s->nobj; o++) {
+            if (s->obj[o].emitter) continue;
+            vd tt = hit8(&s->obj[o], org, d, eps, inf);
+            blocked |= _mm512_cmp_pd_mask(tt, best, _CMP_LT_OQ) |
+                       (_mm512_cmp_pd_mask(tt, best, _CMP_EQ_OQ) &
+                        _mm512_cmp_pd_mask(vset((double)o), wh, _CMP_LT_OQ));
+        }
+        double w8[8];
+        _mm512_storeu_pd(w8, wh);
+        _mm512_storeu_pd(t + i, best);
+        for (int l = 0; l < 8; l++) which[i + l] = blocked >> l & 1 ? -1 : (int)w8[l];
+    }
+}
 #endif
 
 int scene_simd_ok(void)
 {
-#if SIMD_OK
+#if SCENE_SIMD
     static int ok = -1;
     if (ok < 0) ok = __builtin_cpu_supports("avx512f") != 0;
     return ok;
 #else
     return 0;
-#endif
-}
-
-void scene_simd_select(const scene_object *o, int m, int stride, const double *P, const double *N,
-                       double *sel)
-{
-#if SIMD_OK
-    select8(o, m, stride, P, N, sel);
-#else
-    (void)o, (void)m, (void)stride, (void)P, (void)N, (void)sel;
-#endif
-}
-
-void scene_simd_bsdf_dir(int m, int stride, const double *N, const double *u3, const double *u4,
-                         double *W, double *ct)
-{
-#if SIMD_OK
-    bsdf8(m, stride, N, u3, u4, W, ct);
-#else
-    (void)m, (void)stride, (void)N, (void)u3, (void)u4, (void)W, (void)ct;
 #endif
 }
