@@ -125,6 +125,50 @@ AVX512 void scene_simd_bsdf_dir(int m, int stride, const double *N, const double
         _mm512_storeu_pd(ct + i, c);
     }
 }
+AVX512 static inline void load3(const double *X, int stride, int i, vd v[3])
+{
+    for (int k = 0; k < 3; k++) v[k] = _mm512_loadu_pd(X + k * stride + i);
+}
+
+/* sample_light and light_pdf on disk o from the points P (normals N) with the uniforms
+ * U1, U2, and try_light's tests: the end Q, the pdf, the cosine cr at the point, and
+ * whether the shadow ray decides (pdf > 0, cr > 0, the disk faces the point) */
+AVX512 void scene_simd_disk_light(const scene_object *o, int m, int stride, const double *P,
+                                  const double *N, const double *U1, const double *U2, double *Q,
+                                  double *pdf, double *cr, unsigned char *shadow)
+{
+    const vd zero = _mm512_setzero_pd(), rad = vset(o->radius);
+    const vd on[3] = {vset(o->n[0]), vset(o->n[1]), vset(o->n[2])};
+    for (int i = 0; i < m; i += 8) {
+        vd p[3], n[3], e[3], w[3], sn, cs;
+        load3(P, stride, i, p);
+        load3(N, stride, i, n);
+        sincos8(_mm512_loadu_pd(U2 + i), &sn, &cs);
+        vd r = _mm512_mul_pd(rad, _mm512_sqrt_pd(_mm512_loadu_pd(U1 + i)));
+        for (int k = 0; k < 3; k++) {
+            vd side = _mm512_add_pd(_mm512_mul_pd(cs, vset(o->e1[k])), _mm512_mul_pd(sn, vset(o->e2[k])));
+            vd q = _mm512_add_pd(vset(o->p[k]), _mm512_mul_pd(r, side));
+            _mm512_storeu_pd(Q + k * stride + i, q);
+            e[k] = _mm512_sub_pd(q, p[k]);
+        }
+        vd dq2 = vdot(e[0], e[1], e[2], e[0], e[1], e[2]), dq = _mm512_sqrt_pd(dq2);
+        vd iq = _mm512_div_pd(vset(1), dq);
+        for (int k = 0; k < 3; k++) w[k] = _mm512_mul_pd(e[k], iq);
+        vd dn = vdot(on[0], on[1], on[2], w[0], w[1], w[2]), cl = _mm512_abs_pd(dn);
+        vd den = _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(cl, vset(M_PI)), rad), rad);
+        __mmask8 ok = _mm512_cmp_pd_mask(dq, zero, _CMP_GT_OQ) & _mm512_cmp_pd_mask(cl, zero, _CMP_GT_OQ);
+        vd pd = _mm512_maskz_mov_pd(ok, _mm512_div_pd(dq2, den));
+        /* a failed draw leaves the direction 0 (try_light's start) */
+        vd c = _mm512_maskz_mov_pd(_mm512_cmp_pd_mask(dq, zero, _CMP_GT_OQ),
+                                   vdot(n[0], n[1], n[2], w[0], w[1], w[2]));
+        __mmask8 sh = _mm512_cmp_pd_mask(pd, zero, _CMP_GT_OQ) & _mm512_cmp_pd_mask(c, zero, _CMP_GT_OQ) &
+                      _mm512_cmp_pd_mask(vneg(dn), zero, _CMP_NLE_UQ);
+        _mm512_storeu_pd(pdf + i, pd);
+        _mm512_storeu_pd(cr + i, c);
+        for (int l = 0; l < 8; l++) shadow[i + l] = sh >> l & 1;
+    }
+}
+
 /* hit_object (scene_geometry.c) on eight rays (org, d): t, or INFINITY */
 AVX512 __attribute__((always_inline)) static inline vd hit8(const scene_object *o, const vd org[3],
                                                             const vd d[3], vd tmin, vd tmax)
@@ -159,11 +203,6 @@ AVX512 __attribute__((always_inline)) static inline vd hit8(const scene_object *
         ok &= _mm512_cmp_pd_mask(vdot(h0, h1, h2, h0, h1, h2), vset(o->r2), _CMP_NGT_UQ);
     }
     return _mm512_mask_blend_pd(ok, inf, t);
-}
-
-AVX512 static inline void load3(const double *X, int stride, int i, vd v[3])
-{
-    for (int k = 0; k < 3; k++) v[k] = _mm512_loadu_pd(X + k * stride + i);
 }
 
 AVX512 void scene_simd_visible(const scene_t *s, int m, int stride, const double *A,
