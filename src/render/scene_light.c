@@ -234,33 +234,49 @@ static int pad8(double *X, int n)
     return n8;
 }
 
-/* The light samples of c points (try_light): the emitter drawn per point, then the
- * draws on each disk for all the points that chose it at once (scene_simd_disk_light),
- * the rest (spheres) point by point. */
-static void disk_samples(const scene_t *s, const scene_hit *h, const double *u, int c,
-                         const double *sel, const int *idx, size_t ne, const double *tot,
-                         light_try *L)
+/* Whether emitter o's light sample from p goes in the kernels' lanes: a disk, or a sphere
+ * seen from outside (sample_light's branches without a further branch). */
+static int in_lanes(const scene_object *o, const double p[3])
 {
-    int on_disk[64] = {0}, list[MANY];
+    if (o->kind == OBJ_DISK) return 1;
+    double c[3] = {o->p[0] - p[0], o->p[1] - p[1], o->p[2] - p[2]};
+    return o->kind == OBJ_SPHERE && dot3(c, c) > o->r2 * (1 + 1e-12);
+}
+
+/* The light samples of c points (try_light): the emitter drawn per point, then the
+ * draws on each disk or sphere for all the points that chose it at once
+ * (scene_simd_disk_light, scene_simd_sphere_light); points inside a sphere one by one. */
+static void light_samples(const scene_t *s, const scene_hit *h, const double *u, int c,
+                          const double *sel, const int *idx, size_t ne, const double *tot,
+                          light_try *L)
+{
+    int chosen[64] = {0}, list[MANY];
+    unsigned char lane[MANY];
     double P[3 * MANY], N[3 * MANY], U1[MANY], U2[MANY], Q[3 * MANY], pdf[MANY], cr[MANY];
     unsigned char sh[MANY];
     for (int i = 0; i < c; i++) {
+        lane[i] = 0;
         if (!choose_light(u[5 * i], sel + i, MANY, ne, tot[i], &L[i])) continue;
-        if (s->obj[idx[L[i].j]].kind == OBJ_DISK && L[i].P > 0) on_disk[L[i].j] = 1;
+        lane[i] = L[i].P > 0 && in_lanes(&s->obj[idx[L[i].j]], h[i].p);
+        if (lane[i]) chosen[L[i].j] = 1;
         else sample_chosen(s, h + i, u + 5 * i, idx, &L[i]);
     }
     for (size_t j = 0; j < ne; j++) {
-        if (!on_disk[j]) continue;
+        if (!chosen[j]) continue;
         int n = 0;
         for (int i = 0; i < c; i++) {
-            if (!(tot[i] > 0) || L[i].j != j || !(L[i].P > 0)) continue;
+            if (!lane[i] || L[i].j != j) continue;
             for (int k = 0; k < 3; k++) P[k * MANY + n] = h[i].p[k], N[k * MANY + n] = h[i].n[k];
             U1[n] = u[5 * i + 1], U2[n] = u[5 * i + 2];
             list[n++] = i;
         }
         for (int l = n; l < (n + 7) / 8 * 8; l++) U1[l] = U1[0], U2[l] = U2[0];
         pad8(P, n);
-        scene_simd_disk_light(&s->obj[idx[j]], pad8(N, n), MANY, P, N, U1, U2, Q, pdf, cr, sh);
+        const scene_object *o = &s->obj[idx[j]];
+        if (o->kind == OBJ_DISK)
+            scene_simd_disk_light(o, pad8(N, n), MANY, P, N, U1, U2, Q, pdf, cr, sh);
+        else
+            scene_simd_sphere_light(o, pad8(N, n), MANY, P, N, U1, U2, Q, pdf, cr, sh);
         for (int l = 0; l < n; l++) {
             light_try *Li = &L[list[l]];
             for (int k = 0; k < 3; k++) Li->q[k] = Q[k * MANY + l];
@@ -283,7 +299,7 @@ static void many_rays(const scene_t *s, const scene_hit *h, const double *u, int
         tot[i] = 0;
         for (size_t j = 0; j < ne; j++) tot[i] += sel[j * MANY + i];
     }
-    disk_samples(s, h, u, c, sel, idx, ne, tot, L);
+    light_samples(s, h, u, c, sel, idx, ne, tot, L);
     for (int i = 0; i < c; i++) {
         if (!L[i].shadow) continue;
         for (int k = 0; k < 3; k++) A[k * MANY + ns] = h[i].p[k], B[k * MANY + ns] = L[i].q[k];

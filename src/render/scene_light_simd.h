@@ -39,6 +39,12 @@ void scene_simd_disk_light(const scene_object *o, int m, int stride, const doubl
                            const double *N, const double *U1, const double *U2, double *Q,
                            double *pdf, double *cr, unsigned char *shadow);
 
+/* The same on sphere o from points outside it (d^2 > r^2 (1 + 1e-12)): a direction in
+ * the cone the sphere fills (sample_light's first branch). */
+void scene_simd_sphere_light(const scene_object *o, int m, int stride, const double *P,
+                             const double *N, const double *U1, const double *U2, double *Q,
+                             double *pdf, double *cr, unsigned char *shadow);
+
 /* scene_visible(s, A_i, B_i) for the m segments, into vis[i]. */
 void scene_simd_visible(const scene_t *s, int m, int stride, const double *A, const double *B,
                         unsigned char *vis);
