@@ -247,6 +247,89 @@ static void light_rays(const scene_t *sc, const scene_hit *hit, size_t nd, const
     free(w);
 }
 
+/* Seconds (best of 3) to draw n samples' five numbers as lens-render does, a pixel's run
+ * of spp at a time (ld_2d_run, ld_1d_run): pixel and pupil, and the light's three
+ * (select, light, BSDF), made into camera inputs in (x y u v and a sum kept alive);
+ * INFINITY without memory. */
+static double time_draws(size_t n, long spp, double sw, double sh, double *in)
+{
+    double *dr = malloc((n + spp) * 9 * sizeof *dr), t0, best = INFINITY;
+    ld_pixel key;
+    for (int rep = 0; dr && rep < 3; rep++, best = fmin(best, now() - t0))
+    for (size_t i = (t0 = now(), 0); i < n; i += spp) {
+        int run = n - i < (size_t)spp ? (int)(n - i) : (int)spp;
+        double *d = dr + 9 * i;
+        ld_pixel_init(&key, ld_pixel_key(1, i / spp));
+        ld_2d_run(&key, 0, spp, 0, run, d, 9);
+        ld_2d_run(&key, 1, spp, 0, run, d + 2, 9);
+        ld_1d_run(&key, 1, spp, 0, run, d + 4, 9);
+        ld_2d_run(&key, 2, spp, 0, run, d + 5, 9);
+        ld_2d_run(&key, 3, spp, 0, run, d + 7, 9);
+        for (int c = 0; c < run; c++) {
+            const double *e = d + 9 * c;
+            double *r = in + 5 * (i + c);
+            r[0] = (e[0] - 0.5) * sw, r[1] = (e[1] - 0.5) * sh, r[2] = e[2], r[3] = e[3];
+            r[4] = e[4] + e[5] + e[8];
+        }
+    }
+    free(dr);
+    return best;
+}
+
+/* Seconds (best of 3) for the camera rays (org, dir in the lens's frame; those with
+ * pdf > 0 that pass) to meet the scene in blocks of 512 samples, as lens-render: the
+ * rays near the lens together (scene_intersect_camera_many). The hits into hit, their
+ * count into nh; INFINITY without memory. */
+static double time_hits(const scene_t *sc, const scene_cull *cull, double rho, size_t n,
+                        const double *org, const double *dir, const double *pdf,
+                        const unsigned char *pass, scene_hit *hit, size_t *nh)
+{
+    double *os = malloc(512 * 3 * sizeof *os), *ds = malloc(512 * 3 * sizeof *ds), t0;
+    unsigned char *ok = malloc(512);
+    double best = INFINITY;
+    for (int rep = 0; os && ds && ok && rep < 3; rep++, best = fmin(best, now() - t0))
+    for (size_t i0 = (t0 = now(), *nh = 0); i0 < n; i0 += 512) {
+        size_t e = n - i0 < 512 ? n : i0 + 512, m = 0;
+        for (size_t i = i0; i < e; i++) {
+            if (!(pdf[i] > 0) || !pass[i]) continue;
+            render_lens_to_scene(org + 3 * i, os + 3 * m);
+            render_lens_to_scene(dir + 3 * i, ds + 3 * m);
+            const double *o = os + 3 * m;
+            if (o[0] * o[0] + o[1] * o[1] + o[2] * o[2] <= rho * rho) m++;
+            else *nh += scene_intersect(sc, o, ds + 3 * m, 1e-6, INFINITY, &hit[*nh]);
+        }
+        scene_intersect_camera_many(sc, cull, (int)m, os, ds, 1e-6, hit + *nh, ok);
+        for (size_t k = 0, h0 = *nh; k < m; k++)
+            if (ok[k]) hit[(*nh)++] = hit[h0 + k];
+    }
+    free(os), free(ds), free(ok);
+    return best;
+}
+
+/* Seconds (best of 3) for the direct light at the nd lit hits with uniforms u: the
+ * block's lit hits at once (scene_direct_mis_many over 512, as lens-render), and one
+ * point at a time (scene_direct_mis). */
+static void time_direct(const scene_t *sc, const scene_hit *hit, size_t nd, const double *u,
+                        double *t_block, double *t_one)
+{
+    scene_light_terms *lt = malloc(512 * sizeof *lt);
+    double t0, sink = 0;
+    *t_block = *t_one = INFINITY;
+    for (int rep = 0; lt && rep < 3; rep++, *t_block = fmin(*t_block, now() - t0))
+    for (size_t i = (t0 = now(), 0); i < nd; i += 512) {
+        int m = nd - i < 512 ? (int)(nd - i) : 512;
+        scene_direct_mis_many(sc, m, hit + i, u + 5 * i, lt);
+        sink += lt[0].n;
+    }
+    for (int rep = 0; lt && rep < 3; rep++, *t_one = fmin(*t_one, now() - t0))
+    for (size_t i = (t0 = now(), 0); i < nd; i++) {
+        scene_direct_mis(sc, &hit[i], u + 5 * i, lt);
+        sink += lt[0].n;
+    }
+    if (sink == 0.5) printf("#\n"); /* keep the loops */
+    free(lt);
+}
+
 /* ns per call of each shared part (see the head of the file), over n camera samples */
 static int shared_parts(const char *name, const char *path, size_t n)
 {
@@ -261,8 +344,6 @@ static int shared_parts(const char *name, const char *path, size_t n)
     double *in = malloc(n * 5 * sizeof *in), *pdf = malloc(n * sizeof *pdf);
     double *cam_in = malloc(n * 5 * sizeof *cam_in);
     scene_hit *hit = malloc(n * sizeof *hit);
-    double *dr = NULL, *os = NULL, *ds = NULL; /* the draws; a block's rays in the scene */
-    unsigned char *ok = NULL;
     int rc = 1;
     if (scene_load(path, &sc, &err)) {
         fprintf(stderr, "bench_render: %s\n", err.msg);
@@ -284,30 +365,11 @@ static int shared_parts(const char *name, const char *path, size_t n)
     cull = scene_cull_new(&sc, rho);
     const long spp = 16;
     double t0, t_ld, t_ps, t_cam, t_alb, t_mis, sink = 0;
-    /* the draws: pixel and pupil, and the light's three (select, light, BSDF) */
     ld_pixel key;
     /* each timed loop runs three times (the outer loop's step keeps the best) */
     t_ld = t_ps = t_cam = t_alb = t_mis = INFINITY;
-    /* as lens-render draws them: a pixel's run of samples (ld_2d_run, ld_1d_run) */
-    dr = malloc((n + spp) * 9 * sizeof *dr);
-    if (!dr) goto done;
-    for (int rep = 0; rep < 3; rep++, t_ld = fmin(t_ld, now() - t0))
-    for (size_t i = (t0 = now(), 0); i < n; i += spp) {
-        int run = n - i < (size_t)spp ? (int)(n - i) : (int)spp;
-        double *d = dr + 9 * i;
-        ld_pixel_init(&key, ld_pixel_key(1, i / spp));
-        ld_2d_run(&key, 0, spp, 0, run, d, 9);
-        ld_2d_run(&key, 1, spp, 0, run, d + 2, 9);
-        ld_1d_run(&key, 1, spp, 0, run, d + 4, 9);
-        ld_2d_run(&key, 2, spp, 0, run, d + 5, 9);
-        ld_2d_run(&key, 3, spp, 0, run, d + 7, 9);
-        for (int c = 0; c < run; c++) {
-            const double *e = d + 9 * c;
-            double *r = in + 5 * (i + c);
-            r[0] = (e[0] - 0.5) * sw, r[1] = (e[1] - 0.5) * sh, r[2] = e[2], r[3] = e[3];
-            r[4] = e[4] + e[5] + e[8];
-        }
-    }
+    t_ld = time_draws(n, spp, sw, sh, in);
+    if (!(t_ld < INFINITY)) goto done;
     for (int rep = 0; rep < 3; rep++, t_ps = fmin(t_ps, now() - t0))
     for (size_t i = (t0 = now(), 0); i < n; i++) {
         const double *r = in + 5 * i;
@@ -322,25 +384,8 @@ static int shared_parts(const char *name, const char *path, size_t n)
     unsigned char *pass = malloc(n);
     if (!org || !dir || !eta || !pass) goto done_rays;
     ce.map_batch(ce.ctx, n, cam_in, org, dir, eta, pass);
-    /* in blocks of 512 samples, as lens-render: the rays near the lens meet the scene
-     * together (scene_intersect_camera_many) */
-    os = malloc(512 * 3 * sizeof *os), ds = malloc(512 * 3 * sizeof *ds), ok = malloc(512);
-    if (!os || !ds || !ok) goto done_rays;
-    for (int rep = 0; rep < 3; rep++, t_cam = fmin(t_cam, now() - t0))
-    for (size_t i0 = (t0 = now(), nh = 0); i0 < n; i0 += 512) {
-        size_t e = n - i0 < 512 ? n : i0 + 512, m = 0;
-        for (size_t i = i0; i < e; i++) {
-            if (!(pdf[i] > 0) || !pass[i]) continue;
-            render_lens_to_scene(org + 3 * i, os + 3 * m);
-            render_lens_to_scene(dir + 3 * i, ds + 3 * m);
-            const double *o = os + 3 * m;
-            if (o[0] * o[0] + o[1] * o[1] + o[2] * o[2] <= rho * rho) m++;
-            else nh += scene_intersect(&sc, o, ds + 3 * m, 1e-6, INFINITY, &hit[nh]);
-        }
-        scene_intersect_camera_many(&sc, cull, (int)m, os, ds, 1e-6, hit + nh, ok);
-        for (size_t k = 0, h0 = nh; k < m; k++)
-            if (ok[k]) hit[nh++] = hit[h0 + k];
-    }
+    t_cam = time_hits(&sc, cull, rho, n, org, dir, pdf, pass, hit, &nh);
+    if (!(t_cam < INFINITY)) goto done_rays;
     for (int rep = 0; rep < 3; rep++, t_alb = fmin(t_alb, now() - t0))
     for (size_t i = (t0 = now(), 0); i < nh; i++) {
         double alb[3];
@@ -357,23 +402,8 @@ static int shared_parts(const char *name, const char *path, size_t n)
         u[0] = ld_1d_px(&key, 1, spp, i % spp), u[1] = l2[0], u[2] = l2[1], u[3] = b2[0], u[4] = b2[1];
         hit[nd++] = hit[i];
     }
-    /* the block's lit hits at once (scene_direct_mis_many, as lens-render), and one point
-     * at a time (scene_direct_mis) */
-    scene_light_terms *lt = malloc(512 * sizeof *lt);
-    if (!lt) goto done_rays;
-    double t_one = INFINITY;
-    for (int rep = 0; rep < 3; rep++, t_mis = fmin(t_mis, now() - t0))
-    for (size_t i = (t0 = now(), 0); i < nd; i += 512) {
-        int m = nd - i < 512 ? (int)(nd - i) : 512;
-        scene_direct_mis_many(&sc, m, hit + i, in + 5 * i, lt);
-        sink += lt[0].n;
-    }
-    for (int rep = 0; rep < 3; rep++, t_one = fmin(t_one, now() - t0))
-    for (size_t i = (t0 = now(), 0); i < nd; i++) {
-        scene_direct_mis(&sc, &hit[i], in + 5 * i, lt);
-        sink += lt[0].n;
-    }
-    free(lt);
+    double t_one;
+    time_direct(&sc, hit, nd, in, &t_mis, &t_one);
     if (sink == 42) printf("#\n");
     printf("bench render_shared_%s_draws_ns_per_sample %.1f ns\n", name, t_ld / n * 1e9);
     printf("bench render_shared_%s_line_pupil_ns_per_sample %.1f ns\n", name, t_ps / n * 1e9);
@@ -388,9 +418,9 @@ static int shared_parts(const char *name, const char *path, size_t n)
     printf("bench render_shared_%s_lit_share %.1f %%\n", name, 100.0 * nd / n);
     rc = 0;
 done_rays:
-    free(org), free(dir), free(eta), free(pass), free(os), free(ds), free(ok);
+    free(org), free(dir), free(eta), free(pass);
 done:
-    free(in), free(cam_in), free(pdf), free(hit), free(dr);
+    free(in), free(cam_in), free(pdf), free(hit);
     scene_cull_free(cull);
     render_sampler_free(&smp);
     render_lens_free(le);
