@@ -112,6 +112,9 @@ struct poly_system {
     int nin, nout;
     char **inputs, **outputs;
     double *offset, *scale, *lo, *hi;
+    double *inv_scale, *off_scaled; /* per input: 1 / scale and offset * (1 / scale), kept
+                                       by poly_set_scaling (poly_fast.c's scaling, a
+                                       multiply-add, without a divide per ray) */
     int ix, iy; /* inputs named x and y (part selection), -1 if absent */
     /* Around the polynomial core (poly_frame.c): a frame rotation of the inputs and
      * outputs, and per-input transforms. Both are off (POLY_FRAME_NONE, identity) in a
