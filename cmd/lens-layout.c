@@ -13,7 +13,7 @@ int main(int argc, char **argv)
     const char *operand[1];
     int nop = opt_parse(&layout_command, argc, argv, &o, operand, 1);
     imaging_cli_finish(prog, &o.im, operand, nop);
-    layout_request rq = {.rays = (int)o.rays, .png = o.im.png, .svg = o.svg, .width = o.width};
+    layout_request rq = {.rays = (int)o.rays, .full_stop = o.full_stop, .png = o.im.png, .svg = o.svg, .width = o.width};
     design_run r;
     design_run_begin(prog, &r, &o.im, &o.out, 0, "meridional section", &rq.set);
     rq.title = r.title;

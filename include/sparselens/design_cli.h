@@ -35,6 +35,7 @@ typedef struct {
 typedef struct {
     imaging_cli im;
     long rays;
+    int full_stop;
     const char *svg;
     int width;
     output_cli out;         /* --json, --precision */

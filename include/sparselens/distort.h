@@ -27,27 +27,23 @@ typedef struct {
  * image height per object height, positive for an inverted real image). */
 int distort_scale(const imaging *im, double lambda, double *scale, lens_err *err);
 
-/* Relative illumination from energy through the pupil: the transmitted flux of a
- * field's ray bundle (a grid of ris x ris rays across the beam, wider than the
- * entrance pupil, weighted by transmittance; for a finite object by solid angle and
- * Lambert's cosine) over the image area it lands on per unit of object (solid angle or
- * area, from the derivative of the chief-ray height), divided by the same on axis. The
- * cos^4 fall-off and vignetting both come out of the trace. A field whose chief ray
- * reaches no point of the sensor gets a row of nan with `why` set; the others are
- * computed (0 is returned all the same). */
+/* The distortion curve and, with ris > 0, the relative illumination
+ * (distort_illumination_irradiance, through the lens or the system alike). A field whose
+ * chief ray reaches no point of the sensor gets a row of nan with `why` set; the others
+ * are computed (0 is returned all the same). */
 int distort_curve(const imaging *im, double lambda, const double *field, int nf, int ris,
                   distort_row *rows, lens_err *err);
 
 /* Relative illumination as irradiance: for an object of uniform radiance, the integral
  * of P T cos^4(theta) du dv over every sensor direction that can pass, at the chief
  * ray's point of each row (x_real, h_real) over the same on the axis, on a grid of
- * 8 ris x 8 ris directions; through the system or the exact lens. By conservation of
- * etendue it is the flux ratio above (within 0.5% for dgauss.50mm; a fisheye's bundles
- * at large fields differ more), and it is the only one a system can give: inverting a
- * meridional system on its axis is exact only to its fit error (their ratio came out
- * at 2.4 near fisheye-ii's axis, -822 elsewhere). distort_curve uses it for a system;
- * lens-distort for every model when one is a system, so that the two rows compare
- * like with like. 0, or -1 when no light reaches the axis. */
+ * 8 ris x 8 ris directions traced forward from the sensor; through the system or the
+ * exact lens. It is the definition itself (radiance is conserved along each ray), so it
+ * holds where a beam does not land where its chief ray does: the flux of a field's beam
+ * over the image area of the chief-ray heights, the figure used before, was 16% low at
+ * 90 degrees on fisheye-ii. Nothing is inverted, which a system needs too (a meridional
+ * system is exact on its axis only to its fit error: an inverted figure came out at 2.4
+ * near fisheye-ii's axis). 0, or -1 when no light reaches the axis. */
 int distort_illumination_irradiance(const imaging *im, double lambda, int nf, int ris,
                                     distort_row *rows);
 

@@ -37,14 +37,21 @@ typedef struct {
     double system_diff;            /* largest sensor distance between the system's and the
                                       lens's rays, mm (NAN without a system) */
     double seconds[2];             /* imaging the rays: lens, system */
+    double span[IMAGING_MAX_FIELDS][2]; /* per field, the normalised stop points (py) the
+                                           rays were spread over, lowest and highest */
 } layout_drawing;
 
 /* Builds the drawing of model lens_im's lens, with nrays rays per field through the
  * stop's meridian at lambda, and the same rays through sys_im's system (may be NULL)
  * but for the fields f with sys_skip[f] set (sys_skip may be NULL: none; a field the
- * system cannot image). -1 with err set. */
+ * system cannot image). The rays are spread evenly over the part of the meridian whose
+ * rays reach the sensor (the vignetted bundle a designer draws: the run of passing stop
+ * points around the chief ray, its ends found to 1e-6 of the stop's radius), or with
+ * full_stop over the whole meridian, stopped rays drawn up to the surface that stops
+ * them. At most IMAGING_MAX_FIELDS fields. -1 with err set. */
 int layout_build(const imaging *lens_im, const imaging *sys_im, const unsigned char *sys_skip,
-                 const double *field, int nf, double lambda, int nrays, layout_drawing *d, lens_err *err);
+                 const double *field, int nf, double lambda, int nrays, int full_stop, layout_drawing *d,
+                 lens_err *err);
 void layout_free(layout_drawing *d);
 
 /* Writes the drawing: SVG in mm (y up on the page), or PNG width pixels wide. */

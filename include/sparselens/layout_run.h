@@ -11,6 +11,7 @@
 typedef struct {
     design_set set;
     int rays;            /* per field */
+    int full_stop;       /* rays over the whole stop, not only its passing part */
     const char *png, *svg;
     int width;           /* PNG pixels */
     const char *title;

@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sparselens/aim.h"
 #include "sparselens/paraxial.h"
 #include "sparselens/sampling.h"
 
@@ -43,164 +42,9 @@ int distort_scale(const imaging *im, double lambda, double *scale, lens_err *err
     return 0;
 }
 
-/* Unit vectors e1, e2 completing d to an orthonormal frame. */
-static void frame(const double d[3], double e1[3], double e2[3])
-{
-    double a[3] = {1, 0, 0};
-    double k = a[0] * d[0];
-    for (int i = 0; i < 3; i++)
-        e1[i] = a[i] - k * d[i];
-    double m = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-    for (int i = 0; i < 3; i++)
-        e1[i] /= m;
-    e2[0] = d[1] * e1[2] - d[2] * e1[1];
-    e2[1] = d[2] * e1[0] - d[0] * e1[2];
-    e2[2] = d[0] * e1[1] - d[1] * e1[0];
-}
-
 static double dot(const double a[3], const double b[3])
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-/* Transmitted flux of the bundle of field f per unit object measure (see distort.h). */
-static int bundle_flux(const imaging *im, const double *n, double lambda, double f, int ris,
-                       double *flux)
-{
-    const lens_t *l = im->lens;
-    lens_ray chief;
-    if (imaging_object_ray(im, n, f, 0, 0, &chief) != 0)
-        return -1;
-    int finite = !isinf(im->object_distance);
-    double d[3] = {chief.d[0], chief.d[1], chief.d[2]}, e1[3], e2[3];
-    frame(d, e1, e2);
-    double P[3] = {0, -f, -im->object_distance};
-    /* Extent of the beam: rays aimed at the rim of the stop (or further in, when the rim
-     * cannot be reached), in beam coordinates; then widened until no passing ray lies
-     * in the outer ring of the grid, so the whole transmitted bundle is counted. */
-    double stop = l->surf[l->stop].semi_diameter, ext = 0;
-    static const double fracs[3] = {0.999, 0.7, 0.4};
-    aim_object_start start;
-    if (imaging_aim_prepare(im, n, f, &start) != 0)
-        return -1;
-    for (int q = 0; q < 3 && !(ext > 0); q++)
-        for (int k = 0; k < 16; k++) {
-            double a = 2 * M_PI * k / 16, e;
-            lens_ray r;
-            if (aim_object_to(&start, fracs[q] * stop * cos(a), fracs[q] * stop * sin(a), &r) != 0)
-                continue;
-            if (finite) {
-                double c = dot(r.d, d);
-                if (!(c > 0.05))
-                    continue;
-                e = fmax(fabs(dot(r.d, e1) / c), fabs(dot(r.d, e2) / c));
-            } else {
-                double o[3] = {r.o[0] - chief.o[0], r.o[1] - chief.o[1], r.o[2] - chief.o[2]};
-                e = fmax(fabs(dot(o, e1)), fabs(dot(o, e2)));
-            }
-            ext = fmax(ext, e / fracs[q]);
-        }
-    if (!(ext > 0))
-        ext = finite ? stop / im->object_distance : stop;
-    ext *= 1.3;
-    /* object at infinity: start well in front of the lens on the chief ray */
-    double back = 2 * l->surf[0].semi_diameter + 10, sum = 0, cell = 0;
-    for (int attempt = 0; attempt < 6; attempt++) {
-        int border = 0;
-        size_t passed = 0;
-        cell = 2 * ext / ris;
-        sum = 0;
-#pragma omp parallel for collapse(2) reduction(+ : sum, passed) reduction(| : border) schedule(static)
-        for (int i = 0; i < ris; i++)
-            for (int j = 0; j < ris; j++) {
-                double a = -ext + (i + 0.5) * cell, b = -ext + (j + 0.5) * cell, s[4], eta, w;
-                lens_ray r;
-                if (finite) {
-                    double q = 1 + a * a + b * b;
-                    for (int k = 0; k < 3; k++)
-                        r.o[k] = P[k], r.d[k] = (d[k] + a * e1[k] + b * e2[k]) / sqrt(q);
-                    w = r.d[2] / (q * sqrt(q)); /* Lambert cosine x solid angle per da db */
-                } else {
-                    for (int k = 0; k < 3; k++)
-                        r.o[k] = chief.o[k] - back * d[k] + a * e1[k] + b * e2[k], r.d[k] = d[k];
-                    w = 1;
-                }
-                if (imaging_trace(im, n, lambda, &r, NULL, s, &eta)) {
-                    sum += w * eta;
-                    passed++;
-                    border |= i == 0 || j == 0 || i == ris - 1 || j == ris - 1;
-                }
-            }
-        if (border)
-            ext *= 2;
-        else if (passed > 0 && passed < (size_t)(ris * ris) / 16)
-            ext *= 0.5; /* resolve a small bundle with more rays */
-        else
-            break;
-    }
-    *flux = sum * cell * cell;
-    return 0;
-}
-
-static int chief_height(const imaging *im, const double *n, double lambda, double f, double *h)
-{
-    double s[4];
-    if (imaging_chief(im, n, lambda, f, s, NULL) != 0)
-        return -1;
-    *h = s[1];
-    return 0;
-}
-
-/* The chief ray's height at field f, continued to f < 0 by the lens's symmetry. */
-static int chief_height_signed(const imaging *im, const double *n, double lambda, double f,
-                               double *h)
-{
-    int rc = chief_height(im, n, lambda, fabs(f), h);
-    if (f < 0)
-        *h = -*h;
-    return rc;
-}
-
-/* The central difference of the chief ray's height over +-s at field f, per radian or
- * per mm of object; -1 when a chief ray on either side fails. */
-static int height_slope(const imaging *im, const double *n, double lambda, double f, double s,
-                        double toang, double *d)
-{
-    double hp, hm;
-    if (chief_height_signed(im, n, lambda, f + s, &hp) != 0 ||
-        chief_height_signed(im, n, lambda, f - s, &hm) != 0)
-        return -1;
-    *d = (hp - hm) / (2 * s * toang);
-    return 0;
-}
-
-/* Image area per unit object measure at field f: h h' / sin(theta) per steradian
- * (infinity) or h h' / H per unit area (finite), h'^2 on the axis. h' is a central
- * difference over steps that move the image by about 0.1 mm (scale: mm of image per
- * radian or per mm of object), extrapolated (Richardson: 4 D(s) - D(2s), over 3) so
- * that its truncation error is of fourth order; at the edge of what the lens images,
- * shorter steps. Steps of 1e-4 of that once made a system's h' as wrong as the
- * system's image of the axis is (its meridional frame makes it exact there only to its
- * fit error): relative illumination of 2.4 near the axis of fisheye-ii, -822 elsewhere. */
-static int area_ratio(const imaging *im, const double *n, double lambda, double f, double scale,
-                      double *J)
-{
-    int finite = !isinf(im->object_distance);
-    double toang = finite ? 1 : M_PI / 180;
-    double step = 0.1 / fmax(fabs(scale), 1e-9) / toang, h0, d1, d2, deriv;
-    if (chief_height(im, n, lambda, f, &h0) != 0)
-        return -1;
-    if (height_slope(im, n, lambda, f, step, toang, &d1) == 0)
-        deriv = height_slope(im, n, lambda, f, 2 * step, toang, &d2) == 0 ? (4 * d1 - d2) / 3 : d1;
-    else if (height_slope(im, n, lambda, f, step / 16, toang, &d1) == 0)
-        deriv = d1;
-    else
-        return -1;
-    if (f == 0)
-        *J = deriv * deriv;
-    else
-        *J = h0 * deriv / (finite ? f : sin(f * toang));
-    return 0;
 }
 
 /* The irradiance at sensor point (x, y) of the shifted plane for an object of uniform
@@ -226,17 +70,22 @@ static double irradiance(const imaging *im, double lambda, double x, double y, i
     double D = lens_total_track(lens) + im->sensor_shift - lens->vertex_z[lens->nsurf - 1];
     double rd = full_disc_radius(lens, hypot(x, y) + fabs(im->sensor_shift)) / D;
     double h = 2 * rd / m, dz = im->sensor_shift, sum = 0;
-    size_t cap = (size_t)m * m, n = 0;
-    double *in = calloc(cap * (size_t)nin, sizeof *in), *out = malloc(cap * (size_t)nout * sizeof *out);
-    unsigned char *pass = malloc(cap);
+    /* the directions go through in chunks, so that memory stays bounded at any m */
+    enum { CHUNK = 16384 };
+    /* a system's rows hold out_eta alone (the pass test needs no stored output) */
+    const int ncol = sys ? ieta >= 0 : nout, icol = sys ? 0 : 4;
+    double *in = calloc((size_t)CHUNK * (size_t)nin, sizeof *in);
+    double *out = malloc((size_t)CHUNK * (size_t)(ncol ? ncol : 1) * sizeof *out);
+    unsigned char *pass = malloc(CHUNK);
     lens_err err;
     if (!in || !out || !pass) {
         free(in), free(out), free(pass);
         return NAN;
     }
-    for (int i = 0; i < m; i++)
-        for (int j = 0; j < m; j++) {
-            double du = -rd + (i + 0.5) * h, dv = -rd + (j + 0.5) * h;
+    for (long cell = 0, total = (long)m * m; cell < total;) {
+        size_t n = 0;
+        for (; cell < total && n < CHUNK; cell++) {
+            double du = -rd + (cell / m + 0.5) * h, dv = -rd + (cell % m + 0.5) * h;
             if (du * du + dv * dv > rd * rd)
                 continue;
             double u = -x / D + du, v = -y / D + dv, *row = in + n++ * (size_t)nin;
@@ -246,18 +95,17 @@ static double irradiance(const imaging *im, double lambda, double x, double y, i
             if (il >= 0)
                 row[il] = lambda;
         }
-    /* a system's rows hold out_eta alone (the pass test needs no stored output) */
-    const int ncol = sys ? ieta >= 0 : nout, icol = sys ? 0 : 4;
-    if (sys)
-        poly_eval_batch_outputs(sys, n, in, ncol, &ieta, out, pass);
-    else if (trace_batch(lens, TRACE_TO_OUTER, n, in, out, NULL, 0, &err) != 0)
-        n = 0;
-    for (size_t k = 0; k < n; k++) {
-        const double *row = in + k * (size_t)nin, *o = out + k * (size_t)ncol;
-        double q = 1 + row[iu] * row[iu] + row[iv] * row[iv];
-        double eta = sys ? (pass[k] ? (ieta >= 0 ? fmin(fmax(o[icol], 0), 1) : 1) : 0)
-                         : (o[icol] > 0 ? o[icol] : 0);
-        sum += eta / (q * q);
+        if (sys)
+            poly_eval_batch_outputs(sys, n, in, ncol, &ieta, out, pass);
+        else if (trace_batch(lens, TRACE_TO_OUTER, n, in, out, NULL, 0, &err) != 0)
+            n = 0;
+        for (size_t k = 0; k < n; k++) {
+            const double *row = in + k * (size_t)nin, *o = out + k * (size_t)ncol;
+            double q = 1 + row[iu] * row[iu] + row[iv] * row[iv];
+            double eta = sys ? (pass[k] ? (ieta >= 0 ? fmin(fmax(o[icol], 0), 1) : 1) : 0)
+                             : (o[icol] > 0 ? o[icol] : 0);
+            sum += eta / (q * q);
+        }
     }
     free(in), free(out), free(pass);
     return sum * h * h;
@@ -290,12 +138,6 @@ int distort_curve(const imaging *im, double lambda, const double *field, int nf,
         return -1;
     }
     int finite = !isinf(im->object_distance), rc = -1;
-    double flux0 = NAN, J0 = NAN;
-    if (ris > 0 && !im->sys && (bundle_flux(im, n, lambda, 0, ris, &flux0) != 0 ||
-                                area_ratio(im, n, lambda, 0, scale, &J0) != 0)) {
-        lens_errf(err, NULL, 0, "the axial bundle does not reach the sensor");
-        goto out;
-    }
     for (int i = 0; i < nf; i++) {
         distort_row *r = &rows[i];
         double f = field[i], s[4];
@@ -327,14 +169,10 @@ int distort_curve(const imaging *im, double lambda, const double *field, int nf,
             r->map_pct[k] = f == 0 && !finite ? 0 : 100 * (r->h_real - hi) / hi;
         }
         r->rel_illum = NAN;
-        double flux, J;
-        if (ris > 0 && !im->sys && bundle_flux(im, n, lambda, f, ris, &flux) == 0 &&
-            area_ratio(im, n, lambda, f, scale, &J) == 0 && J > 0)
-            r->rel_illum = (flux / J) / (flux0 / J0);
     }
-    /* through a system, its own irradiance at the chief ray's point over the axis's */
-    if (ris > 0 && im->sys && distort_illumination_irradiance(im, lambda, nf, ris, rows) != 0) {
-        lens_errf(err, NULL, 0, "the system passes no light on the axis");
+    if (ris > 0 && distort_illumination_irradiance(im, lambda, nf, ris, rows) != 0) {
+        lens_errf(err, NULL, 0, im->sys ? "the system passes no light on the axis"
+                                        : "no light reaches the axis of the sensor");
         goto out;
     }
     rc = 0;

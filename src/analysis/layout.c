@@ -180,8 +180,83 @@ static void extent(layout_drawing *d)
         }
 }
 
+/* 1 when bundle ray i reaches the sensor (the test add_rays draws by); pts holds 3 doubles
+ * a surface. */
+static int reaches_sensor(const lens_t *lens, const ray_bundle *b, size_t i, double *pts)
+{
+    if (!b->aimed[i])
+        return 0;
+    lens_ray r = b->ray[i];
+    int clip, k = ray_path(lens, b->n, &r, pts, NULL, &clip);
+    return k == (int)lens->nsurf && r.d[2] > 0;
+}
+
+enum { SCAN = 65, EDGE_STEPS = 16 }; /* 2 / 64 / 2^16: an end to 5e-7 of the stop radius */
+
+/* The end of the passing run between stop point `in` (passes) and `out` (stopped), by
+ * bisection: the last passing point found. */
+static int refine_end(const imaging *im, double field, double lambda, double in, double out, double *pts,
+                      double *end, lens_err *err)
+{
+    for (int it = 0; it < EDGE_STEPS; it++) {
+        double mid = 0.5 * (in + out), p[2] = {0, mid};
+        ray_bundle b;
+        if (bundle_aim(im, field, lambda, p, 1, &b, err) != 0)
+            return -1;
+        int ok = reaches_sensor(im->lens, &b, 0, pts);
+        bundle_free(&b);
+        *(ok ? &in : &out) = mid;
+    }
+    *end = in;
+    return 0;
+}
+
+/* The meridian's passing part for one field: the run of stop points whose rays reach the
+ * sensor around the chief ray (the longest run when the chief ray is stopped), as
+ * [lowest, highest] normalised py; the whole meridian when no point passes, so that the
+ * drawing still shows where the rays stop. A designer's layout shows the bundle that
+ * forms the image; rays across the whole stop of a vignetted field mostly end on barrels
+ * (dgauss.50mm at its full field: 10 of 20). */
+static int passing_span(const imaging *im, double field, double lambda, double *pts, double span[2],
+                        lens_err *err)
+{
+    double pupil[2 * SCAN];
+    for (int i = 0; i < SCAN; i++)
+        pupil[2 * i] = 0, pupil[2 * i + 1] = -1 + 2.0 * i / (SCAN - 1);
+    ray_bundle b;
+    if (bundle_aim(im, field, lambda, pupil, SCAN, &b, err) != 0)
+        return -1;
+    int pass[SCAN];
+    for (int i = 0; i < SCAN; i++)
+        pass[i] = reaches_sensor(im->lens, &b, (size_t)i, pts);
+    bundle_free(&b);
+    int lo = -1, hi = -1;
+    for (int i = 0; i < SCAN; i++) {
+        if (!pass[i] || (i > 0 && pass[i - 1]))
+            continue;
+        int j = i;
+        while (j + 1 < SCAN && pass[j + 1])
+            j++;
+        int chief = i <= SCAN / 2 && SCAN / 2 <= j;
+        if (lo < 0 || chief || (!(lo <= SCAN / 2 && SCAN / 2 <= hi) && j - i > hi - lo))
+            lo = i, hi = j;
+        if (chief)
+            break;
+    }
+    span[0] = -1, span[1] = 1;
+    if (lo < 0)
+        return 0;
+    if (lo > 0 && refine_end(im, field, lambda, pupil[2 * lo + 1], pupil[2 * lo - 1], pts, &span[0], err) != 0)
+        return -1;
+    if (hi < SCAN - 1 &&
+        refine_end(im, field, lambda, pupil[2 * hi + 1], pupil[2 * hi + 3], pts, &span[1], err) != 0)
+        return -1;
+    return 0;
+}
+
 int layout_build(const imaging *lens_im, const imaging *sys_im, const unsigned char *sys_skip,
-                 const double *field, int nf, double lambda, int nrays, layout_drawing *d, lens_err *err)
+                 const double *field, int nf, double lambda, int nrays, int full_stop, layout_drawing *d,
+                 lens_err *err)
 {
     memset(d, 0, sizeof *d);
     d->nfields = nf, d->field = field, d->finite = isfinite(lens_im->object_distance);
@@ -195,17 +270,34 @@ int layout_build(const imaging *lens_im, const imaging *sys_im, const unsigned c
     /* the plane the rays end on: the file's, moved to the focus asked for */
     if (add_lens(d, lens, track + lens_im->sensor_shift, half) != 0)
         goto oom;
+    if (nf > IMAGING_MAX_FIELDS) {
+        layout_free(d);
+        lens_errf(err, NULL, 0, "%d fields: a layout draws at most %d", nf, IMAGING_MAX_FIELDS);
+        return -1;
+    }
     double *pupil = malloc(sizeof(double) * 2 * (size_t)nrays);
-    if (!pupil)
+    double *pts = malloc(sizeof(double) * 3 * lens->nsurf);
+    if (!pupil || !pts) {
+        free(pupil), free(pts);
         goto oom;
-    for (int i = 0; i < nrays; i++)
-        pupil[2 * i] = 0, pupil[2 * i + 1] = nrays > 1 ? -1 + 2.0 * i / (nrays - 1) : 0;
+    }
     /* object-space rays are drawn over a third of the track */
     double lead = 0.3 * track;
     for (int f = 0; f < nf; f++) {
+        double *span = d->span[f];
+        span[0] = -1, span[1] = 1;
+        if (!full_stop && passing_span(lens_im, field[f], lambda, pts, span, err) != 0) {
+            free(pupil), free(pts);
+            layout_free(d);
+            return -1;
+        }
+        for (int i = 0; i < nrays; i++)
+            pupil[2 * i] = 0, pupil[2 * i + 1] = nrays > 1 ? span[0] + (span[1] - span[0]) * i / (nrays - 1)
+                                                 : span[0] <= 0 && 0 <= span[1] ? 0
+                                                                                : 0.5 * (span[0] + span[1]);
         ray_bundle b;
         if (bundle_aim(lens_im, field[f], lambda, pupil, (size_t)nrays, &b, err) != 0) {
-            free(pupil);
+            free(pupil), free(pts);
             layout_free(d);
             return -1;
         }
@@ -214,7 +306,7 @@ int layout_build(const imaging *lens_im, const imaging *sys_im, const unsigned c
             double chief[4];
             if (bundle_chief(sys_im, field[f], lambda, chief, err) != 0) {
                 bundle_free(&b);
-                free(pupil);
+                free(pupil), free(pts);
                 layout_free(d);
                 return -1;
             }
@@ -224,11 +316,11 @@ int layout_build(const imaging *lens_im, const imaging *sys_im, const unsigned c
         }
         bundle_free(&b);
         if (rc != 0) {
-            free(pupil);
+            free(pupil), free(pts);
             goto oom;
         }
     }
-    free(pupil);
+    free(pupil), free(pts);
     /* the sensor line reaches the highest image drawn */
     for (int i = 0; i < d->nlines; i++)
         if (d->line[i].kind == LAYOUT_SENSOR)

@@ -104,7 +104,11 @@ void mtf_cli_default(mtf_cli *o)
 
 static const opt_spec layout_table[] = {
     {0, "rays", "N", OPT_INT, OPT_AT(layout_cli, rays), .lo = 1, .hi = 1001,
-     .help = "rays per field across the meridional section of the stop", .def = "7"},
+     .help = "rays per field, spread evenly over the part of the stop's meridian whose rays "
+             "reach the sensor", .def = "7"},
+    {0, "full-stop", NULL, OPT_FLAG, OPT_AT(layout_cli, full_stop),
+     .help = "spread the rays over the whole meridian of the stop instead, vignetted ones too "
+             "(drawn up to the surface that stops them)"},
     {0, "svg", "FILE", OPT_STRING, OPT_AT(layout_cli, svg), .help = "the picture as SVG",
      .man =
      "Exact coordinates in mm (one SVG unit per micrometre); readable and editable as text.\n"},

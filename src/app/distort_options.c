@@ -26,10 +26,10 @@ static const opt_spec distort_table[] = {
      .def = "11 fields up to the largest"},
     {0, "wavelengths", "LIST", OPT_STRING, OPT_AT(distort_cli, im.wavelengths),
      .help = "um values or Fraunhofer names; the middle one is used", .def = "d"},
-    {0, "illum-rays", "N", OPT_INT, OPT_AT(distort_cli, illum_rays), .lo = 0, .hi = 2000,
-     .help = "rays across a bundle for relative illumination; 0 skips it", .def = "32",
+    {0, "illum-rays", "N", OPT_INT, OPT_AT(distort_cli, illum_rays), .lo = 0, .hi = 512,
+     .help = "relative illumination from 8N x 8N sensor directions a field; 0 skips it", .def = "32",
      .man =
-     "N x N rays per field; 0 also drops the column.\n"},
+     "The directions span the disc that can pass (about 0.8 of the square); 0 also drops the column.\n"},
     {0, "grid", "N", OPT_INT, OPT_AT(distort_cli, grid), .lo = 2, .hi = 501,
      .help = "grid map points per side", .def = "17"},
     {0, "mapping", NULL, OPT_CHOICE, OPT_AT(distort_cli, mapping), .choices = mappings,

@@ -53,16 +53,6 @@ int distort_run(const distort_request *rq, distort_report *rep, lens_err *err)
             run_error_model(err, m, rq->model_names[m]);
             goto fail;
         }
-    /* with a system among the models, every model's relative illumination by the one
-     * method a system allows (distort.h), so that the rows compare like with like */
-    for (int m = 0; m < nm && rq->illum_rays > 0 && (im[0].sys || (nm > 1 && im[1].sys)); m++)
-        if (!im[m].sys &&
-            distort_illumination_irradiance(&im[m], rq->lambda, nf, rq->illum_rays,
-                                            rep->rows + m * nf) != 0) {
-            lens_errf(err, NULL, 0, "no light reaches the axis");
-            run_error_model(err, m, rq->model_names[m]);
-            goto fail;
-        }
     for (int i = 0; i < nm * nf; i++)
         rep->not_imaged += rep->rows[i].why[0] != 0;
     rep->mapping = PROJ_RECTILINEAR;

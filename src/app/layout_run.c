@@ -51,8 +51,8 @@ int layout_run(layout_request *rq, table_out *out, lens_err *err)
                 sys_skip[f] = 1;
         }
     layout_drawing d;
-    if (layout_build(&lens_im, sys_im, sys_skip, ds->field, ds->nfields, ds->lambda[ds->primary], rq->rays, &d,
-                     err) != 0)
+    if (layout_build(&lens_im, sys_im, sys_skip, ds->field, ds->nfields, ds->lambda[ds->primary], rq->rays,
+                     rq->full_stop, &d, err) != 0)
         return -1;
     d.title = rq->title;
     print_surfaces(out, lens_im.lens);

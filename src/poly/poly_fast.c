@@ -22,6 +22,13 @@
  * frame, transforms and scaling of the active inputs, the rotation back and the pass
  * test inline: 5-7 ns a ray less than through poly_frame_in and the core).
  *
+ * One ray's work is longer than the processor's window of instructions in flight, so
+ * the chain from the inputs to the first power tables is not hidden by the previous
+ * ray's chunks: the rotation takes u' = (x u + y v) / r, its products made while the
+ * root and the divide run, and the scaling is one multiply-add (5-6 ns a ray of the
+ * 5-output fit; the scaled values agree with the plan's to rounding). The power tables
+ * square s as vectors and skip s^8 .. s^15 of a variable whose exponents stay below 8.
+ *
  * A term that is inf or nan makes its output non-finite as in the plan (padded lanes
  * take the power 0 of every variable, 1, times 0); a ray with an output that is not
  * finite is evaluated again by the plan's interpreter all the same, so that such a ray
@@ -55,6 +62,7 @@
 struct poly_fast {
     int nin, nout, nact;
     int act[FAST_MAXACT]; /* the inputs some term has an exponent of, the most used first */
+    int maxe[FAST_MAXACT]; /* their highest exponents */
     int nopt;             /* the last nopt of them are optional: a chunk's "kind" (bit j:
                              it has optional variable j) says which it multiplies by */
     int *kcount;          /* nout x FAST_KINDS: output o's chunks of each kind, in turn */
@@ -76,7 +84,7 @@ void poly_fast_free(poly_fast *f)
  * exponent is too high. */
 static int fast_active(poly_fast *f, const poly_out_terms *sums)
 {
-    int used[POLY_MAX_INPUTS] = {0};
+    int used[POLY_MAX_INPUTS] = {0}, maxe[POLY_MAX_INPUTS] = {0};
     for (int o = 0; o < f->nout; o++)
         for (int t = 0; t < sums[o].nterms; t++)
             for (int i = 0; i < f->nin; i++) {
@@ -84,6 +92,7 @@ static int fast_active(poly_fast *f, const poly_out_terms *sums)
                 if (e < 0 || e > FAST_MAXEXP)
                     return -1;
                 used[i] += e > 0;
+                maxe[i] = e > maxe[i] ? e : maxe[i];
             }
     f->nact = 0;
     for (int i = 0; i < f->nin; i++)
@@ -95,6 +104,8 @@ static int fast_active(poly_fast *f, const poly_out_terms *sums)
                 f->act[k] = f->act[k - 1];
             f->act[k] = i;
         }
+    for (int k = 0; k < f->nact; k++)
+        f->maxe[k] = maxe[f->act[k]];
     f->nopt = f->nact > FAST_MAXOPT ? FAST_MAXOPT : f->nact - 1;
     return 0;
 }
@@ -183,15 +194,20 @@ poly_fast *poly_fast_build(int nin, int nout, const poly_out_terms *sums)
 #if defined(FAST_X86)
 #define FAST_TARGET __attribute__((target("avx512f,fma")))
 
-/* s^0 .. s^7 in lo and s^8 .. s^15 in hi: lane k of lo is (1|s) * (1|s^2) * (1|s^4) by
- * the bits of k, as masked multiplies of the broadcast powers. */
-FAST_TARGET static inline void fast_powers(double s, __m512d *lo, __m512d *hi)
+/* s^0 .. s^7 in lo and s^8 .. s^15 in hi (hi = lo when no exponent passes 7): lane k
+ * of lo is (1|s) * (1|s^2) * (1|s^4) by the bits of k, as masked multiplies of the
+ * broadcast powers. Those powers are multiplied as vectors (the broadcast of s a load):
+ * the compiler would otherwise square s alone and broadcast each power, a shuffle
+ * apiece on the port the chunks' permutes need. */
+FAST_TARGET static inline void fast_powers(const double *s, int high, __m512d *lo, __m512d *hi)
 {
-    const __m512d b = _mm512_set1_pd(s), b2 = _mm512_mul_pd(b, b), b4 = _mm512_mul_pd(b2, b2);
+    __m512d b = _mm512_set1_pd(*s);
+    __asm__("" : "+v"(b)); /* opaque: b * b stays a vector multiply */
+    const __m512d b2 = _mm512_mul_pd(b, b), b4 = _mm512_mul_pd(b2, b2);
     __m512d p = _mm512_mask_blend_pd(0xaa, _mm512_set1_pd(1), b);
     p = _mm512_mask_mul_pd(p, 0xcc, p, b2);
     *lo = _mm512_mask_mul_pd(p, 0xf0, p, b4);
-    *hi = _mm512_mul_pd(*lo, _mm512_mul_pd(b4, b4));
+    *hi = high ? _mm512_mul_pd(*lo, _mm512_mul_pd(b4, b4)) : *lo;
 }
 
 /* The factors' product of one chunk of kind KIND (NA active variables, NO optional). */
@@ -233,7 +249,7 @@ fast_sums(const int NA, const poly_fast *f, const double *sc, double *out)
     __m512d lo[FAST_MAXACT], hi[FAST_MAXACT];
 #pragma GCC unroll 6
     for (int k = 0; k < NA; k++)
-        fast_powers(sc[k], &lo[k], &hi[k]);
+        fast_powers(sc + k, f->maxe[k] > 7, &lo[k], &hi[k]);
     const int64_t *ix = f->idx;
     const double *cf = f->coef;
     const int *kc = f->kcount;
@@ -303,21 +319,32 @@ static inline int fast_finite(const poly_fast *f, const double *out)
 FAST_TARGET static int fast_eval(const poly_fast *f, const poly_system *s, const double *in,
                                  double *out)
 {
-    double t[FAST_MAXACT], r = 0, c = 1, sn = 0;
-    const int mer = s->frame == POLY_FRAME_MERIDIONAL;
-    if (mer)
-        poly_frame_angle(in[s->ix], in[s->iy], &r, &c, &sn);
+    double t[FAST_MAXACT], r = 0, ir = 0, c = 1, sn = 0, pu = 0, pv = 0;
+    const int mer = s->frame == POLY_FRAME_MERIDIONAL, rot = mer && s->iu >= 0 && s->iv >= 0;
+    if (mer) {
+        const double x = in[s->ix], y = in[s->iy];
+        poly_frame_angle(x, y, &r, &c, &sn);
+        ir = 1 / r;
+        if (rot) { /* r u' and r v': computed while the root and the divide run */
+            const double u = in[s->iu], v = in[s->iv];
+            pu = x * u + y * v;
+            pv = x * v - y * u;
+        }
+    }
+    /* (v - offset) / scale as v / scale - offset / scale: one multiply-add after v */
     for (int k = 0; k < f->nact; k++) {
         const int i = f->act[k];
+        const double inv = 1 / s->scale[i], off = s->offset[i] * inv;
         double v = in[i];
         if (mer && (i == s->ix || i == s->iy))
             v = i == s->ix ? r : 0;
-        else if (mer && (i == s->iu || i == s->iv))
-            v = i == s->iu ? c * in[s->iu] + sn * in[s->iv] : c * in[s->iv] - sn * in[s->iu];
+        else if (rot && (i == s->iu || i == s->iv) && r > 0) { /* on the axis c = 1, s = 0 */
+            t[k] = fma((i == s->iu ? pu : pv) * inv, ir, -off);
+            continue;
+        }
         if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE)
             v = 1 / (v * v);
-        t[k] = v;
-        poly_scale_column(s, i, &t[k], 1);
+        t[k] = fma(v, inv, -off);
     }
     fast_dispatch(f, t, out);
     if (!fast_finite(f, out))

@@ -24,6 +24,8 @@
 #include <time.h>
 
 #include "render/render_samples.h"
+#include "render/scene_camera_block.h"
+#include "render/scene_light_block.h"
 #include "sparselens/glass.h"
 #include "sparselens/render_spectrum.h"
 #include "sparselens/trace.h"
@@ -81,11 +83,22 @@ static double colour_at(const scene_t *sc, const wave_set *w, int j, const doubl
     return render_rgb_spectrum(rgb, w->lambda[j]);
 }
 
+/* What a camera ray's hit needs from the scene before its radiance: an emitter's is
+ * known at once; a lit surface's albedo, and its direct light, which the block's lit hits
+ * get together (scene_direct_mis_many). Returns 1 for a surface that needs direct light. */
+static int hit_albedo(const scene_t *sc, const scene_hit *h, double alb[3])
+{
+    if (scene_is_emitter(&sc->obj[h->obj])) return 0;
+    scene_albedo(sc, h->obj, h->p, alb);
+    return !(alb[0] <= 0 && alb[1] <= 0 && alb[2] <= 0);
+}
+
 /* Radiance leaving the scene along the camera ray (o, d) (scene frame), at the
- * wavelengths j0 .. j1-1 of w, into L[j]; u: the sample's uniforms for direct light
- * (selection, light 2, BSDF 2). */
+ * wavelengths j0 .. j1-1 of w, into L[j]: an emitter's, or a lit surface's albedo alb
+ * times its direct light terms t (NULL: an unlit surface, 0). */
 static void scene_radiance(const scene_t *sc, const wave_set *w, int j0, int j1,
-                           const scene_hit *h, const double d[3], const double u[5], double *L)
+                           const scene_hit *h, const double d[3], const double alb[3],
+                           const scene_light_terms *t, double *L)
 {
     const scene_object *ob = &sc->obj[h->obj];
     for (int j = j0; j < j1; j++) L[j] = 0;
@@ -95,14 +108,16 @@ static void scene_radiance(const scene_t *sc, const wave_set *w, int j0, int j1,
             for (int j = j0; j < j1; j++) L[j] = colour_at(sc, w, j, le);
         return;
     }
-    double alb[3];
-    scene_albedo(sc, h->obj, h->p, alb);
-    if (alb[0] <= 0 && alb[1] <= 0 && alb[2] <= 0) return;
-    scene_light_terms t;
-    scene_direct_mis(sc, h, u, &t);
-    for (int i = 0; i < t.n; i++)
+    if (!t) return;
+    if (sc->mode == SCENE_RGB) { /* colour_at is rgb[j]: the mode's test out of the loops */
+        for (int i = 0; i < t->n; i++)
+            for (int j = j0; j < j1; j++) L[j] += t->w[i] * sc->obj[t->emitter[i]].emit[j];
+        for (int j = j0; j < j1; j++) L[j] *= alb[j];
+        return;
+    }
+    for (int i = 0; i < t->n; i++)
         for (int j = j0; j < j1; j++)
-            L[j] += t.w[i] * colour_at(sc, w, j, sc->obj[t.emitter[i]].emit);
+            L[j] += t->w[i] * colour_at(sc, w, j, sc->obj[t->emitter[i]].emit);
     for (int j = j0; j < j1; j++) L[j] *= colour_at(sc, w, j, alb);
 }
 
@@ -122,6 +137,18 @@ typedef struct {
     double draw[BLOCK * DRAWS];
     int px[BLOCK];  /* each sample's pixel (column of the row) */
     long k[BLOCK];  /* and its index among the pixel's spp */
+    /* per row: its weight, scene-frame direction, hit (hit[r].obj < 0: none), albedo, and
+     * its place among the lit hits (-1: none), whose hits, uniforms and terms follow */
+    double wt[BLOCK * MAX_WAVE], ds[BLOCK * MAX_WAVE * 3], alb[BLOCK * MAX_WAVE * 3];
+    /* the rays from near the lens: origins, directions, rows, hits */
+    double os[BLOCK * MAX_WAVE * 3], near_d[BLOCK * MAX_WAVE * 3];
+    int near_of[BLOCK * MAX_WAVE];
+    scene_hit near_hit[BLOCK * MAX_WAVE];
+    unsigned char near_ok[BLOCK * MAX_WAVE];
+    scene_hit hit[BLOCK * MAX_WAVE], lit_hit[BLOCK * MAX_WAVE];
+    int lit_of[BLOCK * MAX_WAVE];
+    double lit_u[BLOCK * MAX_WAVE * 5];
+    scene_light_terms lit_t[BLOCK * MAX_WAVE];
 } block_buf;
 
 /* Per pixel: the sums of the samples' contributions and of their squares, the counts. */
@@ -208,6 +235,104 @@ static void block_draws(const scene_t *sc, const row_state *row, long spp, int m
     }
 }
 
+/* The camera rays of the block's rows that passed the lens, in the scene's frame (ds),
+ * their weights and hits (hit[r].obj < 0: none); rays from near the lens (all of them,
+ * but for an analytic lens) meet the scene together (scene_intersect_camera_many). */
+static void block_rays(const render_job *job, const camera_cull *cc, int m, int nray,
+                       block_buf *b)
+{
+    const scene_t *sc = job->scene;
+    int n = 0;
+    for (int i = 0; i < m; i++)
+        for (int j = 0; j < nray; j++) {
+            size_t r = (size_t)i * nray + j;
+            scene_hit *h = &b->hit[r];
+            h->obj = -1;
+            if (!(b->pdf[i] > 0) || !b->pass[r]) continue; /* P_a = 0 */
+            const double *in = b->in + 5 * r;
+            double tr = job->use_eta ? b->eta[r] : job->eta_const > 0 ? job->eta_const : 1;
+            double *os = b->os + 3 * n, *ds = b->ds + 3 * r;
+            b->wt[r] = render_ray_weight(in[2], in[3], b->pdf[i], tr);
+            render_lens_to_scene(b->org + 3 * r, os);
+            render_lens_to_scene(b->dir + 3 * r, ds);
+            if (os[0] * os[0] + os[1] * os[1] + os[2] * os[2] <= cc->rho * cc->rho) {
+                memcpy(b->near_d + 3 * n, ds, 3 * sizeof *ds);
+                b->near_of[n++] = (int)r;
+            } else if (!scene_intersect(sc, os, ds, 1e-6, INFINITY, h)) {
+                h->obj = -1;
+            }
+        }
+    scene_intersect_camera_many(sc, cc->cull, n, b->os, b->near_d, 1e-6, b->near_hit, b->near_ok);
+    for (int k = 0; k < n; k++)
+        if (b->near_ok[k]) b->hit[b->near_of[k]] = b->near_hit[k];
+}
+
+/* The block's hits: the full estimator's weight, the albedo; the lit hits gathered with
+ * their samples' uniforms for direct light. Returns how many are lit. */
+static int block_hits(const render_job *job, const row_state *row, int m, int nray,
+                      block_buf *b)
+{
+    const scene_t *sc = job->scene;
+    int full = job->estimator == RENDER_ESTIMATOR_FULL, nlit = 0;
+    for (int i = 0; i < m; i++) {
+        pixel_acc *acc = &row->acc[b->px[i]];
+        for (int j = 0; j < nray; j++) {
+            size_t r = (size_t)i * nray + j;
+            scene_hit *h = &b->hit[r];
+            b->lit_of[r] = -1;
+            if (h->obj < 0) continue; /* L = 0 */
+            if (full) {
+                render_full_terms t;
+                double tr = job->use_eta ? b->eta[r] : job->eta_const > 0 ? job->eta_const : 1;
+                acc->full++;
+                if (render_full_weight(job->cam->lens, b->in + 5 * r, b->o4 + 4 * r, b->jac + 16 * r,
+                                       b->pdf[i], tr, h->p, h->n, &t) == 0)
+                    b->wt[r] = t.weight;
+                else
+                    acc->fallback++;
+            }
+            if (!hit_albedo(sc, h, b->alb + 3 * r)) continue;
+            b->lit_of[r] = nlit;
+            b->lit_hit[nlit] = *h;
+            memcpy(b->lit_u + 5 * nlit++, b->draw + DRAWS * i + 4, 5 * sizeof *b->lit_u);
+        }
+    }
+    return nlit;
+}
+
+/* The block's samples' contributions (their rays' radiance times weight) into the sums of
+ * their pixels, in sample order. */
+static void block_sums(const render_job *job, const row_state *row, int m, int nray,
+                       const block_buf *b)
+{
+    const scene_t *sc = job->scene;
+    int spectral = sc->mode == SCENE_SPECTRAL;
+    for (int i = 0; i < m; i++) {
+        pixel_acc *acc = &row->acc[b->px[i]];
+        const wave_set *w = &b->waves[spectral ? i : 0];
+        double a0 = 0, a1 = 0, a2 = 0; /* the channels' sums in registers, not an array in memory */
+        int any = 0;
+        for (int j = 0; j < nray && b->pdf[i] > 0; j++) {
+            size_t r = (size_t)i * nray + j;
+            if (!b->pass[r]) continue; /* P_a = 0 */
+            any = 1;
+            const scene_hit *h = &b->hit[r];
+            if (h->obj < 0) continue;
+            double L[MAX_WAVE], wt = b->wt[r];
+            int j0 = job->achromatic ? 0 : j, j1 = job->achromatic ? w->nwave : j + 1, lit = b->lit_of[r];
+            scene_radiance(sc, w, j0, j1, h, b->ds + 3 * r, b->alb + 3 * r,
+                           lit >= 0 ? &b->lit_t[lit] : NULL, L);
+            for (int jj = j0; jj < j1; jj++) {
+                double v = wt * L[jj];
+                a0 += v * w->score[jj][0], a1 += v * w->score[jj][1], a2 += v * w->score[jj][2];
+            }
+        }
+        acc->passed += any;
+        double a[3] = {a0, a1, a2};
+        for (int c = 0; c < 3; c++) acc->sum[c] += a[c], acc->sum2[c] += a[c] * a[c];
+    }
+}
+
 /* Samples b->px[i], b->k[i] (i < m) of the row: lens, scene, sums. */
 static void render_block(const render_job *job, const camera_cull *cc, const row_state *row,
                          int m, block_buf *b)
@@ -245,43 +370,10 @@ static void render_block(const render_job *job, const camera_cull *cc, const row
     }
     if (full) full_block(job, (size_t)m * nray, b);
     else lens_block(job, (size_t)m * nray, b);
-    for (int i = 0; i < m; i++) {
-        pixel_acc *acc = &row->acc[b->px[i]];
-        const wave_set *w = &b->waves[spectral ? i : 0];
-        double a[3] = {0, 0, 0};
-        int any = 0;
-        for (int j = 0; j < nray && b->pdf[i] > 0; j++) {
-            size_t r = (size_t)i * nray + j;
-            if (!b->pass[r]) continue; /* P_a = 0 */
-            any = 1;
-            const double *in = b->in + 5 * r;
-            double tr = job->use_eta ? b->eta[r] : job->eta_const > 0 ? job->eta_const : 1;
-            double wt = render_ray_weight(in[2], in[3], b->pdf[i], tr);
-            double os[3], ds[3], L[MAX_WAVE];
-            render_lens_to_scene(b->org + 3 * r, os);
-            render_lens_to_scene(b->dir + 3 * r, ds);
-            scene_hit h;
-            int near = os[0] * os[0] + os[1] * os[1] + os[2] * os[2] <= cc->rho * cc->rho;
-            if (!(near ? scene_intersect_camera(sc, cc->cull, os, ds, 1e-6, &h)
-                       : scene_intersect(sc, os, ds, 1e-6, INFINITY, &h)))
-                continue; /* L = 0 */
-            if (full) {
-                render_full_terms t;
-                acc->full++;
-                if (render_full_weight(cam->lens, in, b->o4 + 4 * r, b->jac + 16 * r, b->pdf[i], tr, h.p,
-                                       h.n, &t) == 0)
-                    wt = t.weight;
-                else
-                    acc->fallback++;
-            }
-            int j0 = job->achromatic ? 0 : j, j1 = job->achromatic ? w->nwave : j + 1;
-            scene_radiance(sc, w, j0, j1, &h, ds, b->draw + DRAWS * i + 4, L);
-            for (int jj = j0; jj < j1; jj++)
-                for (int c = 0; c < 3; c++) a[c] += wt * L[jj] * w->score[jj][c];
-        }
-        acc->passed += any;
-        for (int c = 0; c < 3; c++) acc->sum[c] += a[c], acc->sum2[c] += a[c] * a[c];
-    }
+    block_rays(job, cc, m, nray, b);
+    int nlit = block_hits(job, row, m, nray, b);
+    scene_direct_mis_many(sc, nlit, b->lit_hit, b->lit_u, b->lit_t);
+    block_sums(job, row, m, nray, b);
 }
 
 /* Row py: its pixels' keys, their samples in blocks, their means (and variances) into

@@ -13,6 +13,9 @@
 
 #include "sparselens/scene.h"
 
+#include "render/scene_camera_block.h"
+#include "render/scene_light_simd.h"
+
 #define CULL_GRID 64
 
 struct scene_cull {
@@ -100,4 +103,41 @@ int scene_intersect_camera(const scene_t *s, const scene_cull *c, const double o
     int k = j * CULL_GRID + i;
     return scene_intersect_listed(s, c->list + c->start[k], c->start[k + 1] - c->start[k], o, d,
                                   tmin, INFINITY, hit);
+}
+
+#define MANY 64 /* rays a step of scene_intersect_camera_many */
+
+void scene_intersect_camera_many(const scene_t *s, const scene_cull *c, int m, const double *O,
+                                 const double *D, double tmin, scene_hit *h, unsigned char *hit)
+{
+    int i0 = 0;
+#if SCENE_SIMD
+    /* culled rays (d_z > 0 with a cull) in the kernel's lanes: every sphere is tested, and
+     * those the cell leaves out miss (the cull's cones hold every ray that meets them) */
+    double Ob[3 * MANY], Db[3 * MANY], t[MANY];
+    int list[MANY], which[MANY];
+    for (; c && scene_simd_ok() && i0 < m; i0 += MANY) {
+        int n = 0, e = m - i0 < MANY ? m : i0 + MANY;
+        for (int i = i0; i < e; i++) {
+            const double *o = O + 3 * i, *d = D + 3 * i;
+            if (!(d[2] > 0)) {
+                hit[i] = (unsigned char)scene_intersect_camera(s, c, o, d, tmin, h + i);
+                continue;
+            }
+            for (int k = 0; k < 3; k++) Ob[k * MANY + n] = o[k], Db[k * MANY + n] = d[k];
+            list[n++] = i;
+        }
+        int n8 = (n + 7) / 8 * 8;
+        for (int l = n; l < n8; l++) /* lanes past n repeat lane 0 */
+            for (int k = 0; k < 3; k++) Ob[k * MANY + l] = Ob[k * MANY], Db[k * MANY + l] = Db[k * MANY];
+        if (n) scene_simd_camera(s, n8, MANY, Ob, Db, tmin, which, t);
+        for (int l = 0; l < n; l++) {
+            int i = list[l];
+            hit[i] = which[l] >= 0;
+            if (hit[i]) scene_fill_hit(s, which[l], t[l], O + 3 * i, D + 3 * i, h + i);
+        }
+    }
+#endif
+    for (int i = i0; i < m; i++)
+        hit[i] = (unsigned char)scene_intersect_camera(s, c, O + 3 * i, D + 3 * i, tmin, h + i);
 }

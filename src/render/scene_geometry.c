@@ -6,6 +6,7 @@
 #include "sparselens/scene.h"
 
 #include "render/render_math.h"
+#include "render/scene_light_simd.h"
 
 #define EPS_T 1e-6 /* mm: self-intersection guard, far below any scene feature */
 #define dot3 rm_dot3
@@ -73,6 +74,12 @@ static void fill_hit(const scene_t *s, int which, double t, const double o[3], c
         memcpy(hit->n, ob->n, sizeof hit->n);
     if (dot3(hit->n, d) > 0)
         for (int k = 0; k < 3; k++) hit->n[k] = -hit->n[k];
+}
+
+void scene_fill_hit(const scene_t *s, int which, double t, const double o[3], const double d[3],
+                    scene_hit *hit)
+{
+    fill_hit(s, which, t, o, d, hit);
 }
 
 int scene_intersect(const scene_t *s, const double o[3], const double d[3], double tmin,

@@ -52,16 +52,10 @@ static void thin_lens_illumination_is_cos4(void **state)
     double field[3] = {0, 5, 10};
     distort_row rows[3];
     lens_err err;
-    assert_int_equal(distort_curve(&im, GLASS_D_LINE, field, 3, 48, rows, &err), 0);
+    assert_int_equal(distort_curve(&im, GLASS_D_LINE, field, 3, 16, rows, &err), 0);
     for (int i = 0; i < 3; i++) {
         double c = cos(field[i] * M_PI / 180);
-        /* grid sampling of the pupil's edge: a few tenths of a percent */
-        assert_true(fabs(rows[i].rel_illum - c * c * c * c) < 0.01);
-    }
-    /* the irradiance form (the one a system allows) gives the same cos^4 */
-    assert_int_equal(distort_illumination_irradiance(&im, GLASS_D_LINE, 3, 16, rows), 0);
-    for (int i = 0; i < 3; i++) {
-        double c = cos(field[i] * M_PI / 180);
+        /* the grid's cells on the pupil's edge: about a tenth of a percent */
         assert_true(fabs(rows[i].rel_illum - c * c * c * c) < 0.005);
     }
     lens_free(&l);
@@ -196,6 +190,94 @@ static void fisheye_distortion_as_chief_rays_say(void **state)
     lens_free(&l);
 }
 
+/* Forward brute force, independent of lens-distort's integral from the sensor: the
+ * irradiance of a uniform sky around the chief ray's point of field th0, as the power of
+ * collimated beams (directions th0 +- 3 deg, each beam a grid over its cross-section,
+ * the whole sky by rotational symmetry: 2 pi sin(theta) dtheta) landing under a smooth
+ * radial window cos^2(pi (r - h0) / (2 w)), over the window's area integral. */
+static double sky_irradiance(const imaging *im, const double *n, double th0)
+{
+    const double w = 0.1, range = 3;
+    const int nth = 40, coarse = 240, fine = 150;
+    double s[4], eta, h0 = 0;
+    lens_err err;
+    if (th0 > 0) {
+        assert_int_equal(imaging_chief(im, n, GLASS_D_LINE, th0, s, &err), 0);
+        h0 = hypot(s[0], s[1]);
+    }
+    double ext = 0, power = 0, tlo = fmax(0, th0 - range), dt = (th0 + range - tlo) / nth;
+    for (size_t i = 0; i < im->lens->nsurf; i++)
+        ext = fmax(ext, 1.5 * im->lens->surf[i].semi_diameter);
+    for (int it = 0; it < nth; it++) {
+        double th = tlo + (it + 0.5) * dt;
+        lens_ray chief;
+        if (imaging_object_ray(im, n, th, 0, 0, &chief) != 0)
+            continue;
+        const double *d = chief.d;
+        double e2[3] = {0, d[2], -d[1]}; /* d x (1, 0, 0) */
+#define BEAM_RAY(r, a, b)                                                                    \
+    for (int k = 0; k < 3; k++)                                                             \
+        r.o[k] = chief.o[k] - 100 * d[k] + (k == 0 ? (a) : 0) + (b) * e2[k], r.d[k] = d[k]
+        /* the beam's passing cross-section, then a fine grid over it */
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, c = 2 * ext / coarse, sum = 0;
+        for (int i = 0; i < coarse; i++)
+            for (int j = 0; j < coarse; j++) {
+                double a = -ext + (i + 0.5) * c, b = -ext + (j + 0.5) * c;
+                lens_ray r;
+                BEAM_RAY(r, a, b);
+                if (imaging_trace(im, n, GLASS_D_LINE, &r, NULL, s, &eta))
+                    lo[0] = fmin(lo[0], a - 2 * c), hi[0] = fmax(hi[0], a + 2 * c),
+                    lo[1] = fmin(lo[1], b - 2 * c), hi[1] = fmax(hi[1], b + 2 * c);
+            }
+        if (!(lo[0] < hi[0]))
+            continue;
+        double ca = (hi[0] - lo[0]) / fine, cb = (hi[1] - lo[1]) / fine;
+        for (int i = 0; i < fine; i++)
+            for (int j = 0; j < fine; j++) {
+                lens_ray r;
+                BEAM_RAY(r, lo[0] + (i + 0.5) * ca, lo[1] + (j + 0.5) * cb);
+                if (imaging_trace(im, n, GLASS_D_LINE, &r, NULL, s, &eta)) {
+                    double t = (hypot(s[0], s[1]) - h0) / w;
+                    if (fabs(t) < 1)
+                        sum += eta * cos(M_PI_2 * t) * cos(M_PI_2 * t);
+                }
+            }
+#undef BEAM_RAY
+        power += 2 * M_PI * sin(th * M_PI / 180) * dt * M_PI / 180 * sum * ca * cb;
+    }
+    double area = 0, r0 = fmax(0, h0 - w);
+    for (int k = 0; k < 4000; k++) {
+        double r = r0 + (k + 0.5) * (h0 + w - r0) / 4000, t = (r - h0) / w;
+        area += cos(M_PI_2 * t) * cos(M_PI_2 * t) * 2 * M_PI * r * (h0 + w - r0) / 4000;
+    }
+    return power / area;
+}
+
+/* The fisheye's relative illumination is the irradiance a uniform sky gives on the
+ * sensor: within 1% of the forward brute force at 60 and 90 degrees. The older figure,
+ * the flux of the field's beam over the image area the chief-ray heights give, assumed
+ * the beam lands where its chief ray does; with this lens's pupil aberration it came
+ * out 3.5% low at 60 degrees and 16% low at 90 (0.214 against 0.255). */
+static void fisheye_illumination_is_the_sky_irradiance(void **state)
+{
+    (void)state;
+    lens_t l;
+    assert_int_equal(fixture_fisheye_ii(&l), 0);
+    imaging im = {.lens = &l, .object_distance = INFINITY};
+    double field[3] = {0, 60, 90}, n[64];
+    distort_row rows[3];
+    lens_err err;
+    assert_int_equal(imaging_indices(&im, GLASS_D_LINE, n, &err), 0);
+    assert_int_equal(distort_curve(&im, GLASS_D_LINE, field, 3, 32, rows, &err), 0);
+    double e0 = sky_irradiance(&im, n, 0);
+    for (int i = 1; i < 3; i++) {
+        double ri = sky_irradiance(&im, n, field[i]) / e0;
+        print_message("field %g: relative illumination %.5f, brute force %.5f\n", field[i], rows[i].rel_illum, ri);
+        assert_true(fabs(rows[i].rel_illum - ri) < 0.01 * ri);
+    }
+    lens_free(&l);
+}
+
 static void symmetric_lens_grid_is_radial(void **state)
 {
     (void)state;
@@ -275,6 +357,7 @@ int main(void)
         cmocka_unit_test(thin_lens_finite_object),
         cmocka_unit_test(dgauss_distortion_as_chief_rays_say),
         cmocka_unit_test(fisheye_distortion_as_chief_rays_say),
+        cmocka_unit_test(fisheye_illumination_is_the_sky_irradiance),
         cmocka_unit_test(symmetric_lens_grid_is_radial),
         cmocka_unit_test(opencv_models_of_the_fisheye),
         cmocka_unit_test(bad_fields),

@@ -40,7 +40,7 @@ static void outlines_and_rays(void **state)
     const double field[2] = {0, 12};
     layout_drawing d;
     lens_err err;
-    assert_int_equal(layout_build(&im, NULL, NULL, field, 2, GLASS_D_LINE, 5, &d, &err), 0);
+    assert_int_equal(layout_build(&im, NULL, NULL, field, 2, GLASS_D_LINE, 5, 1, &d, &err), 0);
     int glass = 0, elements = 0, landed = 0;
     for (size_t i = 0; i + 1 < lens.nsurf; i++)
         glass += lens.surf[i].medium.kind != GLASS_AIR;
@@ -101,10 +101,78 @@ static void outlines_and_rays(void **state)
     lens_free(&lens);
 }
 
+/* 1 when the exact lens images the ray of stop point (0, py): bundle_image's own test,
+ * not the layout's ray_path walk. */
+static int stop_point_passes(const imaging *im, double field, double py)
+{
+    double p[2] = {0, py}, s[4];
+    int ok = 0;
+    ray_bundle b;
+    lens_err err;
+    assert_int_equal(bundle_aim(im, field, GLASS_D_LINE, p, 1, &b, &err), 0);
+    bundle_image(im, &b, NULL, s, &ok);
+    bundle_free(&b);
+    return ok;
+}
+
+/* By default the rays fill the part of the stop's meridian that reaches the sensor: on
+ * dgauss.50mm at 16 and 23 degrees vignetting stops the rim rays, so the fans must be
+ * narrower than the stop, every drawn ray must land, and the edges must be where a
+ * brute-force scan of 1001 stop points finds the last passing ray. */
+static void rays_fill_the_passing_bundle(void **state)
+{
+    (void)state;
+    lens_t lens;
+    assert_int_equal(fixture_dgauss50(&lens), 0);
+    imaging im = {.lens = &lens, .object_distance = INFINITY};
+    const double field[3] = {0, 16, 23};
+    layout_drawing d;
+    lens_err err;
+    assert_int_equal(layout_build(&im, NULL, NULL, field, 3, GLASS_D_LINE, 9, 0, &d, &err), 0);
+    assert_int_equal(d.rays, 27);
+    assert_int_equal(d.passed, 27);
+    for (int f = 0; f < 3; f++) {
+        int lo = -1, hi = -1;
+        for (int i = 0; i <= 1000; i++) {
+            double py = -1 + 2e-3 * i;
+            if (stop_point_passes(&im, field[f], py)) {
+                if (lo < 0 || hi < i - 1) /* a new run: keep the one around the chief ray */
+                    if (lo < 0 || py <= 0)
+                        lo = i;
+                if (hi == i - 1 || hi < 0 || py <= 0)
+                    hi = i;
+            }
+        }
+        assert_true(lo >= 0);
+        double ref_lo = -1 + 2e-3 * lo, ref_hi = -1 + 2e-3 * hi;
+        print_message("field %g: span [%.7f, %.7f], scan [%.3f, %.3f]\n", field[f], d.span[f][0], d.span[f][1],
+                      ref_lo, ref_hi);
+        assert_true(fabs(d.span[f][0] - ref_lo) <= 2.1e-3 && fabs(d.span[f][1] - ref_hi) <= 2.1e-3);
+        /* the ends are the last passing rays: a hair beyond is stopped */
+        for (int e = 0; e < 2; e++)
+            if (fabs(d.span[f][e]) < 1 - 1e-6) {
+                double out = d.span[f][e] + (e ? 2e-6 : -2e-6);
+                assert_true(stop_point_passes(&im, field[f], d.span[f][e]));
+                assert_false(stop_point_passes(&im, field[f], out));
+            }
+    }
+    /* on axis the bundle is symmetric (an element's rim, not the stop, trims it to 0.993) */
+    assert_true(fabs(d.span[0][0] + d.span[0][1]) < 1e-6 && d.span[0][1] > 0.99);
+    assert_true(d.span[2][1] - d.span[2][0] < 1.6);             /* the full field is cut */
+    layout_free(&d);
+    /* the whole stop: the same fields lose rays to vignetting */
+    assert_int_equal(layout_build(&im, NULL, NULL, field, 3, GLASS_D_LINE, 9, 1, &d, &err), 0);
+    assert_true(d.passed < d.rays);
+    assert_true(d.span[2][0] == -1 && d.span[2][1] == 1);
+    layout_free(&d);
+    lens_free(&lens);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(outlines_and_rays),
+        cmocka_unit_test(rays_fill_the_passing_bundle),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

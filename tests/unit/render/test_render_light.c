@@ -8,7 +8,11 @@
  *  - the low-discrepancy pixel samples: stratified (a 1D dimension has one sample per
  *    stratum; 32 2D samples one per elementary box of area 1/32), and unbiased over
  *    pixels (the mean of many pixels' points is 1/2);
- *  - the camera rays' direction culling against the full intersection loop. */
+ *  - the camera rays' direction culling against the full intersection loop, and the
+ *    block version of the culled search (scene_intersect_camera_many) against it;
+ *  - direct light for a block of points at once (scene_direct_mis_many, eight lanes a
+ *    step where the processor has AVX-512) against scene_direct_mis point by point, bit
+ *    for bit. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -20,6 +24,9 @@
 #include <cmocka.h>
 
 #include "render/render_samples.h"
+#include "render/scene_camera_block.h"
+#include "render/scene_light_block.h"
+#include "render/scene_light_simd.h"
 #include "sparselens/render.h"
 #include "sparselens/render_spectrum.h"
 #include "sparselens/scene.h"
@@ -164,20 +171,21 @@ static void test_samples_stratified(void **state)
     assert_true(fabs(sum / pixels - 0.5) < 4 * sqrt(1.0 / 12 / pixels));
 }
 
-/* The block drawer (ld_2d_run, ld_1d_run: four samples at a time in 32-bit lanes) gives
- * the values of ld_2d_px and ld_1d_px bit for bit: powers of two and others (the
- * permutation's rejection walk), runs that start anywhere and end off a multiple of 4,
- * and a sample count past 2^32 (the lanes cannot hold it: the scalar path). */
+/* The block drawer (ld_2d_run, ld_1d_run: four samples at a time in 32-bit lanes, and
+ * sixteen in AVX-512 lanes for counts up to 2^16) gives the values of ld_2d_px and
+ * ld_1d_px bit for bit: powers of two and others (the permutation's rejection walk), runs
+ * that start anywhere and end off a multiple of 4 and of 16, a count past 2^16 (no
+ * sixteen-lane step) and one past 2^32 (the lanes cannot hold it: the scalar path). */
 static void test_sample_runs(void **state)
 {
     (void)state;
-    const uint64_t ns[] = {2, 3, 5, 16, 17, 32, 37, 128, 1000, 5000000000ull};
+    const uint64_t ns[] = {2, 3, 5, 16, 17, 32, 37, 128, 1000, 100000, 5000000000ull};
     double out[9 * 70], r[2];
     long checked = 0;
     for (int pi = 0; pi < 30; pi++) {
         ld_pixel p;
         ld_pixel_init(&p, ld_pixel_key(4, (uint64_t)pi));
-        for (int ni = 0; ni < 10; ni++) {
+        for (int ni = 0; ni < 11; ni++) {
             uint64_t n = ns[ni], count = n < 70 ? n : 70, k0 = n > count ? (uint64_t)pi % (n - count) : 0;
             for (int d = 0; d < LD_DIMS; d++) {
                 ld_2d_run(&p, d, n, k0, (int)count, out, 9);
@@ -190,16 +198,70 @@ static void test_sample_runs(void **state)
             }
         }
     }
-    assert_true(checked == 30 * 322 * LD_DIMS);
+    assert_true(checked == 30 * 392 * LD_DIMS);
 }
 
 /* Direction culling finds exactly the hits of the full loop, for rays from anywhere in
  * the origin ball, over many spheres in every direction (and a plane behind them). */
+/* Points on the floor, on spheres and in the air with normals of every sign (n_z >= 0 and
+ * < 0 take the frame's two branches; 0 exactly too), uniforms at quadrant edges of the
+ * sine and cosine among random ones; emitters of every kind, one sphere holding points
+ * (inside: its weight is 2 pi) and one disk facing away from some. 203 points: three
+ * steps of 64 and a last partial step of eight lanes. */
+static void test_mis_many(void **state)
+{
+    (void)state;
+    scene_t s;
+    lens_err err = {{0}};
+    const char *text = "camera a.lens\nplane 0 0 0 0 1 0 albedo 0.5\n"
+                       "disk 0 300 0 0 -1 0 200 emit 4\ndisk 100 50 0 1 0 0 30 emit 1 2 3\n"
+                       "sphere 40 60 30 25 emit 30\nsphere -300 200 4000 8 emit 2000 1500 800\n"
+                       "sphere 0 0 0 1000 albedo 0.2\nplane 0 0 5000 0 0 -1 emit 0.5\n"
+                       "sphere 0 20 0 10 albedo 0.7\n";
+    assert_int_equal(scene_parse(text, "t.scene", &s, &err), 0);
+    enum { M = 203 };
+    scene_hit h[M];
+    double u[5 * M];
+    uint64_t st = 4242;
+    static const double edge[] = {0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 0.999999999};
+    for (int i = 0; i < M; i++) {
+        double r[8];
+        for (int k = 0; k < 8; k++) r[k] = (lcg(&st) >> 11) * 0x1.0p-53;
+        h[i].t = 1, h[i].obj = 0;
+        h[i].p[0] = 400 * r[0] - 200, h[i].p[1] = i % 3 ? 0 : 100 * r[1], h[i].p[2] = 400 * r[2] - 200;
+        if (i % 5 == 0) h[i].p[0] = 40, h[i].p[1] = 60, h[i].p[2] = 30 + 20 * r[1]; /* in a sphere */
+        double n[3] = {r[3] - 0.5, r[4] - 0.5, i % 7 == 0 ? 0 : r[5] - 0.5}, l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int k = 0; k < 3; k++) h[i].n[k] = n[k] / l;
+        if (i % 4 == 0) h[i].n[0] = 0, h[i].n[1] = 1, h[i].n[2] = 0;
+        for (int k = 0; k < 5; k++) u[5 * i + k] = (lcg(&st) >> 11) * 0x1.0p-53;
+        if (i % 2) u[5 * i + 4] = edge[i / 2 % 9];
+        if (i % 11 == 0) u[5 * i + 3] = i % 22 ? 0 : 1;
+    }
+    scene_light_terms many[M];
+    scene_direct_mis_many(&s, M, h, u, many);
+    int terms = 0;
+    for (int i = 0; i < M; i++) {
+        scene_light_terms one;
+        scene_direct_mis(&s, &h[i], u + 5 * i, &one);
+        assert_int_equal(many[i].n, one.n);
+        for (int k = 0; k < one.n; k++) {
+            assert_int_equal(many[i].emitter[k], one.emitter[k]);
+            assert_memory_equal(&many[i].w[k], &one.w[k], sizeof one.w[k]);
+        }
+        terms += one.n;
+    }
+    assert_true(terms > M / 2); /* light found: the comparison compares something */
+    printf("direct light of %d points at once: %d terms, bit for bit (%s)\n", M, terms,
+           scene_simd_ok() ? "AVX-512 lanes" : "no AVX-512: point by point");
+    scene_free(&s);
+}
+
 static void test_cull_exact(void **state)
 {
     (void)state;
     char text[20000];
-    int len = snprintf(text, sizeof text, "camera a.lens\nplane 0 0 3000 0 0 -1 albedo 0.5\n");
+    int len = snprintf(text, sizeof text, "camera a.lens\nplane 0 0 3000 0 0 -1 albedo 0.5\n"
+                                          "disk 100 0 800 0.6 0 -0.8 300 albedo 0.3\n");
     uint64_t st = 99;
     for (int k = 0; k < 120; k++) {
         double th = acos(1 - 1.1 * ((lcg(&st) >> 11) * 0x1.0p-53)), ph = 2 * M_PI * ((lcg(&st) >> 11) * 0x1.0p-53);
@@ -213,9 +275,11 @@ static void test_cull_exact(void **state)
     double rho = 25;
     scene_cull *c = scene_cull_new(&s, rho);
     assert_non_null(c);
-    int hits = 0;
+    int hits = 0, nb = 0;
+    enum { NB = 1000 };
+    double O[3 * NB], D[3 * NB];
     for (int i = 0; i < 200000; i++) {
-        double o[3], d[3], n;
+        double *o = O + 3 * nb, *d = D + 3 * nb, n;
         do {
             for (int k = 0; k < 3; k++) o[k] = rho * (2 * ((lcg(&st) >> 11) * 0x1.0p-53) - 1);
         } while (o[0] * o[0] + o[1] * o[1] + o[2] * o[2] > rho * rho);
@@ -229,10 +293,25 @@ static void test_cull_exact(void **state)
         if (ha) {
             assert_int_equal(a.obj, b.obj);
             assert_true(a.t == b.t);
-            hits += a.obj > 0;
+            hits += a.obj > 1;
         }
+        if (++nb < NB) continue;
+        /* the block version (eight rays a step where it can) gives the same records */
+        scene_hit many[NB];
+        unsigned char ok[NB];
+        scene_intersect_camera_many(&s, c, NB, O, D, 1e-6, many, ok);
+        for (int k = 0; k < NB; k++) {
+            scene_hit one;
+            assert_int_equal(ok[k], scene_intersect_camera(&s, c, O + 3 * k, D + 3 * k, 1e-6, &one));
+            if (!ok[k]) continue;
+            assert_int_equal(many[k].obj, one.obj);
+            assert_memory_equal(&many[k].t, &one.t, sizeof one.t);
+            assert_memory_equal(many[k].p, one.p, sizeof one.p);
+            assert_memory_equal(many[k].n, one.n, sizeof one.n);
+        }
+        nb = 0;
     }
-    assert_true(hits > 1000); /* the spheres were met, not only the plane */
+    assert_true(hits > 1000); /* the spheres were met, not only the plane and the disk */
     scene_cull_free(c);
     scene_free(&s);
 }
@@ -243,7 +322,7 @@ int main(void)
         cmocka_unit_test(test_cie_fit), cmocka_unit_test(test_spectrum_round_trip),
         cmocka_unit_test(test_mis_closed_forms), cmocka_unit_test(test_samples_stratified),
         cmocka_unit_test(test_sample_runs),
-        cmocka_unit_test(test_cull_exact),
+        cmocka_unit_test(test_cull_exact), cmocka_unit_test(test_mis_many),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
