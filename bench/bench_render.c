@@ -11,11 +11,13 @@
  * Then the parts of a camera sample that the polynomial and the exact path share, on
  * scenes/dgauss.scene and scenes/fisheye.scene as lens-render renders them (16 spp keys):
  * "bench render_shared_<scene>_<part>_ns_per_sample", per camera sample: the
- * low-discrepancy draws (five), the line pupil's draw, the camera ray's scene
- * intersection, and at the hits that are not emitters (their share of the samples
- * given) the albedo and the direct light (scene_direct_mis: a light sample, a shadow ray,
- * a BSDF ray), and the direct light's two rays alone. What lens-render spends besides
- * these and the lens map is its loop.
+ * low-discrepancy draws (five, a pixel's run of 16 at a time), the line pupil's draw, the
+ * camera ray's scene intersection (blocks of 512, scene_intersect_camera_many), and at
+ * the hits that are not emitters (their share of the samples given) the albedo and the
+ * direct light (a light sample, a shadow ray, a BSDF ray: scene_direct_mis_many over
+ * blocks of 512 hits, as lens-render, and scene_direct_mis one point at a time,
+ * "direct_light_one"), and the direct light's two rays alone. What lens-render spends
+ * besides these and the lens map is its loop.
  * Usage: bench_render [RAYS]   (default 200000; from the repository root) */
 #include <math.h>
 #include <stdio.h>
@@ -32,6 +34,9 @@
 #include "sparselens/trace.h"
 #include "render/render_math.h"
 #include "render/render_samples.h"
+#include "render/scene_camera_block.h"
+#include "render/scene_light_block.h"
+#include "render/scene_light_simd.h"
 
 static double now(void)
 {
@@ -180,7 +185,8 @@ done:
  * uniforms u (5 a hit): a shadow ray to a point drawn on an emitter by area, the emitter
  * chosen in proportion to its luminance times area over distance squared (the
  * estimator's choice less its cosines; the ray's test is the same whatever drew it), and
- * a cosine-weighted BSDF ray to the emitters. */
+ * a cosine-weighted BSDF ray to the emitters; in AVX-512 lanes where lens-render uses
+ * them (scene_simd_visible, scene_simd_emitter). */
 static void light_rays(const scene_t *sc, const scene_hit *hit, size_t nd, const double *u,
                        double *t_shadow, double *t_bsdf)
 {
@@ -205,20 +211,123 @@ static void light_rays(const scene_t *sc, const scene_hit *hit, size_t nd, const
         double r = sqrt(ui[3]), ct = sqrt(1 - ui[3]);
         for (int k = 0; k < 3; k++) w[3 * i + k] = ct * hit[i].n[k] + r * (cs * t[k] + sn * b[k]);
     }
+    /* as lens-render traces them: eight rays a step where it can (the kernels on arrays
+     * of coordinates, nd rounded up to 8), else one by one */
+    size_t n8 = (nd + 7) / 8 * 8;
+    double *A = malloc(3 * n8 * sizeof *A), *Q = malloc(3 * n8 * sizeof *Q);
+    double *W = malloc(3 * n8 * sizeof *W), *tb = malloc(n8 * sizeof *tb);
+    int *which = malloc(n8 * sizeof *which);
+    unsigned char *vis = malloc(n8);
+    int lanes = SCENE_SIMD && scene_simd_ok() && A && Q && W && tb && which && vis && nd;
+    for (size_t i = 0; lanes && i < n8; i++)
+        for (int k = 0; k < 3; k++) {
+            size_t l = i < nd ? i : 0;
+            A[k * n8 + i] = hit[l].p[k], Q[k * n8 + i] = q[3 * l + k], W[k * n8 + i] = w[3 * l + k];
+        }
     for (int rep = 0; q && w && rep < 3; rep++) {
         double t0 = now();
-        for (size_t i = 0; i < nd; i++) sink += scene_visible(sc, hit[i].p, q + 3 * i);
+#if SCENE_SIMD
+        if (lanes) scene_simd_visible(sc, (int)n8, (int)n8, A, Q, vis), sink += vis[0];
+#endif
+        for (size_t i = 0; !lanes && i < nd; i++) sink += scene_visible(sc, hit[i].p, q + 3 * i);
         *t_shadow = fmin(*t_shadow, now() - t0);
         t0 = now();
-        for (size_t i = 0; i < nd; i++) {
+#if SCENE_SIMD
+        if (lanes) scene_simd_emitter(sc, (int)n8, (int)n8, A, W, which, tb), sink += which[0];
+#endif
+        for (size_t i = 0; !lanes && i < nd; i++) {
             scene_hit g;
             sink += scene_intersect_emitter(sc, hit[i].p, w + 3 * i, 1e-6, &g);
         }
         *t_bsdf = fmin(*t_bsdf, now() - t0);
     }
+    free(A), free(Q), free(W), free(tb), free(which), free(vis);
     if (sink == 0.5) printf("#\n"); /* keep the loops */
     free(q);
     free(w);
+}
+
+/* Seconds (best of 3) to draw n samples' five numbers as lens-render does, a pixel's run
+ * of spp at a time (ld_2d_run, ld_1d_run): pixel and pupil, and the light's three
+ * (select, light, BSDF), made into camera inputs in (x y u v and a sum kept alive);
+ * INFINITY without memory. */
+static double time_draws(size_t n, long spp, double sw, double sh, double *in)
+{
+    double *dr = malloc((n + spp) * 9 * sizeof *dr), t0, best = INFINITY;
+    ld_pixel key;
+    for (int rep = 0; dr && rep < 3; rep++, best = fmin(best, now() - t0))
+    for (size_t i = (t0 = now(), 0); i < n; i += spp) {
+        int run = n - i < (size_t)spp ? (int)(n - i) : (int)spp;
+        double *d = dr + 9 * i;
+        ld_pixel_init(&key, ld_pixel_key(1, i / spp));
+        ld_2d_run(&key, 0, spp, 0, run, d, 9);
+        ld_2d_run(&key, 1, spp, 0, run, d + 2, 9);
+        ld_1d_run(&key, 1, spp, 0, run, d + 4, 9);
+        ld_2d_run(&key, 2, spp, 0, run, d + 5, 9);
+        ld_2d_run(&key, 3, spp, 0, run, d + 7, 9);
+        for (int c = 0; c < run; c++) {
+            const double *e = d + 9 * c;
+            double *r = in + 5 * (i + c);
+            r[0] = (e[0] - 0.5) * sw, r[1] = (e[1] - 0.5) * sh, r[2] = e[2], r[3] = e[3];
+            r[4] = e[4] + e[5] + e[8];
+        }
+    }
+    free(dr);
+    return best;
+}
+
+/* Seconds (best of 3) for the camera rays (org, dir in the lens's frame; those with
+ * pdf > 0 that pass) to meet the scene in blocks of 512 samples, as lens-render: the
+ * rays near the lens together (scene_intersect_camera_many). The hits into hit, their
+ * count into nh; INFINITY without memory. */
+static double time_hits(const scene_t *sc, const scene_cull *cull, double rho, size_t n,
+                        const double *org, const double *dir, const double *pdf,
+                        const unsigned char *pass, scene_hit *hit, size_t *nh)
+{
+    double *os = malloc(512 * 3 * sizeof *os), *ds = malloc(512 * 3 * sizeof *ds), t0;
+    unsigned char *ok = malloc(512);
+    double best = INFINITY;
+    for (int rep = 0; os && ds && ok && rep < 3; rep++, best = fmin(best, now() - t0))
+    for (size_t i0 = (t0 = now(), *nh = 0); i0 < n; i0 += 512) {
+        size_t e = n - i0 < 512 ? n : i0 + 512, m = 0;
+        for (size_t i = i0; i < e; i++) {
+            if (!(pdf[i] > 0) || !pass[i]) continue;
+            render_lens_to_scene(org + 3 * i, os + 3 * m);
+            render_lens_to_scene(dir + 3 * i, ds + 3 * m);
+            const double *o = os + 3 * m;
+            if (o[0] * o[0] + o[1] * o[1] + o[2] * o[2] <= rho * rho) m++;
+            else *nh += scene_intersect(sc, o, ds + 3 * m, 1e-6, INFINITY, &hit[*nh]);
+        }
+        scene_intersect_camera_many(sc, cull, (int)m, os, ds, 1e-6, hit + *nh, ok);
+        for (size_t k = 0, h0 = *nh; k < m; k++)
+            if (ok[k]) hit[(*nh)++] = hit[h0 + k];
+    }
+    free(os), free(ds), free(ok);
+    return best;
+}
+
+/* Seconds (best of 3) for the direct light at the nd lit hits with uniforms u: the
+ * block's lit hits at once (scene_direct_mis_many over 512, as lens-render), and one
+ * point at a time (scene_direct_mis). */
+static void time_direct(const scene_t *sc, const scene_hit *hit, size_t nd, const double *u,
+                        double *t_block, double *t_one)
+{
+    scene_light_terms *lt = malloc(512 * sizeof *lt);
+    double t0, sink = 0;
+    *t_block = *t_one = INFINITY;
+    for (int rep = 0; lt && rep < 3; rep++, *t_block = fmin(*t_block, now() - t0))
+    for (size_t i = (t0 = now(), 0); i < nd; i += 512) {
+        int m = nd - i < 512 ? (int)(nd - i) : 512;
+        scene_direct_mis_many(sc, m, hit + i, u + 5 * i, lt);
+        sink += lt[0].n;
+    }
+    for (int rep = 0; lt && rep < 3; rep++, *t_one = fmin(*t_one, now() - t0))
+    for (size_t i = (t0 = now(), 0); i < nd; i++) {
+        scene_direct_mis(sc, &hit[i], u + 5 * i, lt);
+        sink += lt[0].n;
+    }
+    if (sink == 0.5) printf("#\n"); /* keep the loops */
+    free(lt);
 }
 
 /* ns per call of each shared part (see the head of the file), over n camera samples */
@@ -256,22 +365,11 @@ static int shared_parts(const char *name, const char *path, size_t n)
     cull = scene_cull_new(&sc, rho);
     const long spp = 16;
     double t0, t_ld, t_ps, t_cam, t_alb, t_mis, sink = 0;
-    /* the draws: pixel and pupil, and the light's three (select, light, BSDF) */
     ld_pixel key;
     /* each timed loop runs three times (the outer loop's step keeps the best) */
     t_ld = t_ps = t_cam = t_alb = t_mis = INFINITY;
-    for (int rep = 0; rep < 3; rep++, t_ld = fmin(t_ld, now() - t0))
-    for (size_t i = (t0 = now(), 0); i < n; i++) {
-        if (i % spp == 0) ld_pixel_init(&key, ld_pixel_key(1, i / spp));
-        double q[2], p2[2], l2[2], b2[2];
-        ld_2d_px(&key, 0, spp, i % spp, q);
-        ld_2d_px(&key, 1, spp, i % spp, p2);
-        ld_2d_px(&key, 2, spp, i % spp, l2);
-        ld_2d_px(&key, 3, spp, i % spp, b2);
-        double *r = in + 5 * i;
-        r[0] = (q[0] - 0.5) * sw, r[1] = (q[1] - 0.5) * sh, r[2] = p2[0], r[3] = p2[1];
-        r[4] = ld_1d_px(&key, 1, spp, i % spp) + l2[0] + b2[1];
-    }
+    t_ld = time_draws(n, spp, sw, sh, in);
+    if (!(t_ld < INFINITY)) goto done;
     for (int rep = 0; rep < 3; rep++, t_ps = fmin(t_ps, now() - t0))
     for (size_t i = (t0 = now(), 0); i < n; i++) {
         const double *r = in + 5 * i;
@@ -286,17 +384,8 @@ static int shared_parts(const char *name, const char *path, size_t n)
     unsigned char *pass = malloc(n);
     if (!org || !dir || !eta || !pass) goto done_rays;
     ce.map_batch(ce.ctx, n, cam_in, org, dir, eta, pass);
-    for (int rep = 0; rep < 3; rep++, t_cam = fmin(t_cam, now() - t0))
-    for (size_t i = (t0 = now(), nh = 0); i < n; i++) {
-        double os[3], ds[3];
-        render_lens_to_scene(org + 3 * i, os);
-        render_lens_to_scene(dir + 3 * i, ds);
-        int near = os[0] * os[0] + os[1] * os[1] + os[2] * os[2] <= rho * rho;
-        if (pdf[i] > 0 && pass[i] &&
-            (near ? scene_intersect_camera(&sc, cull, os, ds, 1e-6, &hit[nh])
-                  : scene_intersect(&sc, os, ds, 1e-6, INFINITY, &hit[nh])))
-            nh++;
-    }
+    t_cam = time_hits(&sc, cull, rho, n, org, dir, pdf, pass, hit, &nh);
+    if (!(t_cam < INFINITY)) goto done_rays;
     for (int rep = 0; rep < 3; rep++, t_alb = fmin(t_alb, now() - t0))
     for (size_t i = (t0 = now(), 0); i < nh; i++) {
         double alb[3];
@@ -313,18 +402,15 @@ static int shared_parts(const char *name, const char *path, size_t n)
         u[0] = ld_1d_px(&key, 1, spp, i % spp), u[1] = l2[0], u[2] = l2[1], u[3] = b2[0], u[4] = b2[1];
         hit[nd++] = hit[i];
     }
-    for (int rep = 0; rep < 3; rep++, t_mis = fmin(t_mis, now() - t0))
-    for (size_t i = (t0 = now(), 0); i < nd; i++) {
-        scene_light_terms t;
-        scene_direct_mis(&sc, &hit[i], in + 5 * i, &t);
-        sink += t.n;
-    }
+    double t_one;
+    time_direct(&sc, hit, nd, in, &t_mis, &t_one);
     if (sink == 42) printf("#\n");
     printf("bench render_shared_%s_draws_ns_per_sample %.1f ns\n", name, t_ld / n * 1e9);
     printf("bench render_shared_%s_line_pupil_ns_per_sample %.1f ns\n", name, t_ps / n * 1e9);
     printf("bench render_shared_%s_camera_hit_ns_per_sample %.1f ns\n", name, t_cam / n * 1e9);
     printf("bench render_shared_%s_albedo_ns_per_sample %.1f ns\n", name, t_alb / n * 1e9);
     printf("bench render_shared_%s_direct_light_ns_per_sample %.1f ns\n", name, t_mis / n * 1e9);
+    printf("bench render_shared_%s_direct_light_one_ns_per_sample %.1f ns\n", name, t_one / n * 1e9);
     double t_sh, t_bs;
     light_rays(&sc, hit, nd, in, &t_sh, &t_bs);
     printf("bench render_shared_%s_shadow_ray_ns_per_sample %.1f ns\n", name, t_sh / n * 1e9);

@@ -81,19 +81,20 @@ for s in $SCENES_ALL; do
 done
 echo
 echo "What changed since the baseline: the work a camera sample does besides the lens map,"
-echo "which both paths share, with the same images (the shipped scenes' renders are"
-echo "byte-identical: the noise columns agree and only the time moves): objects keep r^2, an"
-echo "emitter flag, the emission's luminance and a disk's tangent frame; the intersection"
-echo "test is inlined, and a plane behind the ray or past the nearest hit so far is"
-echo "rejected before its quotient; sin and cos of 2 pi u by a reduced Taylor series (libm's"
-echo "took about 130 instructions a pair, two pairs a sample); fmin, fmax and fmod (the"
-echo "checker's parities) inline; the line pupil's draw with sqrt for hypot and reciprocals"
-echo "made once; the second Sobol dimension by two byte tables (its loop's trip count"
-echo "varied from draw to draw) and a block's draws four samples at a time in 32-bit lanes;"
-echo "and the polynomial path's ray at the front surface with one square root for the sag,"
-echo "its slope and, on a sphere, the normal (front_ray; ray_from_outer took four roots and"
-echo "six quotients). \"Original\" (\"-\" for the two scenes added since) is the renderer"
-echo "before issue 17."
+echo "which both paths share, now goes a block of samples (lens-render's 512) at a time in"
+echo "AVX-512 lanes where the processor has them, with the same images (the shipped scenes'"
+echo "renders are byte-identical: the noise columns agree and only the time moves). The"
+echo "block's lit hits get their direct light together: each emitter's selection weight,"
+echo "the light sample on a disk or on a sphere seen from outside, the BSDF direction, the"
+echo "shadow rays and the BSDF rays eight points a step (src/render/scene_light_simd.c), the"
+echo "choices between them per point; the camera rays meet the scene eight at a time"
+echo "(every sphere tested: those the direction cull leaves out miss); the draws go sixteen"
+echo "samples a step (the Sobol tables by gathers). Each lane does the scalar code's"
+echo "operations in its order (no fused multiply-add: the build contracts none), a select"
+echo "standing for each branch, so the values are those of the per-sample code bit for bit"
+echo "(test_render_light compares the block functions with the per-point ones); without"
+echo "AVX-512 the per-sample code runs as before. \"Original\" (\"-\" for the two scenes"
+echo "added since) is the renderer before issue 17."
 echo
 echo "Polynomial path against exact tracing at equal noise (exact noise x s over polynomial"
 echo "noise x s, this build):"
@@ -147,15 +148,16 @@ echo "| camera path, exact | ${NS[dgauss cam exact]} | ${NS[fisheye cam exact]} 
 echo "| lens map alone, polynomial (blocks of 512) | $(bench render_batch_poly_dgauss_ns_per_ray) | $(bench render_batch_poly_fisheye-ii_ns_per_ray) |"
 echo "| lens map alone, exact | $(bench render_batch_exact_dgauss_ns_per_ray) | $(bench render_batch_exact_fisheye-ii_ns_per_ray) |"
 echo "| camera rays that pass the lens (line pupil) | $(bench render_line_pupil_pass_dgauss)% | $(bench render_line_pupil_pass_fisheye-ii)% |"
-for part in "draws:five low-discrepancy draws" "line_pupil:the line pupil's draw" \
-            "camera_hit:the camera ray's scene hit" "albedo:the albedo" \
-            "direct_light:direct light (light sample, shadow ray, BSDF ray, MIS)" \
+for part in "draws:five low-discrepancy draws (a pixel's run at a time)" "line_pupil:the line pupil's draw" \
+            "camera_hit:the camera ray's scene hit (blocks of 512)" "albedo:the albedo" \
+            "direct_light:direct light (light sample, shadow ray, BSDF ray, MIS; a block's lit hits at once)" \
             "shadow_ray:- of which the shadow ray" "bsdf_ray:- of which the BSDF ray"; do
   echo "| ${part#*:} | $(bench render_shared_dgauss_${part%%:*}_ns_per_sample) | $(bench render_shared_fisheye_${part%%:*}_ns_per_sample) |"
 done
 rest() { awk -v a="$(bench render_shared_$1_direct_light_ns_per_sample)" -v b="$(bench render_shared_$1_shadow_ray_ns_per_sample)" \
              -v c="$(bench render_shared_$1_bsdf_ray_ns_per_sample)" 'BEGIN{printf "%.1f", a - b - c}'; }
 echo "| - the rest: weighing the emitters, drawing the two directions, MIS | $(rest dgauss) | $(rest fisheye) |"
+echo "| direct light one point at a time (scene_direct_mis, as before the blocks) | $(bench render_shared_dgauss_direct_light_one_ns_per_sample) | $(bench render_shared_fisheye_direct_light_one_ns_per_sample) |"
 echo "| share of samples on a lit surface | $(bench render_shared_dgauss_lit_share)% | $(bench render_shared_fisheye_lit_share)% |"
 echo
 for s in dgauss fisheye; do
@@ -171,26 +173,25 @@ for s in dgauss fisheye; do
   }'
   echo
 done
-echo "What the shared work is, and why it stays: per camera sample the estimator draws five"
-echo "stratified numbers (the pixel's Owen-scrambled Sobol points, keyed per pixel and"
+echo "What the shared work is, and where it stands: per camera sample the estimator draws"
+echo "five stratified numbers (the pixel's Owen-scrambled Sobol points, keyed per pixel and"
 echo "dimension), draws the pupil point from the line pupil (the density that keeps"
 echo "94% of camera rays passing, against 41-62% for rays aimed at the rear element), finds"
-echo "the camera ray's hit, and at a lit surface weighs every emitter for the light sample"
-echo "(a square root and a quotient each), samples one point by solid angle and traces its"
-echo "shadow ray past every object, samples a BSDF direction and traces it to the emitters,"
-echo "and combines the two by MIS. Each part was profiled (valgrind --tool=callgrind) and"
-echo "rid of its calls into libm (sin, cos, hypot, fmod, fmin, fmax), of repeated quotients"
-echo "and square roots, of per-object values computed again each sample, and of branches"
-echo "whose outcome varied from sample to sample; what remains is the arithmetic on doubles"
-echo "that the estimator needs, one sample at a time. Tried and not kept, no change beyond"
-echo "the timing noise: plane tests without branches (a quotient always), and a shadow ray"
-echo "that skips its own emitter. The draws run four samples at a time in 32-bit lanes"
-echo "(a third fewer instructions). A further quarter off the shared work would need the"
-echo "scene queries and the light sampling done for many samples at once in vector"
-echo "registers (a packet renderer), which this renderer, a test bed for the lens model, is"
-echo "not. Where the scene's share is smaller (the bokeh scenes: emitters only, no"
-echo "light sampling; lateral colour: a camera ray per wavelength) the ratio is the lens"
-echo "map's."
+echo "the camera ray's hit, and at a lit surface weighs every emitter for the light sample,"
+echo "samples one point by solid angle and traces its shadow ray past every object, samples"
+echo "a BSDF direction and traces it to the emitters, and combines the two by MIS. Each part"
+echo "was first rid of its calls into libm, of repeated quotients and roots and of branches"
+echo "whose outcome varied from sample to sample; what stayed was arithmetic on doubles bound"
+echo "by the latency of its roots and quotients, one sample at a time. The blocks put that"
+echo "arithmetic in vector lanes: the direct light from the per-point figure in the table to"
+echo "the block's, the two rays to a quarter of their per-point time. What is left of the"
+echo "shared work is per sample and branchy: the line pupil's draw (its cell search, in"
+echo "src/sample), choosing an emitter and the MIS weights, the albedo's texture lookup, the"
+echo "hit records and the sums; tried and not kept: the scene's passes a slice of 64 samples"
+echo "at a time (to keep their arrays in the first-level cache: 2% slower, the kernels'"
+echo "set-up per call outweighs it). Where the scene's share is smaller (the bokeh scenes:"
+echo "emitters only, no light sampling; lateral colour: a camera ray per wavelength) the"
+echo "ratio is the lens map's."
 echo
 echo "## Effects per scene"
 echo

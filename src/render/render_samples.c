@@ -175,38 +175,45 @@ double ld_1d_px(const ld_pixel *p, int dim, uint64_t n, uint64_t k)
  * halves only), so 32-bit lanes give its values; the Sobol tables are read lane by lane. */
 typedef uint32_t v4u __attribute__((vector_size(16)));
 
-static inline v4u reverse4(v4u x)
-{
-    /* the bytes swapped by shifts and masks: GCC's __builtin_shuffle is unknown to clang
-     * (the fuzz build), and compilers turn this into one byte shuffle anyway */
-    x = (x >> 24) | ((x >> 8) & 0xff00u) | ((x << 8) & 0xff0000u) | (x << 24);
-    x = ((x & 0x0f0f0f0fu) << 4) | ((x >> 4) & 0x0f0f0f0fu);
-    x = ((x & 0x33333333u) << 2) | ((x >> 2) & 0x33333333u);
-    return ((x & 0x55555555u) << 1) | ((x >> 1) & 0x55555555u);
-}
-
-static inline v4u owen4(v4u r, uint64_t key)
-{
-    OWEN_STEPS(r, key);
-    return reverse4(r);
-}
-
-/* permute_sized on four indices; a lane that has landed in [0, n) keeps its value */
-static inline v4u permute4(v4u i, perm_size z, const ld_perm *p)
-{
-    uint32_t k1 = (uint32_t)p->k1, m2 = (uint32_t)p->m2, k3 = (uint32_t)p->k3, m1 = (uint32_t)p->m1;
-    uint32_t mask = (uint32_t)z.mask, n = (uint32_t)z.n;
-    v4u todo = {~0u, ~0u, ~0u, ~0u};
-    for (;;) {
-        v4u x = ((i ^ k1) * m2) & mask;
-        x ^= x >> z.s;
-        x = ((x + k3) * m1) & mask;
-        x ^= x >> z.s;
-        i = (x & todo) | (i & ~todo);
-        todo &= (v4u)(i >= n);
-        if (!(todo[0] | todo[1] | todo[2] | todo[3])) return i;
+/* reverse32, owen_reversed and permute_sized on a vector V of 32-bit lanes (ATTR: the
+ * instruction set it is compiled for), written once for four lanes and for sixteen */
+#define LANE_FUNCS(V, NAME, ATTR)                                                            \
+    /* the bytes swapped by shifts and masks: GCC's __builtin_shuffle is unknown to clang   \
+     * (the fuzz build), and compilers turn this into one byte shuffle anyway */            \
+    ATTR static inline V reverse_##NAME(V x)                                                 \
+    {                                                                                        \
+        x = (x >> 24) | ((x >> 8) & 0xff00u) | ((x << 8) & 0xff0000u) | (x << 24);           \
+        x = ((x & 0x0f0f0f0fu) << 4) | ((x >> 4) & 0x0f0f0f0fu);                             \
+        x = ((x & 0x33333333u) << 2) | ((x >> 2) & 0x33333333u);                             \
+        return ((x & 0x55555555u) << 1) | ((x >> 1) & 0x55555555u);                         \
+    }                                                                                        \
+    ATTR static inline V owen_##NAME(V r, uint64_t key)                                      \
+    {                                                                                        \
+        OWEN_STEPS(r, key);                                                                  \
+        return reverse_##NAME(r);                                                            \
+    }                                                                                        \
+    /* a lane that has landed in [0, n) keeps its value */                                   \
+    ATTR static inline V permute_##NAME(V i, perm_size z, const ld_perm *p)                  \
+    {                                                                                        \
+        uint32_t k1 = (uint32_t)p->k1, m2 = (uint32_t)p->m2, k3 = (uint32_t)p->k3;           \
+        uint32_t m1 = (uint32_t)p->m1, mask = (uint32_t)z.mask, n = (uint32_t)z.n;           \
+        V todo = (V)(i == i);                                                                \
+        for (;;) {                                                                           \
+            V x = ((i ^ k1) * m2) & mask;                                                    \
+            x ^= x >> z.s;                                                                   \
+            x = ((x + k3) * m1) & mask;                                                      \
+            x ^= x >> z.s;                                                                   \
+            i = (x & todo) | (i & ~todo);                                                    \
+            todo &= (V)(i >= n);                                                             \
+            uint32_t any = 0;                                                                \
+            for (int l = 0; l < (int)(sizeof(V) / 4); l++) any |= todo[l];                  \
+            if (!any) return i;                                                              \
+        }                                                                                    \
     }
-}
+
+LANE_FUNCS(v4u, 4, )
+#define owen4 owen_4
+#define permute4 permute_4
 
 /* The samples of a run that go four at a time (the lanes hold n: below 2^32), and the
  * permuted indices of samples k0 + c .. k0 + c + 3. */
@@ -221,11 +228,71 @@ static inline v4u permuted4(uint64_t k0, int c, perm_size z, const ld_perm *p)
     return permute4((v4u){k, k + 1, k + 2, k + 3}, z, p);
 }
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+/* Sixteen samples a step where the processor has AVX-512 (a run of a pixel's 32 samples
+ * is two steps, against eight of four lanes); the Sobol tables read by gathers, so only
+ * for indices below 2^16 (n <= 65536). */
+typedef uint32_t v16u __attribute__((vector_size(64)));
+#define AVX512 __attribute__((target("avx512f")))
+LANE_FUNCS(v16u, 16, AVX512)
+
+AVX512 static v16u sobol16(v16u j)
+{
+    __m512i lo = _mm512_i32gather_epi32((__m512i)(j & 255u), (const void *)sobol_rev_lo, 4);
+    __m512i hi = _mm512_i32gather_epi32((__m512i)(j >> 8), (const void *)sobol_rev_hi, 4);
+    return (v16u)lo ^ (v16u)hi;
+}
+
+/* samples k0 + c, c < count rounded down to 16, of ld_2d_run; returns how many */
+AVX512 static int run16(const ld_pixel *p, int dim, perm_size z, uint64_t k0, int count,
+                        double *out, int stride)
+{
+    const v16u iota = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+    int c = 0;
+    for (; c + 16 <= count; c += 16) {
+        v16u j = permute_16((uint32_t)(k0 + c) + iota, z, &p->perm2[dim]);
+        v16u a = owen_16(j, p->scr_a[dim]), b = owen_16(sobol16(j), p->scr_b[dim]);
+        double da[16], db[16];
+        for (int h = 0; h < 2; h++) { /* u32 -> double exactly, then the exact scaling */
+            __m256i ah = h ? _mm512_extracti64x4_epi64((__m512i)a, 1) : _mm512_castsi512_si256((__m512i)a);
+            __m256i bh = h ? _mm512_extracti64x4_epi64((__m512i)b, 1) : _mm512_castsi512_si256((__m512i)b);
+            _mm512_storeu_pd(da + 8 * h, _mm512_mul_pd(_mm512_cvtepu32_pd(ah), _mm512_set1_pd(0x1.0p-32)));
+            _mm512_storeu_pd(db + 8 * h, _mm512_mul_pd(_mm512_cvtepu32_pd(bh), _mm512_set1_pd(0x1.0p-32)));
+        }
+        for (int l = 0; l < 16; l++) {
+            double *o = out + (size_t)(c + l) * stride;
+            o[0] = da[l], o[1] = db[l];
+        }
+    }
+    return c;
+}
+
+static int sixteen_ok(void)
+{
+    static int ok = -1;
+    if (ok < 0) ok = __builtin_cpu_supports("avx512f") != 0;
+    return ok;
+}
+#else
+static int run16(const ld_pixel *p, int dim, perm_size z, uint64_t k0, int count, double *out,
+                 int stride)
+{
+    (void)p, (void)dim, (void)z, (void)k0, (void)count, (void)out, (void)stride;
+    return 0;
+}
+static int sixteen_ok(void)
+{
+    return 0;
+}
+#endif
+
 void ld_2d_run(const ld_pixel *p, int dim, uint64_t n, uint64_t k0, int count, double *out,
                int stride)
 {
     perm_size z = size_of(n);
     int c = 0, fours = in_fours(n, count);
+    if (fours && n <= 65536 && sixteen_ok()) c = run16(p, dim, z, k0, fours, out, stride);
     for (; c < fours; c += 4) {
         v4u j = permuted4(k0, c, z, &p->perm2[dim]);
         v4u s = {sobol_dim2_reversed(j[0]), sobol_dim2_reversed(j[1]), sobol_dim2_reversed(j[2]),

@@ -113,24 +113,39 @@ typedef struct {
     int shadow;
 } light_try;
 
-/* The light sample at h from the selection weights sel[j * stride] of the emitters idx[j]
- * (j < ne) and their sum. */
-static void try_light(const scene_t *s, const scene_hit *h, const double u[5], const double *sel,
-                      size_t stride, const int *idx, size_t ne, double total, light_try *L)
+/* The emitter the light sample draws (L->j of idx) and its probability L->P, from the
+ * selection weights sel[j * stride] of the emitters idx[j] (j < ne) and their sum;
+ * returns 0 when none can be drawn. */
+static int choose_light(double u0, const double *sel, size_t stride, size_t ne, double total,
+                        light_try *L)
 {
     L->shadow = 0;
-    if (!(total > 0)) return;
-    double x = u[0] * total, acc = 0;
+    if (!(total > 0)) return 0;
+    double x = u0 * total, acc = 0;
     size_t j = 0;
     while (j + 1 < ne && (acc + sel[j * stride] <= x || sel[j * stride] == 0)) acc += sel[stride * j++];
-    const scene_object *o = &s->obj[idx[j]];
-    double wl[3] = {0, 0, 0}, nq[3], le[3];
     L->j = j;
     L->P = sel[j * stride] / total;
+    return 1;
+}
+
+/* The chosen emitter's sample at h: direction, pdf, cosine, and whether it faces h. */
+static void sample_chosen(const scene_t *s, const scene_hit *h, const double u[5], const int *idx,
+                          light_try *L)
+{
+    const scene_object *o = &s->obj[idx[L->j]];
+    double wl[3] = {0, 0, 0}, nq[3], le[3];
     L->pdf = L->P > 0 ? sample_light(o, h->p, u[1], u[2], wl, L->q, nq) : 0;
     L->cr = dot3(h->n, wl);
     double back[3] = {-wl[0], -wl[1], -wl[2]};
-    L->shadow = L->pdf > 0 && L->cr > 0 && scene_emitted(s, idx[j], L->q, back, le);
+    L->shadow = L->pdf > 0 && L->cr > 0 && scene_emitted(s, idx[L->j], L->q, back, le);
+}
+
+/* The light sample at h up to its shadow ray. */
+static void try_light(const scene_t *s, const scene_hit *h, const double u[5], const double *sel,
+                      size_t stride, const int *idx, size_t ne, double total, light_try *L)
+{
+    if (choose_light(u[0], sel, stride, ne, total, L)) sample_chosen(s, h, u, idx, L);
 }
 
 /* The light sample's term, its shadow ray having passed. */
@@ -219,6 +234,57 @@ static int pad8(double *X, int n)
     return n8;
 }
 
+/* Whether emitter o's light sample from p goes in the kernels' lanes: a disk, or a sphere
+ * seen from outside (sample_light's branches without a further branch). */
+static int in_lanes(const scene_object *o, const double p[3])
+{
+    if (o->kind == OBJ_DISK) return 1;
+    double c[3] = {o->p[0] - p[0], o->p[1] - p[1], o->p[2] - p[2]};
+    return o->kind == OBJ_SPHERE && dot3(c, c) > o->r2 * (1 + 1e-12);
+}
+
+/* The light samples of c points (try_light): the emitter drawn per point, then the
+ * draws on each disk or sphere for all the points that chose it at once
+ * (scene_simd_disk_light, scene_simd_sphere_light); points inside a sphere one by one. */
+static void light_samples(const scene_t *s, const scene_hit *h, const double *u, int c,
+                          const double *sel, const int *idx, size_t ne, const double *tot,
+                          light_try *L)
+{
+    int chosen[64] = {0}, list[MANY];
+    unsigned char lane[MANY];
+    double P[3 * MANY], N[3 * MANY], U1[MANY], U2[MANY], Q[3 * MANY], pdf[MANY], cr[MANY];
+    unsigned char sh[MANY];
+    for (int i = 0; i < c; i++) {
+        lane[i] = 0;
+        if (!choose_light(u[5 * i], sel + i, MANY, ne, tot[i], &L[i])) continue;
+        lane[i] = L[i].P > 0 && in_lanes(&s->obj[idx[L[i].j]], h[i].p);
+        if (lane[i]) chosen[L[i].j] = 1;
+        else sample_chosen(s, h + i, u + 5 * i, idx, &L[i]);
+    }
+    for (size_t j = 0; j < ne; j++) {
+        if (!chosen[j]) continue;
+        int n = 0;
+        for (int i = 0; i < c; i++) {
+            if (!lane[i] || L[i].j != j) continue;
+            for (int k = 0; k < 3; k++) P[k * MANY + n] = h[i].p[k], N[k * MANY + n] = h[i].n[k];
+            U1[n] = u[5 * i + 1], U2[n] = u[5 * i + 2];
+            list[n++] = i;
+        }
+        for (int l = n; l < (n + 7) / 8 * 8; l++) U1[l] = U1[0], U2[l] = U2[0];
+        pad8(P, n);
+        const scene_object *o = &s->obj[idx[j]];
+        if (o->kind == OBJ_DISK)
+            scene_simd_disk_light(o, pad8(N, n), MANY, P, N, U1, U2, Q, pdf, cr, sh);
+        else
+            scene_simd_sphere_light(o, pad8(N, n), MANY, P, N, U1, U2, Q, pdf, cr, sh);
+        for (int l = 0; l < n; l++) {
+            light_try *Li = &L[list[l]];
+            for (int k = 0; k < 3; k++) Li->q[k] = Q[k * MANY + l];
+            Li->pdf = pdf[l], Li->cr = cr[l], Li->shadow = sh[l];
+        }
+    }
+}
+
 /* The rays of c points' direct light (as direct_terms), each kind for all at once: the
  * light samples, then their shadow rays, then the BSDF rays (direction W, cosine ct). */
 static void many_rays(const scene_t *s, const scene_hit *h, const double *u, int c,
@@ -232,7 +298,9 @@ static void many_rays(const scene_t *s, const scene_hit *h, const double *u, int
     for (int i = 0; i < c; i++) {
         tot[i] = 0;
         for (size_t j = 0; j < ne; j++) tot[i] += sel[j * MANY + i];
-        try_light(s, h + i, u + 5 * i, sel + i, MANY, idx, ne, tot[i], &L[i]);
+    }
+    light_samples(s, h, u, c, sel, idx, ne, tot, L);
+    for (int i = 0; i < c; i++) {
         if (!L[i].shadow) continue;
         for (int k = 0; k < 3; k++) A[k * MANY + ns] = h[i].p[k], B[k * MANY + ns] = L[i].q[k];
         list[ns++] = i;

@@ -1,11 +1,12 @@
 /* The direct light's arithmetic, eight points a step (scene_light_simd.h). Why: the
  * renderer shades a block of hundreds of points, and one point at a time the selection
- * weights (a root, a quotient and for a sphere a second root per emitter), the BSDF
- * direction, and the shadow and BSDF rays' tests against every object were most of the
- * direct light's time, bound by the latency of roots and quotients. The lanes mirror
- * scene_light.c, scene_geometry.c and render_math.h operation for operation; a select
- * stands for each branch, with the comparison's NaN outcome of the scalar test; a ray's
- * tests go on past a blocker (the scalar search stops there: the same answer). */
+ * weights (a root, a quotient and for a sphere a second root per emitter), the light
+ * sample on its emitter, the BSDF direction, and the shadow and BSDF rays' tests against
+ * every object were most of the direct light's time, bound by the latency of roots and
+ * quotients. The lanes mirror scene_light.c, scene_geometry.c and render_math.h operation
+ * for operation; a select stands for each branch, with the comparison's NaN outcome of
+ * the scalar test; a ray's tests go on past a blocker (the scalar search stops there: the
+ * same answer). */
 #include "render/scene_light_simd.h"
 
 #include <math.h>
@@ -42,6 +43,11 @@ AVX512 static inline vd vdot(vd a0, vd a1, vd a2, vd b0, vd b1, vd b2)
                          _mm512_mul_pd(a2, b2));
 }
 
+AVX512 static inline void load3(const double *X, int stride, int i, vd v[3])
+{
+    for (int k = 0; k < 3; k++) v[k] = _mm512_loadu_pd(X + k * stride + i);
+}
+
 AVX512 void scene_simd_select(const scene_object *o, int m, int stride, const double *P,
                               const double *N, double *sel)
 {
@@ -76,7 +82,7 @@ AVX512 void scene_simd_select(const scene_object *o, int m, int stride, const do
 }
 
 /* rm_sincos_turn, lane by lane: the quadrant as (n mod 4) in doubles (n is whole) */
-AVX512 static void sincos8(vd t, vd *s, vd *c)
+AVX512 __attribute__((always_inline)) static inline void sincos8(vd t, vd *s, vd *c)
 {
     vd q = _mm512_mul_pd(vset(4), t);
     vd n = _mm512_roundscale_pd(_mm512_add_pd(q, vset(0.5)), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
@@ -100,31 +106,117 @@ AVX512 static void sincos8(vd t, vd *s, vd *c)
     *c = _mm512_mask_blend_pd(q3, _mm512_mask_blend_pd(q2, _mm512_mask_blend_pd(q1, cs, nsn), ncs), sn);
 }
 
+/* rm_frame(n, t, b), and the direction c n + r (cs t + sn b) about n (a cone's or the
+ * cosine lobe's, as scene_light.c writes them) */
+AVX512 static inline void vlobe(const vd n[3], vd c, vd r, vd sn, vd cs, vd w[3])
+{
+    const vd one = vset(1), mone = vset(-1);
+    vd s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(n[2], _mm512_setzero_pd(), _CMP_GE_OQ), mone, one);
+    vd a = _mm512_div_pd(mone, _mm512_add_pd(s, n[2])), cc = _mm512_mul_pd(_mm512_mul_pd(n[0], n[1]), a);
+    vd t[3] = {_mm512_add_pd(one, _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(s, n[0]), n[0]), a)),
+               _mm512_mul_pd(s, cc), _mm512_mul_pd(vneg(s), n[0])};
+    vd b[3] = {cc, _mm512_add_pd(s, _mm512_mul_pd(_mm512_mul_pd(n[1], n[1]), a)), vneg(n[1])};
+    for (int k = 0; k < 3; k++) {
+        vd side = _mm512_add_pd(_mm512_mul_pd(cs, t[k]), _mm512_mul_pd(sn, b[k]));
+        w[k] = _mm512_add_pd(_mm512_mul_pd(c, n[k]), _mm512_mul_pd(r, side));
+    }
+}
+
 AVX512 void scene_simd_bsdf_dir(int m, int stride, const double *N, const double *u3,
                                 const double *u4, double *W, double *ct)
 {
-    const vd one = vset(1), mone = vset(-1);
+    const vd one = vset(1);
     for (int i = 0; i < m; i += 8) {
-        vd a3 = _mm512_loadu_pd(u3 + i), a4 = _mm512_loadu_pd(u4 + i);
-        vd n0 = _mm512_loadu_pd(N + i), n1 = _mm512_loadu_pd(N + stride + i);
-        vd n2 = _mm512_loadu_pd(N + 2 * stride + i);
-        vd r = _mm512_sqrt_pd(a3), c = _mm512_sqrt_pd(vpos(_mm512_sub_pd(one, a3))), sn, cs;
-        sincos8(a4, &sn, &cs);
-        /* rm_frame(n, t, b) */
-        vd s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(n2, _mm512_setzero_pd(), _CMP_GE_OQ), mone, one);
-        vd a = _mm512_div_pd(mone, _mm512_add_pd(s, n2)), cc = _mm512_mul_pd(_mm512_mul_pd(n0, n1), a);
-        vd t0 = _mm512_add_pd(one, _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(s, n0), n0), a));
-        vd t1 = _mm512_mul_pd(s, cc), t2 = _mm512_mul_pd(vneg(s), n0);
-        vd b0 = cc, b1 = _mm512_add_pd(s, _mm512_mul_pd(_mm512_mul_pd(n1, n1), a)), b2 = vneg(n1);
-        vd tt[3] = {t0, t1, t2}, bb[3] = {b0, b1, b2}, nn[3] = {n0, n1, n2};
-        for (int k = 0; k < 3; k++) {
-            vd side = _mm512_add_pd(_mm512_mul_pd(cs, tt[k]), _mm512_mul_pd(sn, bb[k]));
-            _mm512_storeu_pd(W + k * stride + i,
-                             _mm512_add_pd(_mm512_mul_pd(c, nn[k]), _mm512_mul_pd(r, side)));
-        }
+        vd a3 = _mm512_loadu_pd(u3 + i), n[3], w[3], sn, cs;
+        load3(N, stride, i, n);
+        vd r = _mm512_sqrt_pd(a3), c = _mm512_sqrt_pd(vpos(_mm512_sub_pd(one, a3)));
+        sincos8(_mm512_loadu_pd(u4 + i), &sn, &cs);
+        vlobe(n, c, r, sn, cs, w);
+        for (int k = 0; k < 3; k++) _mm512_storeu_pd(W + k * stride + i, w[k]);
         _mm512_storeu_pd(ct + i, c);
     }
 }
+
+/* sample_light on sphere o from points outside it (P, normals N, uniforms U1, U2): a
+ * direction in the cone the sphere fills, its end Q on the sphere, the pdf; cr and the
+ * shadow flag as scene_simd_disk_light */
+AVX512 void scene_simd_sphere_light(const scene_object *o, int m, int stride, const double *P,
+                                    const double *N, const double *U1, const double *U2, double *Q,
+                                    double *pdf, double *cr, unsigned char *shadow)
+{
+    const vd one = vset(1), zero = _mm512_setzero_pd(), r2 = vset(o->r2);
+    for (int i = 0; i < m; i += 8) {
+        vd p[3], n[3], c[3], axis[3], w[3], sn, cs, q[3];
+        load3(P, stride, i, p);
+        load3(N, stride, i, n);
+        for (int k = 0; k < 3; k++) c[k] = _mm512_sub_pd(vset(o->p[k]), p[k]);
+        vd d2 = vdot(c[0], c[1], c[2], c[0], c[1], c[2]);
+        sincos8(_mm512_loadu_pd(U2 + i), &sn, &cs);
+        vd id = _mm512_div_pd(one, _mm512_sqrt_pd(d2));
+        for (int k = 0; k < 3; k++) axis[k] = _mm512_mul_pd(c[k], id);
+        vd cos_max = _mm512_sqrt_pd(_mm512_sub_pd(one, _mm512_div_pd(r2, d2)));
+        vd one_minus = _mm512_sub_pd(one, cos_max);
+        vd ct = _mm512_sub_pd(one, _mm512_mul_pd(_mm512_loadu_pd(U1 + i), one_minus));
+        vd st = _mm512_sqrt_pd(vpos(_mm512_sub_pd(one, _mm512_mul_pd(ct, ct))));
+        vlobe(axis, ct, st, sn, cs, w);
+        /* the nearer root of |p + s w - centre| = r */
+        vd bb = vdot(c[0], c[1], c[2], w[0], w[1], w[2]);
+        vd disc = vpos(_mm512_sub_pd(_mm512_mul_pd(bb, bb), _mm512_sub_pd(d2, r2)));
+        vd sr = _mm512_sub_pd(bb, _mm512_sqrt_pd(disc)), qo[3];
+        for (int k = 0; k < 3; k++) {
+            q[k] = _mm512_add_pd(p[k], _mm512_mul_pd(sr, w[k]));
+            qo[k] = _mm512_sub_pd(q[k], vset(o->p[k]));
+            _mm512_storeu_pd(Q + k * stride + i, q[k]);
+        }
+        vd pd = _mm512_div_pd(one, _mm512_mul_pd(vset(2 * M_PI), one_minus));
+        vd cc = vdot(n[0], n[1], n[2], w[0], w[1], w[2]);
+        vd facing = vneg(vdot(qo[0], qo[1], qo[2], w[0], w[1], w[2])); /* scene_emitted */
+        __mmask8 sh = _mm512_cmp_pd_mask(pd, zero, _CMP_GT_OQ) & _mm512_cmp_pd_mask(cc, zero, _CMP_GT_OQ) &
+                      _mm512_cmp_pd_mask(facing, zero, _CMP_NLE_UQ);
+        _mm512_storeu_pd(pdf + i, pd);
+        _mm512_storeu_pd(cr + i, cc);
+        for (int l = 0; l < 8; l++) shadow[i + l] = sh >> l & 1;
+    }
+}
+/* sample_light and light_pdf on disk o from the points P (normals N) with the uniforms
+ * U1, U2, and try_light's tests: the end Q, the pdf, the cosine cr at the point, and
+ * whether the shadow ray decides (pdf > 0, cr > 0, the disk faces the point) */
+AVX512 void scene_simd_disk_light(const scene_object *o, int m, int stride, const double *P,
+                                  const double *N, const double *U1, const double *U2, double *Q,
+                                  double *pdf, double *cr, unsigned char *shadow)
+{
+    const vd zero = _mm512_setzero_pd(), rad = vset(o->radius);
+    const vd on[3] = {vset(o->n[0]), vset(o->n[1]), vset(o->n[2])};
+    for (int i = 0; i < m; i += 8) {
+        vd p[3], n[3], e[3], w[3], sn, cs;
+        load3(P, stride, i, p);
+        load3(N, stride, i, n);
+        sincos8(_mm512_loadu_pd(U2 + i), &sn, &cs);
+        vd r = _mm512_mul_pd(rad, _mm512_sqrt_pd(_mm512_loadu_pd(U1 + i)));
+        for (int k = 0; k < 3; k++) {
+            vd side = _mm512_add_pd(_mm512_mul_pd(cs, vset(o->e1[k])), _mm512_mul_pd(sn, vset(o->e2[k])));
+            vd q = _mm512_add_pd(vset(o->p[k]), _mm512_mul_pd(r, side));
+            _mm512_storeu_pd(Q + k * stride + i, q);
+            e[k] = _mm512_sub_pd(q, p[k]);
+        }
+        vd dq2 = vdot(e[0], e[1], e[2], e[0], e[1], e[2]), dq = _mm512_sqrt_pd(dq2);
+        vd iq = _mm512_div_pd(vset(1), dq);
+        for (int k = 0; k < 3; k++) w[k] = _mm512_mul_pd(e[k], iq);
+        vd dn = vdot(on[0], on[1], on[2], w[0], w[1], w[2]), cl = _mm512_abs_pd(dn);
+        vd den = _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(cl, vset(M_PI)), rad), rad);
+        __mmask8 ok = _mm512_cmp_pd_mask(dq, zero, _CMP_GT_OQ) & _mm512_cmp_pd_mask(cl, zero, _CMP_GT_OQ);
+        vd pd = _mm512_maskz_mov_pd(ok, _mm512_div_pd(dq2, den));
+        /* a failed draw leaves the direction 0 (try_light's start) */
+        vd c = _mm512_maskz_mov_pd(_mm512_cmp_pd_mask(dq, zero, _CMP_GT_OQ),
+                                   vdot(n[0], n[1], n[2], w[0], w[1], w[2]));
+        __mmask8 sh = _mm512_cmp_pd_mask(pd, zero, _CMP_GT_OQ) & _mm512_cmp_pd_mask(c, zero, _CMP_GT_OQ) &
+                      _mm512_cmp_pd_mask(vneg(dn), zero, _CMP_NLE_UQ);
+        _mm512_storeu_pd(pdf + i, pd);
+        _mm512_storeu_pd(cr + i, c);
+        for (int l = 0; l < 8; l++) shadow[i + l] = sh >> l & 1;
+    }
+}
+
 /* hit_object (scene_geometry.c) on eight rays (org, d): t, or INFINITY */
 AVX512 __attribute__((always_inline)) static inline vd hit8(const scene_object *o, const vd org[3],
                                                             const vd d[3], vd tmin, vd tmax)
@@ -159,11 +251,6 @@ AVX512 __attribute__((always_inline)) static inline vd hit8(const scene_object *
         ok &= _mm512_cmp_pd_mask(vdot(h0, h1, h2, h0, h1, h2), vset(o->r2), _CMP_NGT_UQ);
     }
     return _mm512_mask_blend_pd(ok, inf, t);
-}
-
-AVX512 static inline void load3(const double *X, int stride, int i, vd v[3])
-{
-    for (int k = 0; k < 3; k++) v[k] = _mm512_loadu_pd(X + k * stride + i);
 }
 
 AVX512 void scene_simd_visible(const scene_t *s, int m, int stride, const double *A,

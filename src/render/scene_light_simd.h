@@ -31,6 +31,20 @@ void scene_simd_select(const scene_object *o, int m, int stride, const double *P
 void scene_simd_bsdf_dir(int m, int stride, const double *N, const double *u3, const double *u4,
                          double *W, double *ct);
 
+/* The light sample on disk o from the m points P (normals N) with the uniforms U1, U2
+ * (scene_light.c's sample_light and light_pdf): its end Q, pdf, the cosine cr at the
+ * point, and shadow[i] = 1 where its shadow ray decides the term (pdf > 0, cr > 0, the
+ * disk faces the point). */
+void scene_simd_disk_light(const scene_object *o, int m, int stride, const double *P,
+                           const double *N, const double *U1, const double *U2, double *Q,
+                           double *pdf, double *cr, unsigned char *shadow);
+
+/* The same on sphere o from points outside it (d^2 > r^2 (1 + 1e-12)): a direction in
+ * the cone the sphere fills (sample_light's first branch). */
+void scene_simd_sphere_light(const scene_object *o, int m, int stride, const double *P,
+                             const double *N, const double *U1, const double *U2, double *Q,
+                             double *pdf, double *cr, unsigned char *shadow);
+
 /* scene_visible(s, A_i, B_i) for the m segments, into vis[i]. */
 void scene_simd_visible(const scene_t *s, int m, int stride, const double *A, const double *B,
                         unsigned char *vis);

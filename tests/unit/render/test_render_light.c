@@ -171,20 +171,21 @@ static void test_samples_stratified(void **state)
     assert_true(fabs(sum / pixels - 0.5) < 4 * sqrt(1.0 / 12 / pixels));
 }
 
-/* The block drawer (ld_2d_run, ld_1d_run: four samples at a time in 32-bit lanes) gives
- * the values of ld_2d_px and ld_1d_px bit for bit: powers of two and others (the
- * permutation's rejection walk), runs that start anywhere and end off a multiple of 4,
- * and a sample count past 2^32 (the lanes cannot hold it: the scalar path). */
+/* The block drawer (ld_2d_run, ld_1d_run: four samples at a time in 32-bit lanes, and
+ * sixteen in AVX-512 lanes for counts up to 2^16) gives the values of ld_2d_px and
+ * ld_1d_px bit for bit: powers of two and others (the permutation's rejection walk), runs
+ * that start anywhere and end off a multiple of 4 and of 16, a count past 2^16 (no
+ * sixteen-lane step) and one past 2^32 (the lanes cannot hold it: the scalar path). */
 static void test_sample_runs(void **state)
 {
     (void)state;
-    const uint64_t ns[] = {2, 3, 5, 16, 17, 32, 37, 128, 1000, 5000000000ull};
+    const uint64_t ns[] = {2, 3, 5, 16, 17, 32, 37, 128, 1000, 100000, 5000000000ull};
     double out[9 * 70], r[2];
     long checked = 0;
     for (int pi = 0; pi < 30; pi++) {
         ld_pixel p;
         ld_pixel_init(&p, ld_pixel_key(4, (uint64_t)pi));
-        for (int ni = 0; ni < 10; ni++) {
+        for (int ni = 0; ni < 11; ni++) {
             uint64_t n = ns[ni], count = n < 70 ? n : 70, k0 = n > count ? (uint64_t)pi % (n - count) : 0;
             for (int d = 0; d < LD_DIMS; d++) {
                 ld_2d_run(&p, d, n, k0, (int)count, out, 9);
@@ -197,7 +198,7 @@ static void test_sample_runs(void **state)
             }
         }
     }
-    assert_true(checked == 30 * 322 * LD_DIMS);
+    assert_true(checked == 30 * 392 * LD_DIMS);
 }
 
 /* Direction culling finds exactly the hits of the full loop, for rays from anywhere in
