@@ -77,11 +77,13 @@ poly_system *poly_new(const char *lens_name, int ninputs, const char *const *inp
     s->outputs = calloc((size_t)noutputs, sizeof *s->outputs);
     s->offset = calloc((size_t)ninputs, sizeof(double));
     s->scale = calloc((size_t)ninputs, sizeof(double));
+    s->inv_scale = calloc((size_t)ninputs, sizeof(double));
+    s->off_scaled = calloc((size_t)ninputs, sizeof(double));
     s->lo = calloc((size_t)ninputs, sizeof(double));
     s->hi = calloc((size_t)ninputs, sizeof(double));
     s->xform = calloc((size_t)ninputs, sizeof(int)); /* identity (poly_frame.c) */
     if (!s->lens_name || !s->lens_path || !s->inputs || !s->outputs || !s->offset ||
-        !s->scale || !s->lo || !s->hi || !s->xform) {
+        !s->scale || !s->inv_scale || !s->off_scaled || !s->lo || !s->hi || !s->xform) {
         poly_free(s);
         return NULL;
     }
@@ -91,7 +93,7 @@ poly_system *poly_new(const char *lens_name, int ninputs, const char *const *inp
             poly_free(s);
             return NULL;
         }
-        s->scale[i] = 1;
+        s->scale[i] = s->inv_scale[i] = 1;
         s->lo[i] = -INFINITY;
         s->hi[i] = INFINITY;
     }
@@ -148,6 +150,8 @@ void poly_free(poly_system *s)
     free(s->outputs);
     free(s->offset);
     free(s->scale);
+    free(s->inv_scale);
+    free(s->off_scaled);
     free(s->lo);
     free(s->hi);
     free(s->xform);
@@ -192,6 +196,8 @@ void poly_set_scaling(poly_system *s, int i, double offset, double scale)
         return;
     s->offset[i] = offset;
     s->scale[i] = scale;
+    s->inv_scale[i] = 1 / scale;
+    s->off_scaled[i] = offset * s->inv_scale[i];
     poly_frame_on_change(s);
 }
 

@@ -102,7 +102,14 @@ static int emit_part(FILE *f, const poly_system *s, const poly_part *p, const ch
         fprintf(f, "        { /* ");
         comment_name(f, s->outputs[o]);
         fprintf(f, ": %d terms */\n", ot->nterms);
-        fputs("            double a0 = 0, a1 = 0, a2 = 0, a3 = 0;\n", f);
+        if (ot->nterms == 0) {
+            fputs("            ", f);
+            fprintf(f, outfmt, o);
+            fputs(" = 0;\n        }\n", f);
+            continue;
+        }
+        /* from -0, as the library (poly_impl.h): a compiler takes the first term as is */
+        fputs("            double a0 = -0.0, a1 = -0.0, a2 = -0.0, a3 = -0.0;\n", f);
         /* the plan's runs (poly_impl.h): single terms, then the fused ones by quads,
          * pairs and lone terms, each run from sum a0 on */
         int q = t0;

@@ -104,7 +104,11 @@ static void sums_one(const poly_plan *pl, const double *v, const unsigned char *
         const int t0 = pl->start[o], ns = pl->nsingle[o];
         const int nq = pl->nquad[o], np = pl->npair[o];
         const int nl = pl->start[o + 1] - t0 - ns - 4 * nq - 2 * np;
-        double a0 = 0, a1 = 0, a2 = 0, a3 = 0;
+        if (t0 == pl->start[o + 1]) {
+            out[o] = 0; /* an empty sum: 0, not -0 */
+            continue;
+        }
+        double a0 = -0.0, a1 = -0.0, a2 = -0.0, a3 = -0.0;
         int k = t0;
 #define SINGLE_ONE(k) (c[k] * v[fa[k]])
         RUN_ONE(SINGLE_ONE, 1, ns);

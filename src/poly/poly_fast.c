@@ -331,10 +331,11 @@ FAST_TARGET static int fast_eval(const poly_fast *f, const poly_system *s, const
             pv = x * v - y * u;
         }
     }
-    /* (v - offset) / scale as v / scale - offset / scale: one multiply-add after v */
+    /* (v - offset) / scale as v / scale - offset / scale: one multiply-add after v (both
+     * factors kept by poly_set_scaling) */
     for (int k = 0; k < f->nact; k++) {
         const int i = f->act[k];
-        const double inv = 1 / s->scale[i], off = s->offset[i] * inv;
+        const double inv = s->inv_scale[i], off = s->off_scaled[i];
         double v = in[i];
         if (mer && (i == s->ix || i == s->iy))
             v = i == s->ix ? r : 0;

@@ -28,7 +28,10 @@
  * with every quad of the output first, then every pair, then every lone term. A quad
  * loads 5 values where 4 terms apiece loaded 8: the batch kernel is bound by loads.
  * Within each of the runs (singles, quads, pairs, lone terms) item t goes to partial
- * sum t % POLY_NSUMS, and the output is (s0 + s1) + (s2 + s3). Independent partial sums
+ * sum t % POLY_NSUMS, and the output is (s0 + s1) + (s2 + s3). Each partial sum starts
+ * at -0, the exact identity of IEEE addition (x + -0 is x for every x; 0 + -0 is 0), so
+ * a sum's first item is taken as is: no add, where a start at 0 cost one per sum (a
+ * compiler may not drop 0 + x). An output without terms is 0. Independent partial sums
  * let the additions overlap, and fixed-size items keep the loops free of branches that
  * depend on the data. All paths (scalar, batch, Jacobian, emitted C) follow this plan,
  * without contraction into FMA, so they give the same bits. */
@@ -112,6 +115,9 @@ struct poly_system {
     int nin, nout;
     char **inputs, **outputs;
     double *offset, *scale, *lo, *hi;
+    double *inv_scale, *off_scaled; /* per input: 1 / scale and offset * (1 / scale), kept
+                                       by poly_set_scaling (poly_fast.c's scaling, a
+                                       multiply-add, without a divide per ray) */
     int ix, iy; /* inputs named x and y (part selection), -1 if absent */
     /* Around the polynomial core (poly_frame.c): a frame rotation of the inputs and
      * outputs, and per-input transforms. Both are off (POLY_FRAME_NONE, identity) in a
