@@ -42,6 +42,7 @@
 #include "poly/poly_impl.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -65,7 +66,9 @@ struct poly_fast {
     int maxe[FAST_MAXACT]; /* their highest exponents */
     int nopt;             /* the last nopt of them are optional: a chunk's "kind" (bit j:
                              it has optional variable j) says which it multiplies by */
-    int *kcount;          /* nout x FAST_KINDS: output o's chunks of each kind, in turn */
+    ptrdiff_t *kend;      /* nout x FAST_KINDS: where output o's chunks of each kind end
+                             (8 x a chunk's number, in coef; they follow in turn), so the
+                             loops over them run on from where the last one stopped */
     int64_t *idx;         /* per chunk, nact x 8: the lanes' exponents of each active input */
     double *coef;         /* per chunk, 8: the lanes' coefficients (0 in padded lanes) */
 };
@@ -74,7 +77,7 @@ void poly_fast_free(poly_fast *f)
 {
     if (!f)
         return;
-    free(f->kcount);
+    free(f->kend);
     free(f->idx);
     free(f->coef);
     free(f);
@@ -136,11 +139,9 @@ static int fast_output(poly_fast *f, const poly_out_terms *ot, int o, int c, int
             ck[q] |= fast_kind(f, ot->exps + (size_t)ord[l] * nin);
     }
     for (int kind = 0; kind < FAST_KINDS; kind++) {
-        f->kcount[o * FAST_KINDS + kind] = 0;
         for (int q = 0; q < nch; q++) {
             if (ck[q] != kind)
                 continue;
-            f->kcount[o * FAST_KINDS + kind]++;
             for (int l = 0; l < 8; l++) {
                 const int real = 8 * q + l < nt, t = real ? ord[8 * q + l] : 0;
                 f->coef[8 * c + l] = real ? ot->coef[t] : 0;
@@ -150,6 +151,7 @@ static int fast_output(poly_fast *f, const poly_out_terms *ot, int o, int c, int
             }
             c++;
         }
+        f->kend[o * FAST_KINDS + kind] = 8 * (ptrdiff_t)c;
     }
     return c;
 }
@@ -170,9 +172,9 @@ poly_fast *poly_fast_build(int nin, int nout, const poly_out_terms *sums)
         return NULL;
     f->nin = nin;
     f->nout = nout;
-    f->kcount = malloc(((size_t)nout * FAST_KINDS + 1) * sizeof(int));
+    f->kend = malloc(((size_t)nout * FAST_KINDS + 1) * sizeof(ptrdiff_t));
     int *ord = malloc(((size_t)maxt + (size_t)maxt / 8 + 2) * sizeof(int));
-    if (!f->kcount || !ord || fast_active(f, sums) != 0 || f->nact == 0) {
+    if (!f->kend || !ord || fast_active(f, sums) != 0 || f->nact == 0) {
         free(ord);
         poly_fast_free(f);
         return NULL;
@@ -230,13 +232,19 @@ fast_chunk(const int NA, const int NO, const int KIND, const __m512d *lo, const 
     return p[0];
 }
 
-/* n chunks of kind KIND from *ix, *cf on into acc. */
+/* The chunks of kind KIND from *ix, *cf on to end into acc. Bookkeeping counts: a
+ * ray's window of instructions in flight is its bound as much as the vector ports (a
+ * count per loop cost about 14 instructions to set up and close each of 20 loops a ray
+ * of the 5-output fit, the compiler recomputing the pointers from it; the empty asm
+ * keeps the loop's own pointers, and the loops run on from where the last stopped). */
 __attribute__((target("avx512f,fma"), always_inline)) static inline __m512d
 fast_chunks(const int NA, const int NO, const int KIND, const __m512d *lo, const __m512d *hi,
-            int n, const int64_t **ix, const double **cf, __m512d acc)
+            const double *end, const int64_t **ix, const double **cf, __m512d acc)
 {
-    for (int c = 0; c < n; c++, *ix += 8 * NA, *cf += 8)
+    for (; *cf < end; *ix += 8 * NA, *cf += 8) {
         acc = _mm512_fmadd_pd(_mm512_load_pd(*cf), fast_chunk(NA, NO, KIND, lo, hi, *ix), acc);
+        __asm__("" : "+r"(*cf), "+r"(*ix)); /* the loop's pointers run on as they are */
+    }
     return acc;
 }
 
@@ -252,15 +260,16 @@ fast_sums(const int NA, const poly_fast *f, const double *sc, double *out)
         fast_powers(sc + k, f->maxe[k] > 7, &lo[k], &hi[k]);
     const int64_t *ix = f->idx;
     const double *cf = f->coef;
-    const int *kc = f->kcount;
+    const ptrdiff_t *ke = f->kend;
     __m512d prev = _mm512_setzero_pd();
-    for (int o = 0; o < f->nout; o++, kc += FAST_KINDS) {
-        __m512d a = fast_chunks(NA, NO, 0, lo, hi, kc[0], &ix, &cf, _mm512_setzero_pd());
+    const double *c0 = f->coef;
+    for (int o = 0; o < f->nout; o++, ke += FAST_KINDS) {
+        __m512d a = fast_chunks(NA, NO, 0, lo, hi, c0 + ke[0], &ix, &cf, _mm512_setzero_pd());
         if (NO >= 1)
-            a = fast_chunks(NA, NO, 1, lo, hi, kc[1], &ix, &cf, a);
+            a = fast_chunks(NA, NO, 1, lo, hi, c0 + ke[1], &ix, &cf, a);
         if (NO >= 2) {
-            a = fast_chunks(NA, NO, 2, lo, hi, kc[2], &ix, &cf, a);
-            a = fast_chunks(NA, NO, 3, lo, hi, kc[3], &ix, &cf, a);
+            a = fast_chunks(NA, NO, 2, lo, hi, c0 + ke[2], &ix, &cf, a);
+            a = fast_chunks(NA, NO, 3, lo, hi, c0 + ke[3], &ix, &cf, a);
         }
         if (!(o & 1) && o + 1 < f->nout) {
             prev = a; /* added across lanes with the next output's */
