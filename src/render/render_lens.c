@@ -9,6 +9,8 @@
 #include "sparselens/paraxial.h"
 #include "sparselens/trace.h"
 
+#include "render/render_lens_simd.h"
+
 #define LAMBDA_CACHE 4 /* the d line and the three rgb band wavelengths */
 
 struct render_lens_ctx {
@@ -272,6 +274,56 @@ static int outer_poly(void *ctx, const double in[5], double o[4], double jac[16]
     return 1;
 }
 
+/* front_ray for the m rows of the selected outputs y that pass (pass[r] is cleared where
+ * it fails), into org and dir: a spherical front surface's rays eight at a time where the
+ * processor can (render_simd_front), the rest one by one. */
+#define FRONT_STEP 64
+static void front_rays(const render_lens_ctx *c, size_t m, const double *y, unsigned char *pass,
+                       double *org, double *dir)
+{
+    size_t r = 0;
+#if RENDER_LENS_SIMD
+    double X[4 * FRONT_STEP], O[3 * FRONT_STEP], D[3 * FRONT_STEP];
+    unsigned char st[FRONT_STEP];
+    size_t list[FRONT_STEP];
+    while (c->front_sphere && render_lens_simd_ok() && r < m) {
+        int n = 0;
+        for (; r < m && n < FRONT_STEP; r++) {
+            if (!pass[r]) continue;
+            for (int k = 0; k < 4; k++) X[k * FRONT_STEP + n] = y[r * c->nsel + k];
+            list[n++] = r;
+        }
+        int n8 = (n + 7) / 8 * 8;
+        for (int l = n; l < n8; l++) /* lanes past n repeat lane 0 */
+            for (int k = 0; k < 4; k++) X[k * FRONT_STEP + l] = X[k * FRONT_STEP];
+        if (n) render_simd_front(c->front_c, c->front_kc, c->front_z, n8, FRONT_STEP, X, O, D, st);
+        for (int l = 0; l < n; l++) {
+            size_t q = list[l];
+            lens_ray ray;
+            if (st[l] == 2 && !front_ray(c, y + q * c->nsel, &ray)) { /* off the sphere: as before */
+                memcpy(org + 3 * q, ray.o, sizeof ray.o), memcpy(dir + 3 * q, ray.d, sizeof ray.d);
+                continue;
+            }
+            if (st[l]) {
+                pass[q] = 0;
+                continue;
+            }
+            for (int k = 0; k < 3; k++) org[3 * q + k] = O[k * FRONT_STEP + l], dir[3 * q + k] = D[k * FRONT_STEP + l];
+        }
+    }
+#endif
+    for (; r < m; r++) {
+        lens_ray ray;
+        if (!pass[r]) continue;
+        if (front_ray(c, y + r * c->nsel, &ray)) {
+            pass[r] = 0;
+            continue;
+        }
+        memcpy(org + 3 * r, ray.o, sizeof ray.o);
+        memcpy(dir + 3 * r, ray.d, sizeof ray.d);
+    }
+}
+
 /* n rays through the system in chunks: poly_eval_batch_outputs for the pass test and
  * the outputs the maps read (the values and flags of poly_eval, bit for bit); then with
  * jac NULL the rays of map_poly (org, dir), else the outer-pupil values of outer_poly
@@ -304,15 +356,9 @@ static void poly_batch(void *ctx, size_t n, const double *in, double *org, doubl
                         jac[16 * q + 4 * k + i] = J[(r * 4 + k) * ni + c->in_idx[i]];
                 continue;
             }
-            lens_ray ray;
-            if (!pass[q] || front_ray(c, yr, &ray)) {
-                pass[q] = 0;
-                continue;
-            }
             eta[q] = e > 1 ? 1 : e; /* a fitted transmittance may overshoot slightly */
-            memcpy(org + 3 * q, ray.o, sizeof ray.o);
-            memcpy(dir + 3 * q, ray.d, sizeof ray.d);
         }
+        if (!jac) front_rays(c, m, y, pass + r0, org + 3 * r0, dir + 3 * r0);
     }
     free(x);
 }

@@ -247,8 +247,8 @@ static int in_lanes(const scene_object *o, const double p[3])
  * draws on each disk or sphere for all the points that chose it at once
  * (scene_simd_disk_light, scene_simd_sphere_light); points inside a sphere one by one. */
 static void light_samples(const scene_t *s, const scene_hit *h, const double *u, int c,
-                          const double *sel, const int *idx, size_t ne, const double *tot,
-                          light_try *L)
+                          const int *idx, size_t ne, const double *tot, const int *J,
+                          const double *Pj, light_try *L)
 {
     int chosen[64] = {0}, list[MANY];
     unsigned char lane[MANY];
@@ -256,7 +256,9 @@ static void light_samples(const scene_t *s, const scene_hit *h, const double *u,
     unsigned char sh[MANY];
     for (int i = 0; i < c; i++) {
         lane[i] = 0;
-        if (!choose_light(u[5 * i], sel + i, MANY, ne, tot[i], &L[i])) continue;
+        L[i].shadow = 0;
+        if (!(tot[i] > 0)) continue; /* choose_light's draw, made by scene_simd_choose */
+        L[i].j = (size_t)J[i], L[i].P = Pj[i];
         lane[i] = L[i].P > 0 && in_lanes(&s->obj[idx[L[i].j]], h[i].p);
         if (lane[i]) chosen[L[i].j] = 1;
         else sample_chosen(s, h + i, u + 5 * i, idx, &L[i]);
@@ -295,11 +297,11 @@ static void many_rays(const scene_t *s, const scene_hit *h, const double *u, int
     double tot[MANY], A[3 * MANY], B[3 * MANY], tb[MANY];
     int list[MANY], which[MANY], ns = 0, nb = 0;
     unsigned char vis[MANY];
-    for (int i = 0; i < c; i++) {
-        tot[i] = 0;
-        for (size_t j = 0; j < ne; j++) tot[i] += sel[j * MANY + i];
-    }
-    light_samples(s, h, u, c, sel, idx, ne, tot, L);
+    /* the emitters' sum and the light sample's choice, eight points a step; A holds the
+     * selection uniforms, then the choices' probabilities */
+    for (int i = 0; i < (c + 7) / 8 * 8; i++) A[i] = u[5 * (i < c ? i : 0)];
+    scene_simd_choose((int)ne, (c + 7) / 8 * 8, MANY, sel, A, tot, which, A + MANY);
+    light_samples(s, h, u, c, idx, ne, tot, which, A + MANY, L);
     for (int i = 0; i < c; i++) {
         if (!L[i].shadow) continue;
         for (int k = 0; k < 3; k++) A[k * MANY + ns] = h[i].p[k], B[k * MANY + ns] = L[i].q[k];

@@ -81,6 +81,32 @@ AVX512 void scene_simd_select(const scene_object *o, int m, int stride, const do
     }
 }
 
+/* scene_light.c's choose_light on eight points: the weights' sum (in the emitters'
+ * order), the emitter the walk stops at and its probability */
+AVX512 void scene_simd_choose(int ne, int m, int stride, const double *sel, const double *u0,
+                              double *total, int *j, double *P)
+{
+    const vd zero = _mm512_setzero_pd();
+    for (int i = 0; i < m; i += 8) {
+        vd tot = zero, acc = zero, jj = zero;
+        for (int e = 0; e < ne; e++) tot = _mm512_add_pd(tot, _mm512_loadu_pd(sel + e * stride + i));
+        vd x = _mm512_mul_pd(_mm512_loadu_pd(u0 + i), tot), sj = _mm512_loadu_pd(sel + i);
+        __mmask8 walking = 0xff;
+        for (int e = 0; e + 1 < ne; e++) {
+            vd se = _mm512_loadu_pd(sel + e * stride + i), next = _mm512_add_pd(acc, se);
+            walking &= _mm512_cmp_pd_mask(next, x, _CMP_LE_OQ) | _mm512_cmp_pd_mask(se, zero, _CMP_EQ_OQ);
+            acc = _mm512_mask_blend_pd(walking, acc, next);
+            jj = _mm512_mask_blend_pd(walking, jj, vset(e + 1));
+            sj = _mm512_mask_blend_pd(walking, sj, _mm512_loadu_pd(sel + (e + 1) * stride + i));
+        }
+        double jd[8];
+        _mm512_storeu_pd(jd, jj);
+        _mm512_storeu_pd(total + i, tot);
+        _mm512_storeu_pd(P + i, _mm512_div_pd(sj, tot));
+        for (int l = 0; l < 8; l++) j[i + l] = (int)jd[l];
+    }
+}
+
 /* rm_sincos_turn, lane by lane: the quadrant as (n mod 4) in doubles (n is whole) */
 AVX512 __attribute__((always_inline)) static inline void sincos8(vd t, vd *s, vd *c)
 {

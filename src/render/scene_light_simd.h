@@ -26,6 +26,12 @@ void scene_fill_hit(const scene_t *s, int which, double t, const double o[3], co
 void scene_simd_select(const scene_object *o, int m, int stride, const double *P, const double *N,
                        double *sel);
 
+/* The light sample's choice at m points from the selection weights of ne emitters
+ * (sel[e * stride + i]) and the uniforms u0: the weights' sum into total, the emitter
+ * drawn (scene_light.c's choose_light) into j, its probability into P. */
+void scene_simd_choose(int ne, int m, int stride, const double *sel, const double *u0,
+                       double *total, int *j, double *P);
+
 /* The BSDF sample's direction (cosine-weighted about N from the uniforms u3, u4) into W,
  * its cosine into ct. */
 void scene_simd_bsdf_dir(int m, int stride, const double *N, const double *u3, const double *u4,

@@ -8,7 +8,8 @@
  * batch values to 1e-12 relative, the pass flag from them), so values must agree to
  * 1e-9 and pass flags on all but one ray in 500 (a pass circle's very edge); the
  * defects guarded move values by far more and flip dozens of flags. 1100 rays: more
- * than two of the maps' chunks. */
+ * than two of the maps' chunks. And the front surface's rays in AVX-512 lanes against
+ * ray_from_outer. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -27,6 +28,8 @@
 #include "sparselens/render_effects.h"
 #include "sparselens/render_lens.h"
 #include "sparselens/scene.h"
+#include "sparselens/trace.h"
+#include "render/render_lens_simd.h"
 
 #define N 1100
 #define SW 36.0
@@ -116,10 +119,58 @@ static void test_batch_maps(void **state)
     lens_free(&lens);
 }
 
+/* The front surface's rays eight at a time (render_simd_front, the batch map's last
+ * step) against the library's ray_from_outer on the double Gauss's spherical front: the
+ * same rays to rounding, status 1 exactly where u^2 + v^2 > 1 and 2 where the point is off
+ * the surface's sphere (ray_from_outer: off the surface, -1) or not finite. */
+static void test_front_lanes(void **state)
+{
+    (void)state;
+#if RENDER_LENS_SIMD
+    if (!render_lens_simd_ok()) return;
+    lens_t lens;
+    assert_int_equal(fixture_dgauss50(&lens), 0);
+    const lens_surface *f = &lens.surf[0];
+    assert_true(f->conic == 0 && isfinite(f->radius));
+    enum { M = 200 };
+    double X[4 * M], O[3 * M], D[3 * M], c = 1.0 / f->radius, R = fabs(f->radius);
+    unsigned char st[M];
+    uint64_t seed = 5;
+    for (int i = 0; i < M; i++) {
+        double r = i % 10 == 9 ? R * (1 + 0.2 * splitmix_uniform(&seed)) /* off the sphere */
+                               : 0.99 * R * sqrt(splitmix_uniform(&seed));
+        double q = i % 7 == 6 ? 1 + 0.1 * splitmix_uniform(&seed) /* no direction */
+                              : 0.9 * sqrt(splitmix_uniform(&seed));
+        double a = 2 * M_PI * splitmix_uniform(&seed);
+        double b = 2 * M_PI * splitmix_uniform(&seed);
+        X[i] = r * cos(a), X[M + i] = r * sin(a), X[2 * M + i] = q * cos(b), X[3 * M + i] = q * sin(b);
+    }
+    X[M - 1] = INFINITY;
+    render_simd_front(c, c * c, lens.vertex_z[0], M, M, X, O, D, st);
+    int counts[3] = {0, 0, 0};
+    for (int i = 0; i < M; i++) {
+        double p[4] = {X[i], X[M + i], X[2 * M + i], X[3 * M + i]};
+        double h2 = p[0] * p[0] + p[1] * p[1], w2 = 1 - p[2] * p[2] - p[3] * p[3];
+        lens_ray ref;
+        int off = !(h2 < R * R) || !isfinite(p[0]);
+        counts[st[i]]++;
+        assert_int_equal(st[i], off ? 2 : w2 < 0 ? 1 : 0);
+        if (st[i]) continue;
+        assert_int_equal(ray_from_outer(&lens, p, &ref), 0);
+        for (int k = 0; k < 3; k++) {
+            assert_true(fabs(O[k * M + i] - ref.o[k]) < 1e-12 * (1 + fabs(ref.o[k])));
+            assert_true(fabs(D[k * M + i] - ref.d[k]) < 1e-14);
+        }
+    }
+    assert_true(counts[0] > M / 2 && counts[1] > 5 && counts[2] > 5);
+    lens_free(&lens);
+#endif
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_batch_maps),
+        cmocka_unit_test(test_batch_maps), cmocka_unit_test(test_front_lanes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
