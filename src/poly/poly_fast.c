@@ -212,6 +212,13 @@ FAST_TARGET static inline void fast_powers(const double *s, int high, __m512d *l
     *hi = high ? _mm512_mul_pd(*lo, _mm512_mul_pd(b4, b4)) : *lo;
 }
 
+/* The frame's rotation back when fast_sums does it: bit j of pairs set when outputs
+ * 2j and 2j + 1 are a turned pair (their two lanes turned by c, s). */
+typedef struct {
+    double c, s;
+    unsigned pairs;
+} fast_turn;
+
 /* The factors' product of one chunk of kind KIND (NA active variables, NO optional). */
 __attribute__((target("avx512f,fma"), always_inline)) static inline __m512d
 fast_chunk(const int NA, const int NO, const int KIND, const __m512d *lo, const __m512d *hi,
@@ -250,8 +257,8 @@ fast_chunks(const int NA, const int NO, const int KIND, const __m512d *lo, const
 
 /* The sums with NA active variables (a constant after inlining: the tables stay in
  * registers). */
-__attribute__((target("avx512f,fma"), always_inline)) static inline void
-fast_sums(const int NA, const poly_fast *f, const double *sc, double *out)
+__attribute__((target("avx512f,fma"), always_inline)) static inline int
+fast_sums(const int NA, const poly_fast *f, const double *sc, const fast_turn *tn, double *out)
 {
     const int NO = NA > FAST_MAXOPT ? FAST_MAXOPT : NA - 1;
     __m512d lo[FAST_MAXACT], hi[FAST_MAXACT];
@@ -262,6 +269,8 @@ fast_sums(const int NA, const poly_fast *f, const double *sc, double *out)
     const double *cf = f->coef;
     const ptrdiff_t *ke = f->kend;
     __m512d prev = _mm512_setzero_pd();
+    __m128d fin = _mm_setzero_pd(); /* v - v summed: 0 when every output is finite */
+    const __m128d tc = _mm_set1_pd(tn->c), ts = _mm_set1_pd(tn->s);
     const double *c0 = f->coef;
     for (int o = 0; o < f->nout; o++, ke += FAST_KINDS) {
         __m512d a = fast_chunks(NA, NO, 0, lo, hi, c0 + ke[0], &ix, &cf, _mm512_setzero_pd());
@@ -276,49 +285,62 @@ fast_sums(const int NA, const poly_fast *f, const double *sc, double *out)
             continue;
         }
         if (!(o & 1)) {
-            out[o] = _mm512_reduce_add_pd(a);
+            const double v = _mm512_reduce_add_pd(a);
+            fin = _mm_add_pd(fin, _mm_set_sd(v - v));
+            out[o] = v;
             continue;
         }
         /* two outputs' lanes at once: lanes (2j, 2j + 1) hold their pairs' partial sums */
         const __m512d t = _mm512_add_pd(_mm512_unpacklo_pd(prev, a), _mm512_unpackhi_pd(prev, a));
         const __m256d h = _mm256_add_pd(_mm512_castpd512_pd256(t), _mm512_extractf64x4_pd(t, 1));
-        const __m128d q = _mm_add_pd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1));
+        __m128d q = _mm_add_pd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1));
+        fin = _mm_add_pd(fin, _mm_sub_pd(q, q));
+        if (tn->pairs >> (o >> 1) & 1) /* (a, b) to (c a - s b, s a + c b) */
+            q = _mm_fmaddsub_pd(q, tc, _mm_mul_pd(_mm_permute_pd(q, 1), ts));
         _mm_storeu_pd(out + o - 1, q);
     }
+    return _mm_movemask_pd(_mm_cmpneq_pd(fin, _mm_setzero_pd())) == 0;
 }
 
 /* The sums of the scaled active inputs sc. */
-FAST_TARGET static void fast_dispatch(const poly_fast *f, const double *sc, double *out)
+FAST_TARGET static int fast_dispatch(const poly_fast *f, const double *sc, const fast_turn *tn,
+                                     double *out)
 {
     switch (f->nact) {
-    case 1: fast_sums(1, f, sc, out); break;
-    case 2: fast_sums(2, f, sc, out); break;
-    case 3: fast_sums(3, f, sc, out); break;
-    case 4: fast_sums(4, f, sc, out); break;
-    case 5: fast_sums(5, f, sc, out); break;
-    default: fast_sums(6, f, sc, out); break;
+    case 1: return fast_sums(1, f, sc, tn, out);
+    case 2: return fast_sums(2, f, sc, tn, out);
+    case 3: return fast_sums(3, f, sc, tn, out);
+    case 4: return fast_sums(4, f, sc, tn, out);
+    case 5: return fast_sums(5, f, sc, tn, out);
+    default: return fast_sums(6, f, sc, tn, out);
     }
 }
 
 /* The core's sums from its raw inputs (scaled here). */
-FAST_TARGET static void fast_run(const poly_fast *f, const poly_system *s, const double *in,
-                                 double *out)
+FAST_TARGET static int fast_run(const poly_fast *f, const poly_system *s, const double *in,
+                                double *out)
 {
     double sc[FAST_MAXACT];
     for (int k = 0; k < f->nact; k++) {
         sc[k] = in[f->act[k]];
         poly_scale_column(s, f->act[k], &sc[k], 1);
     }
-    fast_dispatch(f, sc, out);
+    const fast_turn none = {1, 0, 0};
+    return fast_dispatch(f, sc, &none, out);
 }
 
-/* 1 when every output is finite (else the plan's interpreter runs the ray again). */
-static inline int fast_finite(const poly_fast *f, const double *out)
+/* The turned pairs as fast_turn's bits when every one is two neighbouring outputs from
+ * an even one (lens-fit's optical outputs: out_x, out_y, out_u, out_v first), else 0. */
+static unsigned fast_pairs(const poly_system *s)
 {
-    int finite = 1;
-    for (int o = 0; o < f->nout; o++)
-        finite &= (out[o] - out[o]) == 0;
-    return finite;
+    unsigned bits = 0;
+    for (int k = 0; k < s->npairs; k++) {
+        const int a = s->pair[2 * k], b = s->pair[2 * k + 1];
+        if ((a & 1) || b != a + 1 || a >= 64)
+            return 0;
+        bits |= 1u << (a >> 1);
+    }
+    return bits;
 }
 
 /* poly_eval_part of a system without outputs outside its frame, in one pass: the
@@ -356,10 +378,11 @@ FAST_TARGET static int fast_eval(const poly_fast *f, const poly_system *s, const
             v = 1 / (v * v);
         t[k] = fma(v, inv, -off);
     }
-    fast_dispatch(f, t, out);
-    if (!fast_finite(f, out))
+    const fast_turn tn = {c, sn, fast_pairs(s)};
+    if (!fast_dispatch(f, t, &tn, out)) /* an output not finite */
         return -1;
-    poly_frame_turn_back(s, c, sn, out);
+    if (!tn.pairs)
+        poly_frame_turn_back(s, c, sn, out);
     return poly_in_circles(s, out); /* poly_passes: every output is finite */
 }
 #endif
@@ -379,8 +402,7 @@ int poly_fast_run(const poly_fast *f, const poly_system *s, const double *in, do
 {
 #if defined(FAST_X86)
     if (f && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("fma")) {
-        fast_run(f, s, in, out);
-        if (fast_finite(f, out))
+        if (fast_run(f, s, in, out))
             return 0;
     }
 #else
