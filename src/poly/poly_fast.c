@@ -42,6 +42,7 @@
 #include "poly/poly_impl.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -65,7 +66,9 @@ struct poly_fast {
     int maxe[FAST_MAXACT]; /* their highest exponents */
     int nopt;             /* the last nopt of them are optional: a chunk's "kind" (bit j:
                              it has optional variable j) says which it multiplies by */
-    int *kcount;          /* nout x FAST_KINDS: output o's chunks of each kind, in turn */
+    ptrdiff_t *kend;      /* nout x FAST_KINDS: where output o's chunks of each kind end
+                             (8 x a chunk's number, in coef; they follow in turn), so the
+                             loops over them run on from where the last one stopped */
     int64_t *idx;         /* per chunk, nact x 8: the lanes' exponents of each active input */
     double *coef;         /* per chunk, 8: the lanes' coefficients (0 in padded lanes) */
 };
@@ -74,7 +77,7 @@ void poly_fast_free(poly_fast *f)
 {
     if (!f)
         return;
-    free(f->kcount);
+    free(f->kend);
     free(f->idx);
     free(f->coef);
     free(f);
@@ -136,11 +139,9 @@ static int fast_output(poly_fast *f, const poly_out_terms *ot, int o, int c, int
             ck[q] |= fast_kind(f, ot->exps + (size_t)ord[l] * nin);
     }
     for (int kind = 0; kind < FAST_KINDS; kind++) {
-        f->kcount[o * FAST_KINDS + kind] = 0;
         for (int q = 0; q < nch; q++) {
             if (ck[q] != kind)
                 continue;
-            f->kcount[o * FAST_KINDS + kind]++;
             for (int l = 0; l < 8; l++) {
                 const int real = 8 * q + l < nt, t = real ? ord[8 * q + l] : 0;
                 f->coef[8 * c + l] = real ? ot->coef[t] : 0;
@@ -150,6 +151,7 @@ static int fast_output(poly_fast *f, const poly_out_terms *ot, int o, int c, int
             }
             c++;
         }
+        f->kend[o * FAST_KINDS + kind] = 8 * (ptrdiff_t)c;
     }
     return c;
 }
@@ -170,9 +172,9 @@ poly_fast *poly_fast_build(int nin, int nout, const poly_out_terms *sums)
         return NULL;
     f->nin = nin;
     f->nout = nout;
-    f->kcount = malloc(((size_t)nout * FAST_KINDS + 1) * sizeof(int));
+    f->kend = malloc(((size_t)nout * FAST_KINDS + 1) * sizeof(ptrdiff_t));
     int *ord = malloc(((size_t)maxt + (size_t)maxt / 8 + 2) * sizeof(int));
-    if (!f->kcount || !ord || fast_active(f, sums) != 0 || f->nact == 0) {
+    if (!f->kend || !ord || fast_active(f, sums) != 0 || f->nact == 0) {
         free(ord);
         poly_fast_free(f);
         return NULL;
@@ -210,6 +212,13 @@ FAST_TARGET static inline void fast_powers(const double *s, int high, __m512d *l
     *hi = high ? _mm512_mul_pd(*lo, _mm512_mul_pd(b4, b4)) : *lo;
 }
 
+/* The frame's rotation back when fast_sums does it: bit j of pairs set when outputs
+ * 2j and 2j + 1 are a turned pair (their two lanes turned by c, s). */
+typedef struct {
+    double c, s;
+    unsigned pairs;
+} fast_turn;
+
 /* The factors' product of one chunk of kind KIND (NA active variables, NO optional). */
 __attribute__((target("avx512f,fma"), always_inline)) static inline __m512d
 fast_chunk(const int NA, const int NO, const int KIND, const __m512d *lo, const __m512d *hi,
@@ -230,20 +239,26 @@ fast_chunk(const int NA, const int NO, const int KIND, const __m512d *lo, const 
     return p[0];
 }
 
-/* n chunks of kind KIND from *ix, *cf on into acc. */
+/* The chunks of kind KIND from *ix, *cf on to end into acc. Bookkeeping counts: a
+ * ray's window of instructions in flight is its bound as much as the vector ports (a
+ * count per loop cost about 14 instructions to set up and close each of 20 loops a ray
+ * of the 5-output fit, the compiler recomputing the pointers from it; the empty asm
+ * keeps the loop's own pointers, and the loops run on from where the last stopped). */
 __attribute__((target("avx512f,fma"), always_inline)) static inline __m512d
 fast_chunks(const int NA, const int NO, const int KIND, const __m512d *lo, const __m512d *hi,
-            int n, const int64_t **ix, const double **cf, __m512d acc)
+            const double *end, const int64_t **ix, const double **cf, __m512d acc)
 {
-    for (int c = 0; c < n; c++, *ix += 8 * NA, *cf += 8)
+    for (; *cf < end; *ix += 8 * NA, *cf += 8) {
         acc = _mm512_fmadd_pd(_mm512_load_pd(*cf), fast_chunk(NA, NO, KIND, lo, hi, *ix), acc);
+        __asm__("" : "+r"(*cf), "+r"(*ix)); /* the loop's pointers run on as they are */
+    }
     return acc;
 }
 
 /* The sums with NA active variables (a constant after inlining: the tables stay in
  * registers). */
-__attribute__((target("avx512f,fma"), always_inline)) static inline void
-fast_sums(const int NA, const poly_fast *f, const double *sc, double *out)
+__attribute__((target("avx512f,fma"), always_inline)) static inline int
+fast_sums(const int NA, const poly_fast *f, const double *sc, const fast_turn *tn, double *out)
 {
     const int NO = NA > FAST_MAXOPT ? FAST_MAXOPT : NA - 1;
     __m512d lo[FAST_MAXACT], hi[FAST_MAXACT];
@@ -252,64 +267,80 @@ fast_sums(const int NA, const poly_fast *f, const double *sc, double *out)
         fast_powers(sc + k, f->maxe[k] > 7, &lo[k], &hi[k]);
     const int64_t *ix = f->idx;
     const double *cf = f->coef;
-    const int *kc = f->kcount;
+    const ptrdiff_t *ke = f->kend;
     __m512d prev = _mm512_setzero_pd();
-    for (int o = 0; o < f->nout; o++, kc += FAST_KINDS) {
-        __m512d a = fast_chunks(NA, NO, 0, lo, hi, kc[0], &ix, &cf, _mm512_setzero_pd());
+    __m128d fin = _mm_setzero_pd(); /* v - v summed: 0 when every output is finite */
+    const __m128d tc = _mm_set1_pd(tn->c), ts = _mm_set1_pd(tn->s);
+    const double *c0 = f->coef;
+    for (int o = 0; o < f->nout; o++, ke += FAST_KINDS) {
+        __m512d a = fast_chunks(NA, NO, 0, lo, hi, c0 + ke[0], &ix, &cf, _mm512_setzero_pd());
         if (NO >= 1)
-            a = fast_chunks(NA, NO, 1, lo, hi, kc[1], &ix, &cf, a);
+            a = fast_chunks(NA, NO, 1, lo, hi, c0 + ke[1], &ix, &cf, a);
         if (NO >= 2) {
-            a = fast_chunks(NA, NO, 2, lo, hi, kc[2], &ix, &cf, a);
-            a = fast_chunks(NA, NO, 3, lo, hi, kc[3], &ix, &cf, a);
+            a = fast_chunks(NA, NO, 2, lo, hi, c0 + ke[2], &ix, &cf, a);
+            a = fast_chunks(NA, NO, 3, lo, hi, c0 + ke[3], &ix, &cf, a);
         }
         if (!(o & 1) && o + 1 < f->nout) {
             prev = a; /* added across lanes with the next output's */
             continue;
         }
         if (!(o & 1)) {
-            out[o] = _mm512_reduce_add_pd(a);
+            const double v = _mm512_reduce_add_pd(a);
+            fin = _mm_add_pd(fin, _mm_set_sd(v - v));
+            out[o] = v;
             continue;
         }
         /* two outputs' lanes at once: lanes (2j, 2j + 1) hold their pairs' partial sums */
         const __m512d t = _mm512_add_pd(_mm512_unpacklo_pd(prev, a), _mm512_unpackhi_pd(prev, a));
         const __m256d h = _mm256_add_pd(_mm512_castpd512_pd256(t), _mm512_extractf64x4_pd(t, 1));
-        const __m128d q = _mm_add_pd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1));
+        __m128d q = _mm_add_pd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1));
+        fin = _mm_add_pd(fin, _mm_sub_pd(q, q));
+        if (tn->pairs >> (o >> 1) & 1) /* (a, b) to (c a - s b, s a + c b) */
+            q = _mm_fmaddsub_pd(q, tc, _mm_mul_pd(_mm_permute_pd(q, 1), ts));
         _mm_storeu_pd(out + o - 1, q);
     }
+    return _mm_movemask_pd(_mm_cmpneq_pd(fin, _mm_setzero_pd())) == 0;
 }
 
 /* The sums of the scaled active inputs sc. */
-FAST_TARGET static void fast_dispatch(const poly_fast *f, const double *sc, double *out)
+FAST_TARGET static int fast_dispatch(const poly_fast *f, const double *sc, const fast_turn *tn,
+                                     double *out)
 {
     switch (f->nact) {
-    case 1: fast_sums(1, f, sc, out); break;
-    case 2: fast_sums(2, f, sc, out); break;
-    case 3: fast_sums(3, f, sc, out); break;
-    case 4: fast_sums(4, f, sc, out); break;
-    case 5: fast_sums(5, f, sc, out); break;
-    default: fast_sums(6, f, sc, out); break;
+    case 1: return fast_sums(1, f, sc, tn, out);
+    case 2: return fast_sums(2, f, sc, tn, out);
+    case 3: return fast_sums(3, f, sc, tn, out);
+    case 4: return fast_sums(4, f, sc, tn, out);
+    case 5: return fast_sums(5, f, sc, tn, out);
+    default: return fast_sums(6, f, sc, tn, out);
     }
 }
 
 /* The core's sums from its raw inputs (scaled here). */
-FAST_TARGET static void fast_run(const poly_fast *f, const poly_system *s, const double *in,
-                                 double *out)
+FAST_TARGET static int fast_run(const poly_fast *f, const poly_system *s, const double *in,
+                                double *out)
 {
     double sc[FAST_MAXACT];
     for (int k = 0; k < f->nact; k++) {
         sc[k] = in[f->act[k]];
         poly_scale_column(s, f->act[k], &sc[k], 1);
     }
-    fast_dispatch(f, sc, out);
+    const fast_turn none = {1, 0, 0};
+    return fast_dispatch(f, sc, &none, out);
 }
 
-/* 1 when every output is finite (else the plan's interpreter runs the ray again). */
-static inline int fast_finite(const poly_fast *f, const double *out)
+/* The turned pairs as fast_turn's bits when every one is two neighbouring outputs from
+ * an even one (lens-fit's optical outputs: out_x, out_y, out_u, out_v first), else 0. */
+static unsigned fast_pairs(const poly_system *s)
 {
-    int finite = 1;
-    for (int o = 0; o < f->nout; o++)
-        finite &= (out[o] - out[o]) == 0;
-    return finite;
+    unsigned bits = 0;
+    for (int k = 0; k < s->npairs; k++) {
+        const int a = s->pair[2 * k], b = s->pair[2 * k + 1];
+        if ((a & 1) || b != a + 1 || a >= 64)
+            return 0;
+        bits |= 1u << (a >> 1);
+    }
+    return bits;
 }
 
 /* poly_eval_part of a system without outputs outside its frame, in one pass: the
@@ -347,10 +378,11 @@ FAST_TARGET static int fast_eval(const poly_fast *f, const poly_system *s, const
             v = 1 / (v * v);
         t[k] = fma(v, inv, -off);
     }
-    fast_dispatch(f, t, out);
-    if (!fast_finite(f, out))
+    const fast_turn tn = {c, sn, fast_pairs(s)};
+    if (!fast_dispatch(f, t, &tn, out)) /* an output not finite */
         return -1;
-    poly_frame_turn_back(s, c, sn, out);
+    if (!tn.pairs)
+        poly_frame_turn_back(s, c, sn, out);
     return poly_in_circles(s, out); /* poly_passes: every output is finite */
 }
 #endif
@@ -370,8 +402,7 @@ int poly_fast_run(const poly_fast *f, const poly_system *s, const double *in, do
 {
 #if defined(FAST_X86)
     if (f && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("fma")) {
-        fast_run(f, s, in, out);
-        if (fast_finite(f, out))
+        if (fast_run(f, s, in, out))
             return 0;
     }
 #else

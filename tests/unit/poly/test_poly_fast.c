@@ -100,6 +100,40 @@ static void test_framed_eval(void **st)
     poly_free(s);
 }
 
+/* Turned pairs that are not outputs (2j, 2j + 1): out_eta first, so the pairs are (1, 2)
+ * and (3, 4) (poly_fast turns the pairs in its lane sums only when every pair is such a
+ * neighbour pair; here after them, as the plan). */
+static void test_shifted_pairs(void **st)
+{
+    (void)st;
+    static const char *const outs[5] = {"out_eta", "out_x", "out_y", "out_u", "out_v"};
+    poly_system *s = poly_new("shifted", 5, fixture_inputs, 5, outs);
+    assert_non_null(s);
+    assert_int_equal(poly_add_part(s, 0, INFINITY), 0);
+    fixture_rng g = {31};
+    for (int o = 0; o < 5; o++)
+        for (int t = 0; t < 30; t++) {
+            int e[5];
+            fixture_monomial(&g, 9, o == 0 ? 0 : 1, 0, e);
+            e[1] = 0; /* y is 0 in the frame */
+            poly_add_term(s, 0, o, e, (2 * fixture_uniform(&g) - 1) / (1 + t));
+        }
+    poly_set_scaling(s, 0, 0, 18);
+    poly_set_scaling(s, 2, 0, 0.6);
+    poly_set_scaling(s, 3, 0, 0.6);
+    assert_int_equal(poly_set_frame(s, POLY_FRAME_MERIDIONAL), 0);
+    assert_int_equal(poly_set_transform(s, 4, POLY_XFORM_INVERSE_SQUARE), 0);
+    poly_set_scaling(s, 4, 4.25, 2.0);
+    assert_int_equal(poly_add_pass_circle(s, 1, 2, 1.5), 0);
+    const int n = nrays(2000);
+    double *in = malloc((size_t)n * 5 * sizeof(double));
+    for (int r = 0; r < n; r++)
+        fixture_ray(&g, in + 5 * r);
+    check_against_batch(s, n, in, 0);
+    free(in);
+    poly_free(s);
+}
+
 /* Exponents past 15 and more than 6 inputs with terms: poly_fast declines, the plan's
  * interpreter runs, and poly_eval is the batch's value bit for bit. */
 static void test_declined_systems(void **st)
@@ -216,6 +250,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_framed_eval),
+        cmocka_unit_test(test_shifted_pairs),
         cmocka_unit_test(test_declined_systems),
         cmocka_unit_test(test_framed_jacobian),
     };
