@@ -90,7 +90,7 @@ AVX512 void scene_simd_choose(int ne, int m, int stride, const double *sel, cons
     for (int i = 0; i < m; i += 8) {
         vd tot = zero, acc = zero, jj = zero;
         for (int e = 0; e < ne; e++) tot = _mm512_add_pd(tot, _mm512_loadu_pd(sel + e * stride + i));
-        vd x = _mm512_mul_pd(_mm512_loadu_pd(u0 + i), tot), sj = _mm512_loadu_pd(sel + i);
+        vd x = _mm512_mul_pd(_mm512_loadu_pd(u0 + i), tot), sj = ne ? _mm512_loadu_pd(sel + i) : zero;
         __mmask8 walking = 0xff;
         for (int e = 0; e + 1 < ne; e++) {
             vd se = _mm512_loadu_pd(sel + e * stride + i), next = _mm512_add_pd(acc, se);

@@ -254,6 +254,11 @@ static void test_mis_many(void **state)
     printf("direct light of %d points at once: %d terms, bit for bit (%s)\n", M, terms,
            scene_simd_ok() ? "AVX-512 lanes" : "no AVX-512: point by point");
     scene_free(&s);
+    /* no emitter at all: no term, as point by point */
+    assert_int_equal(scene_parse("camera a.lens\nplane 0 0 0 0 1 0 albedo 0.5\n", "t.scene", &s, &err), 0);
+    scene_direct_mis_many(&s, 9, h, u, many);
+    for (int i = 0; i < 9; i++) assert_int_equal(many[i].n, 0);
+    scene_free(&s);
 }
 
 static void test_cull_exact(void **state)
