@@ -109,10 +109,15 @@ static void scene_radiance(const scene_t *sc, const wave_set *w, int j0, int j1,
         return;
     }
     if (!t) return;
-    if (sc->mode == SCENE_RGB) { /* colour_at is rgb[j]: the mode's test out of the loops */
-        for (int i = 0; i < t->n; i++)
-            for (int j = j0; j < j1; j++) L[j] += t->w[i] * sc->obj[t->emitter[i]].emit[j];
-        for (int j = j0; j < j1; j++) L[j] *= alb[j];
+    if (sc->mode == SCENE_RGB && j0 == 0 && j1 == 3) {
+        /* colour_at is rgb[j], and the three sums stay in registers (through L, each term
+         * waited on the last one's store) */
+        double l0 = 0, l1 = 0, l2 = 0;
+        for (int i = 0; i < t->n; i++) {
+            const double *e = sc->obj[t->emitter[i]].emit, wi = t->w[i];
+            l0 += wi * e[0], l1 += wi * e[1], l2 += wi * e[2];
+        }
+        L[0] = l0 * alb[0], L[1] = l1 * alb[1], L[2] = l2 * alb[2];
         return;
     }
     for (int i = 0; i < t->n; i++)
@@ -256,7 +261,8 @@ static void block_rays(const render_job *job, const camera_cull *cc, int m, int 
             render_lens_to_scene(b->org + 3 * r, os);
             render_lens_to_scene(b->dir + 3 * r, ds);
             if (os[0] * os[0] + os[1] * os[1] + os[2] * os[2] <= cc->rho * cc->rho) {
-                memcpy(b->near_d + 3 * n, ds, 3 * sizeof *ds);
+                /* made again, not copied: a copy's wide load of ds, just stored, stalls */
+                render_lens_to_scene(b->dir + 3 * r, b->near_d + 3 * n);
                 b->near_of[n++] = (int)r;
             } else if (!scene_intersect(sc, os, ds, 1e-6, INFINITY, h)) {
                 h->obj = -1;

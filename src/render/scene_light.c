@@ -250,7 +250,7 @@ static void light_samples(const scene_t *s, const scene_hit *h, const double *u,
                           const int *idx, size_t ne, const double *tot, const int *J,
                           const double *Pj, light_try *L)
 {
-    int chosen[64] = {0}, list[MANY];
+    int start[65] = {0}, next[64], list[MANY];
     unsigned char lane[MANY];
     double P[3 * MANY], N[3 * MANY], U1[MANY], U2[MANY], Q[3 * MANY], pdf[MANY], cr[MANY];
     unsigned char sh[MANY];
@@ -260,17 +260,22 @@ static void light_samples(const scene_t *s, const scene_hit *h, const double *u,
         if (!(tot[i] > 0)) continue; /* choose_light's draw, made by scene_simd_choose */
         L[i].j = (size_t)J[i], L[i].P = Pj[i];
         lane[i] = L[i].P > 0 && in_lanes(&s->obj[idx[L[i].j]], h[i].p);
-        if (lane[i]) chosen[L[i].j] = 1;
+        if (lane[i]) start[L[i].j + 1]++;
         else sample_chosen(s, h + i, u + 5 * i, idx, &L[i]);
     }
+    /* the lane points in order of their emitter (a counting sort): one pass, not one
+     * per emitter */
+    for (size_t j = 0; j < ne; j++) start[j + 1] += start[j], next[j] = start[j];
+    for (int i = 0; i < c; i++)
+        if (lane[i]) list[next[L[i].j]++] = i;
     for (size_t j = 0; j < ne; j++) {
-        if (!chosen[j]) continue;
-        int n = 0;
-        for (int i = 0; i < c; i++) {
-            if (!lane[i] || L[i].j != j) continue;
-            for (int k = 0; k < 3; k++) P[k * MANY + n] = h[i].p[k], N[k * MANY + n] = h[i].n[k];
-            U1[n] = u[5 * i + 1], U2[n] = u[5 * i + 2];
-            list[n++] = i;
+        int n = start[j + 1] - start[j];
+        const int *lj = list + start[j];
+        if (!n) continue;
+        for (int l = 0; l < n; l++) {
+            int i = lj[l];
+            for (int k = 0; k < 3; k++) P[k * MANY + l] = h[i].p[k], N[k * MANY + l] = h[i].n[k];
+            U1[l] = u[5 * i + 1], U2[l] = u[5 * i + 2];
         }
         for (int l = n; l < (n + 7) / 8 * 8; l++) U1[l] = U1[0], U2[l] = U2[0];
         pad8(P, n);
@@ -280,7 +285,7 @@ static void light_samples(const scene_t *s, const scene_hit *h, const double *u,
         else
             scene_simd_sphere_light(o, pad8(N, n), MANY, P, N, U1, U2, Q, pdf, cr, sh);
         for (int l = 0; l < n; l++) {
-            light_try *Li = &L[list[l]];
+            light_try *Li = &L[lj[l]];
             for (int k = 0; k < 3; k++) Li->q[k] = Q[k * MANY + l];
             Li->pdf = pdf[l], Li->cr = cr[l], Li->shadow = sh[l];
         }
