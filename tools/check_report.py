@@ -8,6 +8,7 @@ Prints "ok NAME" / "FAIL NAME: why" lines:
   - every number in a Pareto row traces to a sweep row, whose system file exists and
     whose command is recorded."""
 import csv
+import math
 import os
 import re
 import sys
@@ -40,6 +41,16 @@ for lens, rows in sweeps.items():
         ok(f"{lens}: training error never rises with terms ({', '.join(f'{e:.3g}' for e in errs)})")
     else:
         fail(f"{lens}: training error vs terms", f"rises at {bad}, errors {errs}" if bad else "fewer than 2 points")
+    # the spread of the errors: the p99 of x and y combined and the RMS can be at most
+    # sqrt(2) times the largest x or y error, and the p99 is not below the RMS / 10
+    bad = [r["system"] for r in rows
+           if not (float(r["test_pos_p99_mm"]) <= math.sqrt(2) * float(r["test_pos_max_mm"]) * (1 + 1e-6)
+                   and float(r["test_pos_rms_mm"]) <= math.sqrt(2) * float(r["test_pos_max_mm"]) * (1 + 1e-6)
+                   and float(r["test_pos_p99_mm"]) >= 0.1 * float(r["test_pos_rms_mm"]))]
+    if not bad:
+        ok(f"{lens}: p99 and RMS within what the worst error allows")
+    else:
+        fail(f"{lens}: p99, RMS and worst error disagree", f"{bad}")
     missing = [r["system"] for r in rows if not os.path.exists(os.path.join(cache, lens, r["system"]))
                or not r["command"].startswith("lens-fit ")]
     if not missing:
@@ -55,11 +66,17 @@ for lens, rows in sweeps.items():
         fail(f"{lens}: section", "not in accuracy-vs-time.md")
         continue
     body = sec[1].split("\n## ", 1)[0]
+    head = next((l for l in body.splitlines() if l.startswith("| system")), "")
+    names = [c.strip() for c in head.strip("|").split("|")]
     table = [l for l in body.splitlines() if l.startswith("| ") and not l.startswith("| system")]
     pts = []
+    if "position RMS (mm)" not in names or "ns/ray" not in names:
+        fail(f"{lens}: Pareto table", f"no position RMS or ns/ray column in {names}")
+        continue
+    ierr, itime = names.index("position RMS (mm)"), names.index("ns/ray")
     for line in table:
         cells = [c.strip() for c in line.strip("|").split("|")]
-        pts.append((cells[0], float(cells[1]), float(cells[3])))
+        pts.append((cells[0], float(cells[ierr]), float(cells[itime])))
     times = [p[2] for p in pts]
     errs = [p[1] for p in pts]
     if pts and times == sorted(times) and all(errs[i + 1] < errs[i] for i in range(len(errs) - 1)):

@@ -2,7 +2,9 @@
 # One lens's accuracy-against-time sweep (make reports, tools/reports.mk).
 #   tools/sweep.sh LENS OUTDIR [full|reduced]
 # Writes OUTDIR/sweep.tsv, one row per fitted system, with the held-out error on the
-# outer pupil (position RMS in mm, direction RMS in arcminutes), the training error,
+# outer pupil (position RMS in mm, direction RMS in arcminutes; the 99th percentile of
+# the x and y errors, combined as sqrt(p99_x^2 + p99_y^2), and the largest x or y error,
+# which show when a few rays carry the RMS), the training error,
 # the evaluation time per ray (batch, one thread), the fit time, and the exact
 # tracer's time per ray on the same rays in the same run: the best of interleaved
 # rounds, with the spread of the rounds (median / best - 1, in %; see
@@ -43,10 +45,12 @@ points() {
   echo "mono 40 11 15000 1 0"
 }
 
-row() { # error report -> pos_rms_mm dir_rms_arcmin
-  awk '$1 == "out_x_mm" && !x { x = $3 } $1 == "out_y_mm" && !y { y = $3 }
+row() { # error report -> pos_rms_mm dir_rms_arcmin pos_p99_mm pos_max_mm
+  awk '$1 == "out_x_mm" && !x { x = $3; px = $5; mx = $6 } $1 == "out_y_mm" && !y { y = $3; py = $5; my = $6 }
        $1 == "out_u_arcmin" && !u { u = $3 } $1 == "out_v_arcmin" && !v { v = $3 }
-       /^$/ { exit } END { printf "%.6g %.6g\n", sqrt(x * x + y * y), sqrt(u * u + v * v) }' "$1"
+       /^$/ { exit }
+       END { printf "%.6g %.6g %.6g %.6g\n", sqrt(x * x + y * y), sqrt(u * u + v * v), sqrt(px * px + py * py),
+             (mx > my ? mx : my) }' "$1"
 }
 
 # Fits and error reports first; the times afterwards, all systems of the lens in one run
@@ -70,23 +74,23 @@ printf '' > "$out/times.args"
     "$BIN"/lens-eval "$poly" --report "$test" > "$out/points/$id.test.report" 2>/dev/null || true
     "$BIN"/lens-eval "$poly" --report "$out/points/$id.train" > "$out/points/$id.train.report" 2>/dev/null || true
     rm -f "$out/points/$id.train"
-    read -r tpos tdir < <(row "$out/points/$id.test.report")
-    read -r rpos _ < <(row "$out/points/$id.train.report")
+    read -r tpos tdir tp99 tmax < <(row "$out/points/$id.test.report")
+    read -r rpos _ _ _ < <(row "$out/points/$id.train.report")
     printf -- '--samples %s --poly %s\n' "$test" "$poly" >> "$out/times.args"
-    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$kind" "$t" "$g" "$n" "$p" "$l" \
-      "$tpos" "$tdir" "$rpos" "${fit_s:-nan}" "points/$id.poly" "$cmd"
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$kind" "$t" "$g" "$n" "$p" "$l" \
+      "$tpos" "$tdir" "$rpos" "${fit_s:-nan}" "points/$id.poly" "$cmd" "$tp99" "$tmax"
   done
 } > "$out/rows.tmp"
 # shellcheck disable=SC2046
 "$BUILD"/bench/bench_system --samples "$out/test.txt" --lens "$lens" $(cat "$out/times.args") > "$out/times.txt"
 {
-  printf 'lens\tkind\tterms\tdegree\tsamples\tparts\tlambda\ttest_pos_rms_mm\ttest_dir_rms_arcmin\ttrain_pos_rms_mm\teval_ns_per_ray\texact_ns_per_ray\teval_spread_pct\texact_spread_pct\tfit_s\tsystem\tcommand\n'
+  printf 'lens\tkind\tterms\tdegree\tsamples\tparts\tlambda\ttest_pos_rms_mm\ttest_dir_rms_arcmin\ttest_pos_p99_mm\ttest_pos_max_mm\ttrain_pos_rms_mm\teval_ns_per_ray\texact_ns_per_ray\teval_spread_pct\texact_spread_pct\tfit_s\tsystem\tcommand\n'
   awk -F'\t' -v OFS='\t' -v dir="$out/" '
     FNR == NR && $0 ~ /^exact / { split($0, e, " "); exact = e[2]; espread = e[4]; next }
     FNR == NR && $0 ~ /^system / { split($0, q, " "); p = q[2]; sub("^" dir, "", p); best[p] = q[3]; spread[p] = q[5]; next }
     FNR == NR { next }
     { b = ($12 in best) ? best[$12] : "nan"; sp = ($12 in spread) ? spread[$12] : "nan"
-      print $1, $2, $3, $4, $5, $6, $7, $8, $9, $10, b, exact, sp, espread, $11, $12, $13 }' \
+      print $1, $2, $3, $4, $5, $6, $7, $8, $9, $14, $15, $10, b, exact, sp, espread, $11, $12, $13 }' \
     "$out/times.txt" "$out/rows.tmp"
 } > "$out/sweep.tsv.tmp"
 rm -f "$out/rows.tmp" "$out/times.args"
