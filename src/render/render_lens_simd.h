@@ -8,7 +8,7 @@
  * status[i] is 0 for a ray, 1 where front_ray fails (u^2 + v^2 > 1), 2 where front_ray
  * hands the point to ray_from_outer (off the surface's sphere, or not finite). m is a
  * multiple of 8. */
-#if defined(__x86_64__) && defined(__GNUC__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(SPARSELENS_PORTABLE_KERNELS)
 #define RENDER_LENS_SIMD 1
 /* 1 when the kernel may run (AVX-512F) */
 int render_lens_simd_ok(void);

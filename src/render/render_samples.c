@@ -228,7 +228,7 @@ static inline v4u permuted4(uint64_t k0, int c, perm_size z, const ld_perm *p)
     return permute4((v4u){k, k + 1, k + 2, k + 3}, z, p);
 }
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(SPARSELENS_PORTABLE_KERNELS)
 #include <immintrin.h>
 /* Sixteen samples a step where the processor has AVX-512 (a run of a pixel's 32 samples
  * is two steps, against eight of four lanes); the Sobol tables read by gathers, so only

@@ -18,7 +18,7 @@ void scene_fill_hit(const scene_t *s, int which, double t, const double o[3], co
                     scene_hit *hit);
 
 /* Compiled for x86-64 by GCC or clang; elsewhere scene_light.c goes point by point. */
-#if defined(__x86_64__) && defined(__GNUC__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(SPARSELENS_PORTABLE_KERNELS)
 #define SCENE_SIMD 1
 
 /* The selection weight (scene_light.c's select_weight) of emitter o at the m points P

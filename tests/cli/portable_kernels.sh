@@ -4,7 +4,8 @@
 # checked here on x86 by building trace_packet.c, poly_eval.c and poly_fast.c (which
 # then declines: the plan's interpreter runs one ray) with
 # SPARSELENS_PORTABLE_KERNELS and no -march, and linking the unit tests that compare
-# packets and batches against the scalar paths bit for bit (test_trace, test_poly).
+# packets and batches against the scalar paths bit for bit (test_trace, test_poly); the
+# renderer's block functions likewise (test_render_light, test_render_batch).
 # The objects come before liblens.a on the link line, so they replace its members.
 . "$(dirname "$0")/lib.sh"
 lib=$BUILD/liblens.a
@@ -13,7 +14,12 @@ cppflags=$(makevar CPPFLAGS) ldlibs=$(makevar LDLIBS)
 cflags="-std=c11 -O2 -fopenmp -DSPARSELENS_PORTABLE_KERNELS"
 [ -n "$SANITIZE" ] && cflags="$cflags -O1 -fsanitize=address,undefined -fno-sanitize-recover=undefined"
 objs=""
-for f in src/trace/trace_packet.c src/poly/poly_eval.c src/poly/poly_fast.c; do
+# the renderer's: the block functions' point-by-point path (scene_light.c, scene_cull.c,
+# render_samples.c and render_lens.c without their AVX-512 lanes)
+for f in src/trace/trace_packet.c src/poly/poly_eval.c src/poly/poly_fast.c \
+         src/render/scene_light.c src/render/scene_light_simd.c src/render/scene_geometry.c \
+         src/render/scene_cull.c src/render/render_samples.c src/render/render_lens.c \
+         src/render/render_lens_simd.c; do
   o=$T/$(basename "$f" .c).o
   # shellcheck disable=SC2086
   ${CC:-cc} $cppflags $cflags -Wall -Wextra -Werror -c "$f" -o "$o" 2>"$T/cc.log" ||
@@ -21,7 +27,7 @@ for f in src/trace/trace_packet.c src/poly/poly_eval.c src/poly/poly_fast.c; do
   objs="$objs $o"
 done
 if nm $objs | grep -qE 'avx|trace_w4|trace_w8'; then fail "portable kernels" "an x86 kernel is still built"; exit 0; fi
-for t in trace/test_trace poly/test_poly; do
+for t in trace/test_trace poly/test_poly render/test_render_light render/test_render_batch; do
   n=$(basename "$t")
   # shellcheck disable=SC2086
   ${CC:-cc} $cppflags $(makevar CMOCKA_CFLAGS) -Itests/unit $cflags "tests/unit/$t.c" $objs "$lib" \
