@@ -61,8 +61,9 @@ void poly_eval_batch(const poly_system *sys, size_t count, const double *in, dou
  * writes nothing) for a negative nsel or an output out of range. */
 int poly_eval_batch_outputs(const poly_system *sys, size_t count, const double *in, int nsel,
                             const int *outputs, double *out, unsigned char *pass);
-/* The Jacobian of count rays (the same values as poly_eval_jacobian): jac is count x
- * (noutputs x ninputs), row r holding d out_o / d in_i at [o * ninputs + i]. */
+/* The Jacobian of count rays (poly_eval_jacobian's values to 1e-12 relative: with
+ * AVX-512 its sums use fused multiply-adds): jac is count x (noutputs x ninputs), row r
+ * holding d out_o / d in_i at [o * ninputs + i]. */
 void poly_eval_jacobian_batch(const poly_system *sys, size_t count, const double *in,
                               double *jac);
 /* poly_eval_jacobian_batch for outputs outputs[0 .. nsel - 1] alone: jac is count x

@@ -1,7 +1,7 @@
 /* Evaluation of polynomial systems: one ray, batches, and the Jacobian (the core in the
  * system's frame; poly_frame.c wraps it into the public functions).
  * Every path runs the plan of poly_impl.h with the same products and the same order of
- * additions, so scalar and batch results are bit-identical. */
+ * additions, so scalar and batch results are bit-identical (the batch Jacobian: to 1e-12). */
 #include "poly/poly_impl.h"
 
 /* x86 has a kernel per instruction set below; elsewhere (arm64, ...) the 2-lane one
@@ -184,16 +184,16 @@ typedef struct {
     int vview; /* RUN_JACF: the plan of the frame view's values (its derivatives: 1 - vview) */
 } batch_job;
 
-/* The batch kernel once per instruction set, each with the vector width of its
- * registers and a block that keeps its partial sums in registers (AVX-512: 32 rays in
- * 4 x 8 lanes, 16 accumulators of its 32 registers; AVX2: 8 in 2 x 4; SSE: 4 in 2 x 2);
- * batch() runs the widest, a narrower one on a short last block (kernels()). The loop
- * is bound by loads of values (two 64-byte loads a cycle), so a wider block pays the
- * per-term index and coefficient loads on more rays:
- * 32 rays measured 36 -> 29 ns a ray against 16 on the fisheye-ii system. AVX-512 also
- * moves the rows in and out with gathers and scatters (the scalar copy out of a block
- * just stored as vectors cost 4 ns a ray). -O3 for these alone: it unrolls the loops
- * over lanes; it never contracts into FMA (ISO C mode), so the bits stay. */
+/* The batch kernel once per instruction set, each with the vector width of its registers
+ * and a block that keeps its partial sums in registers (AVX-512: 32 rays in 4 x 8 lanes,
+ * 16 accumulators of its 32 registers; AVX2: 8 in 2 x 4; SSE: 4 in 2 x 2); batch() runs
+ * the widest, a narrower one on a short last block (kernels()). The loop is bound by loads
+ * of values (two 64-byte loads a cycle), so a wider block pays the per-term index and
+ * coefficient loads on more rays: 32 rays measured 36 -> 29 ns a ray against 16 on the
+ * fisheye-ii system. AVX-512 also moves the rows in and out with gathers and scatters (the
+ * scalar copy out of a block just stored as vectors cost 4 ns a ray). -O3 for these alone:
+ * it unrolls the loops over lanes; it never contracts into FMA (ISO C mode), so the bits
+ * stay (KERNEL_FMA aside). */
 #if defined(POLY_X86)
 #include "poly/poly_eval_rows.h"
 
@@ -210,6 +210,7 @@ typedef struct {
 #define KERNEL_LOAD_COLS5(src, cols) load_cols5((src), (__m512d *)(cols))
 #define KERNEL_MASKBITS(ok) ((unsigned)_mm512_test_epi64_mask((__m512i)(ok), (__m512i)(ok)))
 #define KERNEL_WHOLE_ROWS 128
+#define KERNEL_FMA(a, b, c) ((vn)_mm512_fmadd_pd((__m512d)(a), (__m512d)(b), (__m512d)(c)))
 #include "poly/poly_eval_kernel.h"
 #undef KERNEL_WHOLE_ROWS
 #undef KERNEL_NAME
@@ -217,6 +218,7 @@ typedef struct {
 #define KERNEL_NAME run_blocks_avx512_8
 #define KBLK 8
 #include "poly/poly_eval_kernel.h"
+#undef KERNEL_FMA /* after the 8-ray instance too: the 32-ray one's bits */
 #undef KERNEL_SCATTER
 #undef KERNEL_MASKBITS
 #undef KERNEL_GATHER

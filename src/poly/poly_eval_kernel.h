@@ -23,10 +23,13 @@
  * aligned; value k of lane r is vbuf[k * KBLK + r]. Unused lanes of the last block repeat
  * its first ray so no lane computes on garbage. Only IEEE multiplies, adds, divides and
  * square roots, never contracted: every instruction set gives the bits of the scalar
- * path. No include guard: meant to be included several times.
+ * path; except, with KERNEL_FMA defined (AVX-512), the sums of a Jacobian run (RUN_JAC,
+ * RUN_JACF), which fuse each term's multiply and add (issue 14 allows the Jacobian 1e-12
+ * relative; poly_eval_sums.h says what it bought). No include guard: meant to be
+ * included several times.
  * Long function: a block's whole pass (inputs, frame, plans, chain rule, stores, pass
  * test) is one body so that the block's vectors stay in registers between the steps;
- * its parts are the item macros and poly_frame_chain. */
+ * its parts are the plans' sums (poly_eval_sums.h) and poly_frame_chain. */
 #define NV (KBLK / VW)
 
 KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *const *pls, int nview,
@@ -168,104 +171,17 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                     d[j * NV + q] = x[q] * y[q];
             }
             const int *fb_off = fa_off + pl->start[nsum];
-            for (int o = 0; o < nsum; o++) {
-                if (!need[o])
-                    continue; /* not asked for, or the other view's (res stays 0) */
-                const int t0 = pl->start[o], ns = pl->nsingle[o];
-                const int nq = pl->nquad[o], npr = pl->npair[o];
-                const int nl = pl->start[o + 1] - t0 - ns - 4 * nq - 2 * npr;
-                const double *c = pl->coef;
-                const int *fa = fa_off, *fb = fb_off;
-                vn a0[NV], a1[NV], a2[NV], a3[NV];
-/* the items of the plan (poly_impl.h) at planned term k, into acc */
-#define V(k) ((const vn *)(vd + fa[k]))
-#define SINGLE(acc, k)                                                                    \
-    do {                                                                                   \
-        const vn *x = V(k);                                                                \
-        const double ck = c[k];                                                            \
-        for (int q = 0; q < NV; q++)                                                       \
-            acc[q] += ck * x[q];                                                           \
-    } while (0)
-#define QUAD(acc, k)                                                                      \
-    do {                                                                                   \
-        const vn *x0 = V(k), *x1 = V((k) + 1), *x2 = V((k) + 2), *x3 = V((k) + 3);         \
-        const vn *y = (const vn *)(vd + fb[k]);                                            \
-        const double c0 = c[k], c1 = c[(k) + 1], c2 = c[(k) + 2], c3 = c[(k) + 3];          \
-        for (int q = 0; q < NV; q++)                                                       \
-            acc[q] += ((c0 * x0[q] + c1 * x1[q]) + (c2 * x2[q] + c3 * x3[q])) * y[q];      \
-    } while (0)
-#define PAIR(acc, k)                                                                      \
-    do {                                                                                   \
-        const vn *x0 = V(k), *x1 = V((k) + 1), *y = (const vn *)(vd + fb[k]);              \
-        const double c0 = c[k], c1 = c[(k) + 1];                                           \
-        for (int q = 0; q < NV; q++)                                                       \
-            acc[q] += (c0 * x0[q] + c1 * x1[q]) * y[q];                                    \
-    } while (0)
-#define LONE(acc, k)                                                                      \
-    do {                                                                                   \
-        const vn *x0 = V(k), *y = (const vn *)(vd + fb[k]);                                \
-        const double c0 = c[k];                                                            \
-        for (int q = 0; q < NV; q++)                                                       \
-            acc[q] += (c0 * x0[q]) * y[q];                                                 \
-    } while (0)
-/* a run of n items of the given width from planned term k on, item i into a(i % 4) */
-#define RUN(ITEM, width, n)                                                               \
-    do {                                                                                   \
-        int i_ = 0;                                                                        \
-        for (; i_ + 4 <= (n); i_ += 4, k += 4 * (width)) {                                \
-            ITEM(a0, k);                                                                   \
-            ITEM(a1, k + (width));                                                         \
-            ITEM(a2, k + 2 * (width));                                                     \
-            ITEM(a3, k + 3 * (width));                                                     \
-        }                                                                                  \
-        if (i_ < (n)) {                                                                    \
-            ITEM(a0, k);                                                                   \
-            k += (width);                                                                  \
-        }                                                                                  \
-        if (i_ + 1 < (n)) {                                                                \
-            ITEM(a1, k);                                                                   \
-            k += (width);                                                                  \
-        }                                                                                  \
-        if (i_ + 2 < (n)) {                                                                \
-            ITEM(a2, k);                                                                   \
-            k += (width);                                                                  \
-        }                                                                                  \
-    } while (0)
-                int k = t0;
-                /* each sum from -0 on (poly_impl.h): with 4 single terms or more their
-                 * first ones are the sums, no adds (fisheye-ii's default fit: 0.4 ns a ray) */
-                if (ns >= POLY_NSUMS) {
-#define SET(acc, k)                                                                       \
-    do {                                                                                   \
-        const vn *x = V(k);                                                                \
-        const double ck = c[k];                                                            \
-        for (int q = 0; q < NV; q++)                                                       \
-            acc[q] = ck * x[q];                                                            \
-    } while (0)
-                    SET(a0, k);
-                    SET(a1, k + 1);
-                    SET(a2, k + 2);
-                    SET(a3, k + 3);
-#undef SET
-                    k += POLY_NSUMS;
-                    RUN(SINGLE, 1, ns - POLY_NSUMS);
-                } else {
-                    for (int q = 0; q < NV; q++)
-                        a0[q] = a1[q] = a2[q] = a3[q] = -(vn){0}; /* -0: x + -0 is x */
-                    RUN(SINGLE, 1, ns);
-                }
-                RUN(QUAD, 4, nq);
-                RUN(PAIR, 2, npr);
-                RUN(LONE, 1, nl);
-#undef V
-#undef SINGLE
-#undef QUAD
-#undef PAIR
-#undef LONE
-#undef RUN
-                for (int q = 0; q < NV; q++) /* an empty sum is 0, not -0 */
-                    res[o * NV + q] =
-                        t0 == pl->start[o + 1] ? (vn){0} : (a0[q] + a1[q]) + (a2[q] + a3[q]);
+#ifdef KERNEL_FMA
+            if (what == RUN_JACF || what == RUN_JAC) { /* fused: poly_eval_sums.h */
+#define KERNEL_FUSED 1
+#include "poly/poly_eval_sums.h"
+#undef KERNEL_FUSED
+            } else
+#endif
+            {
+#define KERNEL_FUSED 0
+#include "poly/poly_eval_sums.h"
+#undef KERNEL_FUSED
             }
             if (job->deriv[w]) /* d / d s_i to d / d in_i (poly_scale_chain), on whole vectors */
                 for (int k = 0; k < nsum; k++) {

@@ -341,8 +341,8 @@ CHAIN_TARGET void poly_frame_chain(const poly_system *s, int np, const poly_chai
 
 /* With a frame: through the batch kernel, which applies the frame and the transforms,
  * runs the views' values and derivatives and then poly_frame_chain on each block, as
- * poly_eval_jacobian does on one ray (the same bits). Ray by ray if the views are
- * missing. */
+ * poly_eval_jacobian does on one ray (the same arithmetic; with AVX-512 the kernel's
+ * sums fused, so to 1e-12 relative). Ray by ray if the views are missing. */
 int poly_eval_jacobian_batch_outputs(const poly_system *s, size_t count, const double *in,
                                      int nsel, const int *outputs, double *jac)
 {

@@ -149,4 +149,36 @@ static inline void fixture_naive(const poly_system *s, const double *in, double 
     }
 }
 
+/* The batch Jacobian against the one-ray one, entry by entry: poly_eval_jacobian_batch
+ * sums its derivative and value terms with fused multiply-adds where the machine has
+ * them (AVX-512), poly_eval_jacobian with separate multiplies and adds, so the two may
+ * differ by rounding: issue 14 allows 1e-12 relative. Entry k of n (one ray's row)
+ * agrees when equal (inf, nan alike) or within 1e-12 of the larger of its size and
+ * scale[k] (the entry's size over the rays, or of its output's row: a derivative that
+ * cancels to nearly 0 keeps its terms' rounding). Returns the first entry that does
+ * not, or -1. */
+static inline int fixture_jacobian_differs(const double *one, const double *batch,
+                                           const double *scale, int n)
+{
+    for (int k = 0; k < n; k++) {
+        if ((isnan(one[k]) && isnan(batch[k])) || one[k] == batch[k])
+            continue;
+        if (!(fabs(one[k] - batch[k]) <= 1e-12 * fmax(fabs(batch[k]), scale[k])))
+            return k;
+    }
+    return -1;
+}
+
+/* scale[k] for fixture_jacobian_differs: the largest finite |jac[r * n + k]| over rays
+ * r < nrays. */
+static inline void fixture_jacobian_scale(const double *jac, size_t nrays, int n, double *scale)
+{
+    for (int k = 0; k < n; k++) {
+        scale[k] = 0;
+        for (size_t r = 0; r < nrays; r++)
+            if (isfinite(jac[r * (size_t)n + (size_t)k]))
+                scale[k] = fmax(scale[k], fabs(jac[r * (size_t)n + (size_t)k]));
+    }
+}
+
 #endif
