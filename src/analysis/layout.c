@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sparselens/aim.h"
 #include "sparselens/ray_bundle.h"
 #include "sparselens/ray_path.h"
 
@@ -180,35 +181,29 @@ static void extent(layout_drawing *d)
         }
 }
 
-/* 1 when bundle ray i reaches the sensor (the test add_rays draws by); pts holds 3 doubles
- * a surface. */
-static int reaches_sensor(const lens_t *lens, const ray_bundle *b, size_t i, double *pts)
+/* 1 when ray r, traced with indices n, reaches the sensor (the test add_rays draws by);
+ * pts holds 3 doubles a surface. */
+static int lands(const lens_t *lens, const double *n, lens_ray r, double *pts)
 {
-    if (!b->aimed[i])
-        return 0;
-    lens_ray r = b->ray[i];
-    int clip, k = ray_path(lens, b->n, &r, pts, NULL, &clip);
+    int clip, k = ray_path(lens, n, &r, pts, NULL, &clip);
     return k == (int)lens->nsurf && r.d[2] > 0;
 }
 
 enum { SCAN = 65, EDGE_STEPS = 16 }; /* 2 / 64 / 2^16: an end to 5e-7 of the stop radius */
 
-/* The end of the passing run between stop point `in` (passes) and `out` (stopped), by
- * bisection: the last passing point found. */
-static int refine_end(const imaging *im, double field, double lambda, double in, double out, double *pts,
-                      double *end, lens_err *err)
+/* The end of the passing run between normalised stop points `in` (passes) and `out`
+ * (stopped), by bisection with the field's aim prepared once: the last passing point. */
+static double refine_end(const lens_t *lens, const double *n, const aim_object_start *st, double in, double out,
+                         double *pts)
 {
+    double stop = lens->surf[lens->stop].semi_diameter;
     for (int it = 0; it < EDGE_STEPS; it++) {
-        double mid = 0.5 * (in + out), p[2] = {0, mid};
-        ray_bundle b;
-        if (bundle_aim(im, field, lambda, p, 1, &b, err) != 0)
-            return -1;
-        int ok = reaches_sensor(im->lens, &b, 0, pts);
-        bundle_free(&b);
+        double mid = 0.5 * (in + out);
+        lens_ray r;
+        int ok = aim_object_to(st, 0, mid * stop, &r) == 0 && lands(lens, n, r, pts);
         *(ok ? &in : &out) = mid;
     }
-    *end = in;
-    return 0;
+    return in;
 }
 
 /* The meridian's passing part for one field: the run of stop points whose rays reach the
@@ -220,6 +215,7 @@ static int refine_end(const imaging *im, double field, double lambda, double in,
 static int passing_span(const imaging *im, double field, double lambda, double *pts, double span[2],
                         lens_err *err)
 {
+    const lens_t *lens = im->lens;
     double pupil[2 * SCAN];
     for (int i = 0; i < SCAN; i++)
         pupil[2 * i] = 0, pupil[2 * i + 1] = -1 + 2.0 * i / (SCAN - 1);
@@ -228,8 +224,7 @@ static int passing_span(const imaging *im, double field, double lambda, double *
         return -1;
     int pass[SCAN];
     for (int i = 0; i < SCAN; i++)
-        pass[i] = reaches_sensor(im->lens, &b, (size_t)i, pts);
-    bundle_free(&b);
+        pass[i] = b.aimed[i] && lands(lens, b.n, b.ray[i], pts);
     int lo = -1, hi = -1;
     for (int i = 0; i < SCAN; i++) {
         if (!pass[i] || (i > 0 && pass[i - 1]))
@@ -244,13 +239,15 @@ static int passing_span(const imaging *im, double field, double lambda, double *
             break;
     }
     span[0] = -1, span[1] = 1;
-    if (lo < 0)
-        return 0;
-    if (lo > 0 && refine_end(im, field, lambda, pupil[2 * lo + 1], pupil[2 * lo - 1], pts, &span[0], err) != 0)
-        return -1;
-    if (hi < SCAN - 1 &&
-        refine_end(im, field, lambda, pupil[2 * hi + 1], pupil[2 * hi + 3], pts, &span[1], err) != 0)
-        return -1;
+    aim_object_start st;
+    /* a passing point means the field's aim can be prepared */
+    if (lo >= 0 && imaging_aim_prepare(im, b.n, field, &st) == 0) {
+        if (lo > 0)
+            span[0] = refine_end(lens, b.n, &st, pupil[2 * lo + 1], pupil[2 * lo - 1], pts);
+        if (hi < SCAN - 1)
+            span[1] = refine_end(lens, b.n, &st, pupil[2 * hi + 1], pupil[2 * hi + 3], pts);
+    }
+    bundle_free(&b);
     return 0;
 }
 
