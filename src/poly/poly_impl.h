@@ -219,6 +219,11 @@ typedef struct {
 /* jac = d out / d in from the cores' values and derivatives; np: the system has outputs
  * outside the frame (the plain view's). */
 void poly_frame_chain(const poly_system *s, int np, const poly_chain_cols *k);
+/* 1 when poly_frame_chain takes the meridional form (chain_meridional, poly_jacobian.c),
+ * which reads each ray's derivatives before it writes them: then k->jac may be k->J
+ * itself (on the axis, whose limit reads k->J after, the d / dx it writes is k->J's:
+ * c = 1, s = 0, 1 / r taken as 0). */
+int poly_frame_chain_in_place(const poly_system *s, int np);
 
 /* Monomial tables and plans (poly_plan.c). A table's slot 0 is the constant and slots
  * 1..nin the scaled inputs; poly_mono_ensure returns the slot of monomial e, created

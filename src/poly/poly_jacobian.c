@@ -173,12 +173,12 @@ static inline __attribute__((always_inline)) void chain_meridional(const poly_sy
         double *bx = COL(jb, ix), *by = COL(jb, iy), *bu = COL(jb, iu), *bv = COL(jb, iv);
         if (b < 0) {
             IVDEP
-            for (size_t r = 0; r < n; r++) {
-                const double G = vp[r] * Jau[r] - up[r] * Jav[r];
-                ax[r] = c[r] * Jar[r] - sir[r] * G;
-                ay[r] = sn[r] * Jar[r] + cir[r] * G;
-                au[r] = c[r] * Jau[r] - sn[r] * Jav[r];
-                av[r] = sn[r] * Jau[r] + c[r] * Jav[r];
+            for (size_t r = 0; r < n; r++) { /* read before written: jac may be J */
+                const double jr = Jar[r], ju = Jau[r], jv = Jav[r], G = vp[r] * ju - up[r] * jv;
+                ax[r] = c[r] * jr - sir[r] * G;
+                ay[r] = sn[r] * jr + cir[r] * G;
+                au[r] = c[r] * ju - sn[r] * jv;
+                av[r] = sn[r] * ju + c[r] * jv;
             }
             continue;
         }
@@ -220,9 +220,7 @@ static inline __attribute__((always_inline)) void chain(const poly_system *s, in
                                                         const poly_chain_cols *k, size_t n)
 {
     const int nin = s->nin, nout = s->nout;
-    if (s->frame == POLY_FRAME_MERIDIONAL && !np && !s->xform[s->ix] && !s->xform[s->iy] &&
-        !s->xform[s->iu] &&
-        !s->xform[s->iv]) {
+    if (poly_frame_chain_in_place(s, np)) {
         chain_meridional(s, k, n);
         return;
     }
@@ -330,6 +328,12 @@ static inline __attribute__((always_inline)) void chain(const poly_system *s, in
             }
 #undef COL
 #undef ON
+}
+
+int poly_frame_chain_in_place(const poly_system *s, int np)
+{
+    return s->frame == POLY_FRAME_MERIDIONAL && !np && !s->xform[s->ix] && !s->xform[s->iy] &&
+           !s->xform[s->iu] && !s->xform[s->iv];
 }
 
 /* The chain rule on n = k->n rays, in vector code; one ray (jacobian_one) compiles the
