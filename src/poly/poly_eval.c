@@ -182,6 +182,9 @@ typedef struct {
     const unsigned char *need[3];
     int kind[3], roff[3], deriv[3];
     int vview; /* RUN_JACF: the plan of the frame view's values (its derivatives: 1 - vview) */
+    /* RUN_EVAL: written[o] when output o goes to out; a turned pair turns back only
+     * then (the pass test takes the frame's values: poly_eval_part) */
+    unsigned char written[POLY_MAX_OUTPUTS];
 } batch_job;
 
 /* The batch kernel once per instruction set, each with the vector width of its registers
@@ -477,6 +480,10 @@ static void batch_job_run(const poly_system *s, int what, size_t count, const do
     }
     for (int j = 0; sel && j < nsel; j++)
         need[sel[j]] = 1;
+    for (int o = 0; what == RUN_EVAL && o < nout; o++)
+        job.written[o] = !sel;
+    for (int j = 0; what == RUN_EVAL && sel && j < nsel; j++)
+        job.written[sel[j]] = 1;
     if (what == RUN_EVAL && views) { /* each output from its own view */
         job.kind[1] = 1;
         job.roff[1] = nout;
