@@ -85,7 +85,8 @@ int poly_in_domain(const poly_system *sys, const double *in);
  * A system has one or more parts; part p applies where the sensor radius
  * sqrt(x^2 + y^2) (inputs named x and y) lies in [rmin, rmax); a single part spans
  * [0, INFINITY). The passage test: the ray passes when every pass circle holds,
- * out_a^2 + out_b^2 <= radius^2 (the front element and the stop, for example). */
+ * out_a^2 + out_b^2 <= radius^2 (the front element and the stop, for example), on the
+ * outputs in the system's frame, before a turned pair turns back (the same length). */
 poly_system *poly_new(const char *lens_name, int ninputs, const char *const *inputs,
                       int noutputs, const char *const *outputs);
 void poly_set_lens_path(poly_system *sys, const char *path);

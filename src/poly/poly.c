@@ -386,6 +386,23 @@ int poly_add_pass_circle(poly_system *s, int a, int b, double radius)
     return 0;
 }
 
+int poly_passes(const poly_system *s, const double *out)
+{
+    for (int o = 0; o < s->nout; o++)
+        if (!isfinite(out[o]))
+            return 0;
+    return poly_in_circles(s, out);
+}
+
+int poly_circle_covers(const poly_system *s, int o)
+{
+    for (int c = 0; c < s->ncircles; c++)
+        if (isfinite(s->circles[c].radius * s->circles[c].radius) &&
+            (s->circles[c].a == o || s->circles[c].b == o))
+            return 1;
+    return 0;
+}
+
 /* Values are kept on one line in the file: line breaks become spaces. */
 void poly_set_meta(poly_system *s, const char *key, const char *value)
 {

@@ -62,17 +62,6 @@ static void emit_scaled_inputs(FILE *f, const poly_system *s, const char *indent
     }
 }
 
-/* Pass circle c as a C condition on the outputs in array var: one text for the scalar
- * function and the batch loop, so both test exactly the same expression. */
-static void emit_circle(FILE *f, const poly_system *s, int c, const char *var)
-{
-    const poly_circle *k = &s->circles[c];
-    fprintf(f, "%s[%d] * %s[%d] + %s[%d] * %s[%d] <= ", var, k->a, var, k->a, var, k->b, var, k->b);
-    num(f, k->radius);
-    fputs(" * ", f);
-    num(f, k->radius);
-}
-
 static int emit_part(FILE *f, const poly_system *s, const poly_part *p, const char *outfmt);
 
 /* The kept products in depth order, then per output its terms in the plan's order, a
@@ -145,6 +134,28 @@ static const char *src_of(char *buf, size_t len, const char *srcfmt, int i)
     return buf;
 }
 
+/* The pass test (poly_passes) as one C condition on the outputs named by outfmt
+ * ("out[%d]", "y%d[r]"), before the frame turns them back as liblens tests them: one
+ * text for the scalar function and the batch loop, so both test exactly the same
+ * expression. The circles test the outputs they cover for being finite too. */
+static void emit_pass_test(FILE *f, const poly_system *s, const char *outfmt, const char *ind)
+{
+    char a[64], b[64];
+    fputs("1", f);
+    for (int o = 0; o < s->nout; o++)
+        if (!poly_circle_covers(s, o))
+            fprintf(f, " && isfinite(%s)", src_of(a, sizeof a, outfmt, o));
+    for (int c = 0; c < s->ncircles; c++) {
+        const poly_circle *k = &s->circles[c];
+        src_of(a, sizeof a, outfmt, k->a);
+        src_of(b, sizeof b, outfmt, k->b);
+        fprintf(f, "\n%s&& %s * %s + %s * %s <= ", ind, a, a, b, b);
+        num(f, k->radius);
+        fputs(" * ", f);
+        num(f, k->radius);
+    }
+}
+
 /* The frame's angle (poly_frame.c): the sensor radius fr of the sensor point (x, y)
  * (C texts), and its cosine fc and sine fs; fc = 1, fs = 0 on the axis. */
 static void emit_frame_angle(FILE *f, const char *ind, const char *x, const char *y)
@@ -178,13 +189,18 @@ static void emit_frame_in(FILE *f, const poly_system *s, const char *ind, const 
             emit_frame_angle(f, ind, src_of(a, sizeof a, srcfmt, s->ix),
                              src_of(b, sizeof b, srcfmt, s->iy));
         fprintf(f, "%st[%d] = fr;\n%st[%d] = 0;\n", ind, s->ix, ind, s->iy);
+        /* c v - s u written c v + (-s) u: the same bits (IEEE subtracts by adding the
+         * negation), but no add beside a subtract of the same products, which GCC 12's
+         * SLP vectoriser fuses into vfmaddsub even where contraction is off (at -O2
+         * -march=native: test_poly_emit saw the last bit of out_y move) */
+        fprintf(f, "%sconst double fn = -fs;\n", ind);
         const char *u = src_of(a, sizeof a, srcfmt, s->iu), *v = src_of(b, sizeof b, srcfmt, s->iv);
-        fprintf(f, "%st[%d] = fc * %s + fs * %s;\n%st[%d] = fc * %s - fs * %s;\n", ind, s->iu, u,
+        fprintf(f, "%st[%d] = fc * %s + fs * %s;\n%st[%d] = fc * %s + fn * %s;\n", ind, s->iu, u,
                 v, ind, s->iv, v, u);
     } else {
-        fprintf(f, "%sconst double fc = 1, fs = 0;\n", ind);
+        fprintf(f, "%sconst double fc = 1, fs = 0, fn = -0.0;\n", ind);
     }
-    fprintf(f, "%s(void)fc;\n%s(void)fs;\n", ind, ind);
+    fprintf(f, "%s(void)fc;\n%s(void)fs;\n%s(void)fn;\n", ind, ind, ind);
     for (int i = 0; i < nin; i++)
         if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE) {
             fprintf(f, "%st[%d] = 1 / (t[%d] * t[%d]); /* ", ind, i, i, i);
@@ -205,7 +221,8 @@ static void emit_frame_in(FILE *f, const poly_system *s, const char *ind, const 
     }
 }
 
-/* The output pairs turned back out of the frame, in the array of outfmt. */
+/* The output pairs turned back out of the frame, in the array of outfmt (c a - s b
+ * as c a + (-s) b: see emit_frame_in). */
 static void emit_frame_out(FILE *f, const poly_system *s, const char *ind, const char *outfmt)
 {
     char a[64], b[64];
@@ -214,13 +231,13 @@ static void emit_frame_out(FILE *f, const poly_system *s, const char *ind, const
         src_of(b, sizeof b, outfmt, s->pair[2 * k + 1]);
         fprintf(f,
                 "%s{\n%s    const double a = %s, b = %s;\n"
-                "%s    %s = fc * a - fs * b;\n%s    %s = fs * a + fc * b;\n%s}\n",
+                "%s    %s = fc * a + fn * b;\n%s    %s = fs * a + fc * b;\n%s}\n",
                 ind, ind, a, b, ind, a, ind, b, ind);
     }
 }
 
 /* The frame and transforms around NAME_core (poly_frame.c), as the same expressions in
- * the same order; the pass test on the final outputs. */
+ * the same order; the pass test on the frame's values, before they turn back. */
 static void emit_frame(FILE *f, const poly_system *s, const char *func)
 {
     const int nout = s->nout;
@@ -233,15 +250,11 @@ static void emit_frame(FILE *f, const poly_system *s, const char *func)
             if (s->plain[o])
                 fprintf(f, "    out[%d] = op[%d];\n", o, o);
     }
+    fputs("    const int pass = ", f);
+    emit_pass_test(f, s, "out[%d]", "        ");
+    fputs(";\n", f);
     emit_frame_out(f, s, "    ", "out[%d]");
-    fprintf(f, "    for (int o = 0; o < %d; o++)\n        if (!isfinite(out[o]))\n            return 0;\n",
-            nout);
-    for (int c = 0; c < s->ncircles; c++) {
-        fputs("    if (!(", f);
-        emit_circle(f, s, c, "out");
-        fputs("))\n        return 0;\n", f);
-    }
-    fputs("    return 1;\n}\n", f);
+    fputs("    return pass;\n}\n", f);
 }
 
 /* One view's polynomials (part 0) inside the block loop: its scaled inputs from srcfmt,
@@ -304,7 +317,8 @@ static int emit_batch(FILE *f, const poly_system *s, const char *func)
             fputs("            fr8[r] = fr;\n            fc8[r] = fc;\n            fs8[r] = fs;\n"
                   "        }\n", f);
         }
-        fputs("        for (int r = 0; r < 8; r++) {\n", f);
+        fputs("        unsigned char pk[8]; /* pass flags, from the frame's values */\n"
+              "        for (int r = 0; r < 8; r++) {\n", f);
         if (act) {
             emit_frame_in(f, s, "            ", "x%d[r]", "f%c8[r]");
             if (emit_block_view(f, core, "t[%d]", "y%d[r]") != 0)
@@ -317,23 +331,22 @@ static int emit_batch(FILE *f, const poly_system *s, const char *func)
                     if (s->plain[o])
                         fprintf(f, "            y%d[r] = q[%d];\n", o, o);
             }
+            fputs("            pk[r] = (unsigned char)(", f);
+            emit_pass_test(f, s, "y%d[r]", "                ");
+            fputs(");\n", f);
             emit_frame_out(f, s, "            ", "y%d[r]");
-        } else if (emit_block_view(f, s, "x%d[r]", "y%d[r]") != 0) {
-            return -1;
+        } else {
+            if (emit_block_view(f, s, "x%d[r]", "y%d[r]") != 0)
+                return -1;
+            fputs("            pk[r] = (unsigned char)(", f);
+            emit_pass_test(f, s, "y%d[r]", "                ");
+            fputs(");\n", f);
         }
         fputs("        }\n        for (int r = 0; r < 8; r++) {\n", f);
         fprintf(f, "            double *o = out + (b + r) * %d;\n", nout);
         for (int o = 0; o < nout; o++)
             fprintf(f, "            o[%d] = y%d[r];\n", o, o);
-        fputs("            if (pass)\n                pass[b + r] = (unsigned char)(1", f);
-        for (int o = 0; o < nout; o++) /* the circles test the others */
-            if (!poly_circle_covers(s, o))
-                fprintf(f, " && isfinite(o[%d])", o);
-        for (int c = 0; c < s->ncircles; c++) {
-            fputs("\n                    && ", f);
-            emit_circle(f, s, c, "o");
-        }
-        fputs(");\n        }\n    }\n", f);
+        fputs("            if (pass)\n                pass[b + r] = pk[r];\n        }\n    }\n", f);
     }
     fprintf(f,
             "    for (; b < n; b++) {\n"
@@ -471,13 +484,8 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
         emit_frame(f, whole, func);
         return emit_batch(f, whole, func) != 0 || ferror(f) ? -1 : 0;
     }
-    fputs("    for (int o = 0; o < ", f);
-    fprintf(f, "%d; o++)\n        if (!isfinite(out[o]))\n            return 0;\n", nout);
-    for (int c = 0; c < s->ncircles; c++) {
-        fputs("    if (!(", f);
-        emit_circle(f, s, c, "out");
-        fputs("))\n        return 0;\n", f);
-    }
-    fputs("    return 1;\n}\n", f);
+    fputs("    return ", f);
+    emit_pass_test(f, s, "out[%d]", "        ");
+    fputs(";\n}\n", f);
     return emit_batch(f, s, func) != 0 || ferror(f) ? -1 : 0;
 }

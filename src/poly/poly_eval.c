@@ -26,23 +26,6 @@
 /* Rays whose parts are sorted out together in the batch path (bounds the index buffer). */
 #define CHUNK 2048
 
-int poly_passes(const poly_system *s, const double *out)
-{
-    for (int o = 0; o < s->nout; o++)
-        if (!isfinite(out[o]))
-            return 0;
-    return poly_in_circles(s, out);
-}
-
-int poly_circle_covers(const poly_system *s, int o)
-{
-    for (int c = 0; c < s->ncircles; c++)
-        if (isfinite(s->circles[c].radius * s->circles[c].radius) &&
-            (s->circles[c].a == o || s->circles[c].b == o))
-            return 1;
-    return 0;
-}
-
 static void fill_nan(double *out, int n)
 {
     for (int o = 0; o < n; o++)
@@ -182,6 +165,8 @@ typedef struct {
     const unsigned char *need[3];
     int kind[3], roff[3], deriv[3];
     int vview; /* RUN_JACF: the plan of the frame view's values (its derivatives: 1 - vview) */
+    unsigned char written[POLY_MAX_OUTPUTS]; /* RUN_EVAL: output o goes to out (a pair
+                                                turns back only then: poly_eval_part) */
 } batch_job;
 
 /* The batch kernel once per instruction set, each with the vector width of its registers
@@ -477,6 +462,9 @@ static void batch_job_run(const poly_system *s, int what, size_t count, const do
     }
     for (int j = 0; sel && j < nsel; j++)
         need[sel[j]] = 1;
+    memset(job.written, !sel, sizeof job.written);
+    for (int j = 0; what == RUN_EVAL && sel && j < nsel; j++)
+        job.written[sel[j]] = 1;
     if (what == RUN_EVAL && views) { /* each output from its own view */
         job.kind[1] = 1;
         job.roff[1] = nout;

@@ -211,12 +211,36 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 if (s->plain && s->plain[o])
                     for (int q = 0; q < NV; q++)
                         res[o * NV + q] = res[(nres + o) * NV + q];
+        for (int q = 0; pass && what == RUN_EVAL && q < NV; q++) {
+            /* the passage test of poly_passes, per lane (all bits set: passes), on the
+             * frame's values as in poly_eval_part */
+            vmask ok = ~(vmask){0};
+            for (int k = 0; k < job->nfinite; k++) {
+                const vn x = res[job->finite[k] * NV + q];
+                ok &= (x - x) == 0; /* inf - inf, nan: nan */
+            }
+            for (int c = 0; c < s->ncircles; c++) {
+                const vn a = res[s->circles[c].a * NV + q], b = res[s->circles[c].b * NV + q];
+                const double rad = s->circles[c].radius;
+                ok &= a * a + b * b <= rad * rad;
+            }
+#ifdef KERNEL_MASKBITS
+            const unsigned bits = KERNEL_MASKBITS(ok); /* from a register, not the stack */
+#else
+            unsigned bits = 0;
+            for (int r = 0; r < VW; r++)
+                bits |= (unsigned)(ok[r] != 0) << r;
+#endif
+            for (int r = q * VW; r < m && r < (q + 1) * VW; r++)
+                pass[row[r]] = bits >> (r % VW) & 1;
+        }
         if (fr && !jf) {
             const vn *C = (const vn *)cb, *S = (const vn *)sb;
             for (int k = 0; k < s->npairs; k++) {
-                if (!job->need[0][s->pair[2 * k]]) /* pairs turn: view 0's */
-                    continue;
-                vn *A = res + s->pair[2 * k] * NV, *B = res + s->pair[2 * k + 1] * NV;
+                const int pa = s->pair[2 * k], pb = s->pair[2 * k + 1];
+                if (!job->need[0][pa] || !(job->written[pa] || job->written[pb]))
+                    continue; /* pairs turn: view 0's, where they are written */
+                vn *A = res + pa * NV, *B = res + pb * NV;
                 for (int q = 0; q < NV; q++) {
                     const vn a = A[q], b = B[q];
                     A[q] = C[q] * a - S[q] * b;
@@ -279,30 +303,6 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 o[k] = rs[sel[k] * KBLK + r];
         }
 #endif
-        if (!pass || what != RUN_EVAL)
-            continue;
-        for (int q = 0; q < NV; q++) {
-            /* the passage test of passes(), per lane (all bits set: passes) */
-            vmask ok = ~(vmask){0};
-            for (int k = 0; k < job->nfinite; k++) {
-                const vn x = res[job->finite[k] * NV + q];
-                ok &= (x - x) == 0; /* inf - inf, nan: nan */
-            }
-            for (int c = 0; c < s->ncircles; c++) {
-                const vn a = res[s->circles[c].a * NV + q], b = res[s->circles[c].b * NV + q];
-                const double rad = s->circles[c].radius;
-                ok &= a * a + b * b <= rad * rad;
-            }
-#ifdef KERNEL_MASKBITS
-            const unsigned bits = KERNEL_MASKBITS(ok); /* from a register, not the stack */
-#else
-            unsigned bits = 0;
-            for (int r = 0; r < VW; r++)
-                bits |= (unsigned)(ok[r] != 0) << r;
-#endif
-            for (int r = q * VW; r < m && r < (q + 1) * VW; r++)
-                pass[row[r]] = bits >> (r % VW) & 1;
-        }
     }
 }
 

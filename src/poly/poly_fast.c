@@ -213,10 +213,13 @@ FAST_TARGET static inline void fast_powers(const double *s, int high, __m512d *l
 }
 
 /* The frame's rotation back when fast_sums does it: bit j of pairs set when outputs
- * 2j and 2j + 1 are a turned pair (their two lanes turned by c, s). */
+ * 2j and 2j + 1 are a turned pair (their two lanes turned by c, s); then every output's
+ * value before the turn also goes to pre, for the pass test (made on the frame's
+ * values in every path, poly_eval_part). */
 typedef struct {
     double c, s;
     unsigned pairs;
+    double *pre;
 } fast_turn;
 
 /* The factors' product of one chunk of kind KIND (NA active variables, NO optional). */
@@ -288,6 +291,8 @@ fast_sums(const int NA, const poly_fast *f, const double *sc, const fast_turn *t
             const double v = _mm512_reduce_add_pd(a);
             fin = _mm_add_pd(fin, _mm_set_sd(v - v));
             out[o] = v;
+            if (tn->pairs)
+                tn->pre[o] = v;
             continue;
         }
         /* two outputs' lanes at once: lanes (2j, 2j + 1) hold their pairs' partial sums */
@@ -295,6 +300,8 @@ fast_sums(const int NA, const poly_fast *f, const double *sc, const fast_turn *t
         const __m256d h = _mm256_add_pd(_mm512_castpd512_pd256(t), _mm512_extractf64x4_pd(t, 1));
         __m128d q = _mm_add_pd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1));
         fin = _mm_add_pd(fin, _mm_sub_pd(q, q));
+        if (tn->pairs)
+            _mm_storeu_pd(tn->pre + o - 1, q);
         if (tn->pairs >> (o >> 1) & 1) /* (a, b) to (c a - s b, s a + c b) */
             q = _mm_fmaddsub_pd(q, tc, _mm_mul_pd(_mm_permute_pd(q, 1), ts));
         _mm_storeu_pd(out + o - 1, q);
@@ -325,7 +332,7 @@ FAST_TARGET static int fast_run(const poly_fast *f, const poly_system *s, const 
         sc[k] = in[f->act[k]];
         poly_scale_column(s, f->act[k], &sc[k], 1);
     }
-    const fast_turn none = {1, 0, 0};
+    const fast_turn none = {1, 0, 0, NULL};
     return fast_dispatch(f, sc, &none, out);
 }
 
@@ -378,12 +385,15 @@ FAST_TARGET static int fast_eval(const poly_fast *f, const poly_system *s, const
             v = 1 / (v * v);
         t[k] = fma(v, inv, -off);
     }
-    const fast_turn tn = {c, sn, fast_pairs(s)};
+    double pre[POLY_MAX_OUTPUTS];
+    const fast_turn tn = {c, sn, fast_pairs(s), pre};
     if (!fast_dispatch(f, t, &tn, out)) /* an output not finite */
         return -1;
-    if (!tn.pairs)
-        poly_frame_turn_back(s, c, sn, out);
-    return poly_in_circles(s, out); /* poly_passes: every output is finite */
+    if (tn.pairs) /* poly_passes (every output is finite) on the frame's values */
+        return poly_in_circles(s, pre);
+    const int pass = poly_in_circles(s, out);
+    poly_frame_turn_back(s, c, sn, out);
+    return pass;
 }
 #endif
 

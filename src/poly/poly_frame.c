@@ -306,10 +306,13 @@ int poly_eval_part(const poly_system *s, int part, const double *in, double *out
         poly_eval_values_core(s->vplain ? s->vplain : s, part, tp, op);
         poly_frame_take_plain(s, op, out);
     }
+    /* on the frame's values, as every path: the turn back keeps each pair's radius,
+     * and the batch kernel need not turn the pairs it does not write */
+    const int pass = poly_passes(s, out);
     poly_frame_out(s, cs, out);
     if (t != buf)
         free(t);
-    return poly_passes(s, out);  /* on the rotated-back values, as every path */
+    return pass;
 }
 
 /* The batch kernel applies the frame and transforms itself, in the same order as

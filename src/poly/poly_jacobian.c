@@ -454,8 +454,8 @@ static int jacobian_one(const poly_system *s, const double *in, const unsigned c
         chain(s, np, &k, 1);
         if (np)
             poly_frame_take_plain(s, op, out);
+        pass = !outs && poly_passes(s, out); /* on the frame's values (poly_eval_part) */
         poly_frame_out(s, cs, out);
-        pass = !outs && poly_passes(s, out);
     }
     free(buf);
     free(need);

@@ -13,7 +13,7 @@
 #include <unistd.h>
 
 #include "sparselens/poly.h"
-#include "poly_fixture.h"
+#include "pass_edge_fixture.h"
 
 /* Reads rays, prints NAME's result per ray, and exits 3 if NAME_batch on all the rays
  * at once differs from NAME anywhere (bit for bit, and in the pass flag). */
@@ -46,7 +46,8 @@ static const char *driver =
 
 /* flags: the compiler's optimisation flags (the batch loop vectorises differently at
  * each, and must keep the bits) */
-static void check_emitted(poly_system *s, int nrays, unsigned long seed, const char *flags)
+static void check_emitted_on(poly_system *s, int nrays, unsigned long seed, const char *flags,
+                             const double *given)
 {
     const char *cc = getenv("CC");
     if (!cc || !*cc)
@@ -79,7 +80,9 @@ static void check_emitted(poly_system *s, int nrays, unsigned long seed, const c
     f = fopen(rays, "w");
     for (int r = 0; r < nrays; r++) {
         fixture_ray(&g, in + 5 * r);
-        if (r % 7 == 0) /* some rays far outside the domain, and with the largest radius */
+        if (given)
+            memcpy(in + 5 * r, given + 5 * r, 5 * sizeof(double));
+        else if (r % 7 == 0) /* some rays far outside the domain, and with the largest radius */
             in[5 * r] *= 3;
         if (r == 3) /* on the axis: the frame's angle is undefined there */
             in[5 * r] = in[5 * r + 1] = 0;
@@ -127,6 +130,11 @@ static void check_emitted(poly_system *s, int nrays, unsigned long seed, const c
     assert_int_equal(system(cmd), 0);
 }
 
+static void check_emitted(poly_system *s, int nrays, unsigned long seed, const char *flags)
+{
+    check_emitted_on(s, nrays, seed, flags, NULL);
+}
+
 static void test_emit_one_part(void **st)
 {
     (void)st;
@@ -162,6 +170,21 @@ static void test_emit_frame(void **st)
     poly_free(s);
 }
 
+/* The pass test on the frame's values, before the turn back, as liblens makes it: on
+ * rays at a circle's edge that a test of the turned values would pass
+ * (pass_edge_fixture.h; 101 rays: a partial block at the end). */
+static void test_emit_pass_edge(void **st)
+{
+    (void)st;
+    poly_system *s = edge_system(0);
+    assert_non_null(s);
+    double in[101 * 5];
+    assert_int_equal(edge_rays(in, 101), 101);
+    check_emitted_on(s, 101, 5, "-O2", in);
+    check_emitted_on(s, 101, 6, "-O3 -march=native", in);
+    poly_free(s);
+}
+
 static void test_emit_bad_name(void **st)
 {
     (void)st;
@@ -181,7 +204,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_emit_one_part),
         cmocka_unit_test(test_emit_parts), cmocka_unit_test(test_emit_frame),
-        cmocka_unit_test(test_emit_bad_name),
+        cmocka_unit_test(test_emit_pass_edge), cmocka_unit_test(test_emit_bad_name),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
