@@ -25,6 +25,10 @@
 #define BLK 32
 /* Rays whose parts are sorted out together in the batch path (bounds the index buffer). */
 #define CHUNK 2048
+/* A Jacobian's rows of more bytes than this (the L2 cache here) go past the caches
+ * (KERNEL_STREAM; a caller reading them next finds them in memory, not in the cache):
+ * bench_poly's 4 MB of rows (20000 rays, 5 outputs) 69.2-73.1 -> 63.9-68.5 ns a ray. */
+#define STREAM_MIN ((size_t)2 << 20)
 
 static void fill_nan(double *out, int n)
 {
@@ -195,9 +199,15 @@ typedef struct {
 #define KERNEL_LOAD_COLS5(src, cols) load_cols5((src), (__m512d *)(cols))
 #define KERNEL_MASKBITS(ok) ((unsigned)_mm512_test_epi64_mask((__m512i)(ok), (__m512i)(ok)))
 #define KERNEL_WHOLE_ROWS 128
+#define KERNEL_STREAM(dst, src, n) stream_rows((dst), (src), (n))
+#define KERNEL_STREAM_FENCE() _mm_sfence()
+#define KERNEL_STREAM_MIN STREAM_MIN
 #define KERNEL_FMA(a, b, c) ((vn)_mm512_fmadd_pd((__m512d)(a), (__m512d)(b), (__m512d)(c)))
 #include "poly/poly_eval_kernel.h"
 #undef KERNEL_WHOLE_ROWS
+#undef KERNEL_STREAM
+#undef KERNEL_STREAM_FENCE
+#undef KERNEL_STREAM_MIN
 #undef KERNEL_NAME
 #undef KBLK
 #define KERNEL_NAME run_blocks_avx512_8
@@ -376,8 +386,10 @@ static void batch(const poly_system *s, int what, size_t count, const double *in
     const int nk = kernels(k, kblk);
     /* the raw inputs, r, c, s; with RUN_JACF the kernel's columns for the chain rule */
     size_t nfb = (size_t)s->nin + 3 + (what == RUN_JACF ? 3 * (size_t)s->nin + 9 + nj : 0);
-    if (job->nsel > 32 && job->nsel <= 128)
-        nfb += (size_t)job->nsel; /* a block's rows, KERNEL_WHOLE_ROWS */
+    const int jrows = (what == RUN_JAC || what == RUN_JACF) &&
+                      count * (size_t)job->nsel * sizeof(double) > STREAM_MIN;
+    if (job->nsel <= 128 && (job->nsel > 32 || jrows))
+        nfb += (size_t)job->nsel; /* a block's rows, KERNEL_WHOLE_ROWS (KERNEL_STREAM) */
     const size_t nch = s->nparts > 1 ? (count < CHUNK ? count : CHUNK) : 0;
     const size_t sv = span64((size_t)maxv * BLK, sizeof(double));
     const size_t sr = span64((size_t)maxo * BLK, sizeof(double));

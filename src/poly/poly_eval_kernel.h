@@ -5,7 +5,9 @@
  *   KERNEL_SQRT    the square root of a vector of VW doubles (that set's instruction)
  * and KBLK (rays per block, a multiple of VW) and RUN_EVAL / RUN_JAC / RUN_CORE / RUN_JACF;
  * optionally KERNEL_WHOLE_ROWS: rows of more than 32 and at most that many columns (a
- * Jacobian's) put together block by block in fbuf and copied out whole.
+ * Jacobian's) put together block by block in fbuf and copied out whole; with it
+ * KERNEL_STREAM(dst, src, n), KERNEL_STREAM_FENCE() and KERNEL_STREAM_MIN: a Jacobian's
+ * rows of more bytes than that copied out past the caches (batch() sizes fbuf for them).
  *
  * Runs the plans pls[0 .. nview - 1] (one part's views, see part_plans()) on n rays: ray r
  * is row idx[r] of in (row first + r if idx is NULL) and goes to the same row of out (and
@@ -89,7 +91,14 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
      * columns in use (batch() sizes it; on the stack here it had cost the 5-output
      * Jacobian 1-2 % by moving the kernel's frame) */
     double *sbuf = jf ? jcol + (size_t)s->nout * (size_t)nin * KBLK : wcol;
-    const int whole = nst > 32 && nst <= KERNEL_WHOLE_ROWS && !idx;
+#ifdef KERNEL_STREAM
+    /* a Jacobian's rows larger than the cache: past it (KERNEL_STREAM, poly_eval_rows.h) */
+    const int stream = (jf || what == RUN_JAC) && !idx && nst <= KERNEL_WHOLE_ROWS &&
+                       (size_t)n * (size_t)nst * sizeof(double) > KERNEL_STREAM_MIN;
+#else
+    const int stream = 0;
+#endif
+    const int whole = ((nst > 32 && nst <= KERNEL_WHOLE_ROWS) || stream) && !idx;
 #endif
     for (size_t b0 = 0; b0 < n; b0 += KBLK) {
         const int m = n - b0 < KBLK ? (int)(n - b0) : KBLK;
@@ -282,6 +291,11 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                     KERNEL_STORE_ROWS8(dst, at + q * VW, (size_t)nst, (size_t)k0, cols, nc);
                 }
 #ifdef KERNEL_WHOLE_ROWS
+#ifdef KERNEL_STREAM
+            if (st && stream)
+                KERNEL_STREAM(out + (first + b0) * (size_t)nst, sbuf, (size_t)nst * KBLK);
+            else
+#endif
             if (st)
                 memcpy(out + (first + b0) * (size_t)nst, sbuf, sizeof(double) * (size_t)nst * KBLK);
 #endif
@@ -304,6 +318,10 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
         }
 #endif
     }
+#ifdef KERNEL_STREAM
+    if (stream)
+        KERNEL_STREAM_FENCE(); /* the streamed rows before anything after */
+#endif
 }
 
 #undef NV

@@ -3,6 +3,8 @@
 #ifndef SPARSELENS_POLY_EVAL_ROWS_H
 #define SPARSELENS_POLY_EVAL_ROWS_H
 #include <immintrin.h>
+#include <stdint.h>
+#include <string.h>
 
 /* 8 rows of 5 outputs (x y u v eta) out of their 5 columns of 8 lanes, as 5 contiguous
  * 64-byte stores: a scatter per column cost the AVX-512 kernel 3 ns a ray on fisheye-ii
@@ -63,6 +65,21 @@ __attribute__((target("avx512f"))) static inline void store_rows8(double *out, c
         _mm512_mask_storeu_pd(out + row[4 + h] * nres + k0, mk, r4);
         _mm512_mask_storeu_pd(out + row[6 + h] * nres + k0, mk, r6);
     }
+}
+
+/* n doubles from src (64-byte aligned) to dst, the whole cache lines of dst with
+ * non-temporal stores (to memory, past the caches, without reading the lines first), its
+ * partial first and last lines with ordinary ones. */
+__attribute__((target("avx512f"))) static inline void stream_rows(double *dst, const double *src,
+                                                                   size_t n)
+{
+    size_t j = ((64 - ((uintptr_t)dst & 63)) & 63) / sizeof(double);
+    if ((uintptr_t)dst % sizeof(double) || j > n)
+        j = n; /* no whole line */
+    memcpy(dst, src, j * sizeof(double));
+    for (; j + 8 <= n; j += 8)
+        _mm512_stream_pd(dst + j, _mm512_loadu_pd(src + j));
+    memcpy(dst + j, src + j, (n - j) * sizeof(double));
 }
 
 /* The reverse for the inputs (x y u v lambda): 8 rows of 5 in 5 loads, to 5 columns.
