@@ -15,7 +15,12 @@
  * Every method is timed once per round, the methods in turn, for ROUNDS rounds
  * (interleaved, so a slow phase of a shared machine touches them all alike); each prints
  * its best round (the figure of a quiet machine), its median, and the spread
- * (median / best - 1). Ratios are taken between best rounds of this run.
+ * (median / best - 1). Ratios are taken between best rounds of this run. The timed call
+ * follows an untimed one of the same method, so that what ran before it (another
+ * method's rows dirty in the cache over its own, the vector units' clock after scalar
+ * work) does not land on it: without that, the same call (jacobian_batch and
+ * jacobian_batch_optics of a 5-output system) measured 60-63 and 53-57 ns a ray in one
+ * run, by its place in the round; with it, 54-55 both.
  *   trace, trace_passing  the exact tracer (trace_batch, 1 thread) on all the rays / on
  *                     the rays it passes
  *   batch, batch_passing  poly_eval_batch on the same rays (pass test included)
@@ -381,11 +386,13 @@ int main(int argc, char **argv)
                   !((m == M_EMIT_NATIVE || m == M_EMIT_BATCH_NATIVE) && !c.fn[1]) && nm[m] > 0;
     for (int round = 0; round < ROUNDS; round++)
         for (int m = 0; m < M_COUNT; m++)
-            if (have[m])
-                t[m][round] = run(&c, m, nm[m],
-                                  m == M_TRACE_PASSING || m == M_BATCH_PASSING ? pin
-                                  : m == M_BATCH_COLD                        ? cold
-                                                                             : in);
+            if (have[m]) {
+                const double *mi = m == M_TRACE_PASSING || m == M_BATCH_PASSING ? pin
+                                   : m == M_BATCH_COLD                        ? cold
+                                                                              : in;
+                run(&c, m, nm[m], mi); /* the warm-up (above) */
+                t[m][round] = run(&c, m, nm[m], mi);
+            }
     double best[M_COUNT] = {0};
     for (int m = 0; m < M_COUNT; m++) {
         if (!have[m]) {
