@@ -134,52 +134,42 @@ static const char *src_of(char *buf, size_t len, const char *srcfmt, int i)
     return buf;
 }
 
-/* The pass test (poly_passes) of the scalar function as one C expression on the
- * outputs named by outfmt ("out[%d]"), before the frame turns them back, as liblens
- * tests them. The circles test the outputs they cover for being finite too; the others
- * are finite when v - v == 0 (inf - inf and nan are nan). The batch function tests the
- * same values (emit_pass_values), so both give the same flags. */
-static void emit_pass_test(FILE *f, const poly_system *s, const char *outfmt, const char *ind)
+/* The values of the pass test (poly_passes) on the outputs named by outfmt ("out[%d]",
+ * "y%d[r]"), before the frame turns them back, as liblens tests them: fin, a sum of
+ * v - v over the outputs no circle covers (0 when they are finite: inf - inf and nan
+ * are nan), and cqC, circle C's a * a + b * b, each declared as decl ("const double "
+ * in the scalar function) and indexed by at ("[r]": the batch's arrays of a block, so
+ * that its loop over the block's rays keeps only arithmetic on doubles, which compilers
+ * vectorise; a test in it, or a flag of another type, kept GCC 12 from it: bench_poly,
+ * 2.5 times the kernel's time). emit_pass_compare then tests them; one text for both
+ * functions, so both give the same flags. */
+static void emit_pass_values(FILE *f, const poly_system *s, const char *ind, const char *outfmt,
+                             const char *decl, const char *at)
 {
     char a[64], b[64];
-    fputs("1", f);
+    fprintf(f, "%s%sfin%s = 0", ind, decl, at);
     for (int o = 0; o < s->nout; o++)
         if (!poly_circle_covers(s, o)) {
             src_of(a, sizeof a, outfmt, o);
-            fprintf(f, " & (%s - %s == 0)", a, a);
-        }
-    for (int c = 0; c < s->ncircles; c++) {
-        const poly_circle *k = &s->circles[c];
-        src_of(a, sizeof a, outfmt, k->a);
-        src_of(b, sizeof b, outfmt, k->b);
-        fprintf(f, "\n%s& (%s * %s + %s * %s <= ", ind, a, a, b, b);
-        num(f, k->radius);
-        fputs(" * ", f);
-        num(f, k->radius);
-        fputs(")", f);
-    }
-}
-
-/* emit_pass_test in the batch's loop over a block's rays: the values it tests, kept in
- * arrays of the block (fin8: a sum of v - v over the outputs no circle covers, 0 when
- * they are finite; cqC: circle C's a * a + b * b) and compared in the loop that stores
- * the rows. The block's loop keeps only arithmetic on doubles, which compilers vectorise
- * (a test in it, or a flag of another type, kept GCC 12 from it: bench_poly, 2.5 times
- * the kernel's time). */
-static void emit_pass_values(FILE *f, const poly_system *s)
-{
-    char a[64], b[64];
-    fputs("            fin8[r] = 0", f);
-    for (int o = 0; o < s->nout; o++)
-        if (!poly_circle_covers(s, o)) {
-            src_of(a, sizeof a, "y%d[r]", o);
             fprintf(f, " + (%s - %s)", a, a);
         }
     fputs(";\n", f);
     for (int c = 0; c < s->ncircles; c++) {
-        src_of(a, sizeof a, "y%d[r]", s->circles[c].a);
-        src_of(b, sizeof b, "y%d[r]", s->circles[c].b);
-        fprintf(f, "            cq%d[r] = %s * %s + %s * %s;\n", c, a, a, b, b);
+        src_of(a, sizeof a, outfmt, s->circles[c].a);
+        src_of(b, sizeof b, outfmt, s->circles[c].b);
+        fprintf(f, "%s%scq%d%s = %s * %s + %s * %s;\n", ind, decl, c, at, a, a, b, b);
+    }
+}
+
+/* The pass test on emit_pass_values' values (indexed by at), as one C condition. */
+static void emit_pass_compare(FILE *f, const poly_system *s, const char *ind, const char *at)
+{
+    fprintf(f, "fin%s == 0", at);
+    for (int c = 0; c < s->ncircles; c++) {
+        fprintf(f, "\n%s&& cq%d%s <= ", ind, c, at);
+        num(f, s->circles[c].radius);
+        fputs(" * ", f);
+        num(f, s->circles[c].radius);
     }
 }
 
@@ -277,8 +267,9 @@ static void emit_frame(FILE *f, const poly_system *s, const char *func)
             if (s->plain[o])
                 fprintf(f, "    out[%d] = op[%d];\n", o, o);
     }
+    emit_pass_values(f, s, "    ", "out[%d]", "const double ", "");
     fputs("    const int pass = ", f);
-    emit_pass_test(f, s, "out[%d]", "        ");
+    emit_pass_compare(f, s, "        ", "");
     fputs(";\n", f);
     emit_frame_out(f, s, "    ", "out[%d]");
     fputs("    return pass;\n}\n", f);
@@ -344,7 +335,7 @@ static int emit_batch(FILE *f, const poly_system *s, const char *func)
             fputs("            fr8[r] = fr;\n            fc8[r] = fc;\n            fs8[r] = fs;\n"
                   "        }\n", f);
         }
-        fputs("        double fin8[8]", f); /* the pass test's values, in the frame */
+        fputs("        double fin[8]", f); /* the pass test's values, in the frame */
         for (int c = 0; c < s->ncircles; c++)
             fprintf(f, ", cq%d[8]", c);
         fputs(";\n        for (int r = 0; r < 8; r++) {\n", f);
@@ -360,24 +351,19 @@ static int emit_batch(FILE *f, const poly_system *s, const char *func)
                     if (s->plain[o])
                         fprintf(f, "            y%d[r] = q[%d];\n", o, o);
             }
-            emit_pass_values(f, s);
+            emit_pass_values(f, s, "            ", "y%d[r]", "", "[r]");
             emit_frame_out(f, s, "            ", "y%d[r]");
         } else {
             if (emit_block_view(f, s, "x%d[r]", "y%d[r]") != 0)
                 return -1;
-            emit_pass_values(f, s);
+            emit_pass_values(f, s, "            ", "y%d[r]", "", "[r]");
         }
         fputs("        }\n        for (int r = 0; r < 8; r++) {\n", f);
         fprintf(f, "            double *o = out + (b + r) * %d;\n", nout);
         for (int o = 0; o < nout; o++)
             fprintf(f, "            o[%d] = y%d[r];\n", o, o);
-        fputs("            if (pass)\n                pass[b + r] = (unsigned char)(fin8[r] == 0", f);
-        for (int c = 0; c < s->ncircles; c++) {
-            fprintf(f, "\n                    && cq%d[r] <= ", c);
-            num(f, s->circles[c].radius);
-            fputs(" * ", f);
-            num(f, s->circles[c].radius);
-        }
+        fputs("            if (pass)\n                pass[b + r] = (unsigned char)(", f);
+        emit_pass_compare(f, s, "                    ", "[r]");
         fputs(");\n        }\n    }\n", f);
     }
     fprintf(f,
@@ -516,8 +502,9 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
         emit_frame(f, whole, func);
         return emit_batch(f, whole, func) != 0 || ferror(f) ? -1 : 0;
     }
+    emit_pass_values(f, s, "    ", "out[%d]", "const double ", "");
     fputs("    return ", f);
-    emit_pass_test(f, s, "out[%d]", "        ");
+    emit_pass_compare(f, s, "        ", "");
     fputs(";\n}\n", f);
     return emit_batch(f, s, func) != 0 || ferror(f) ? -1 : 0;
 }
