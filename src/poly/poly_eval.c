@@ -197,7 +197,8 @@ typedef struct {
 #define KERNEL_STORE_ROWS8(out, row, nres, k0, cols, ncol)                                   \
     store_rows8((out), (row), (nres), (k0), (const __m512d *)(cols), (ncol))
 #define KERNEL_LOAD_COLS5(src, cols) load_cols5((src), (__m512d *)(cols))
-#define KERNEL_MASKBITS(ok) ((unsigned)_mm512_test_epi64_mask((__m512i)(ok), (__m512i)(ok)))
+#define KERNEL_LE_BITS(k, a, b)                                                               \
+    ((unsigned)_mm512_mask_cmp_pd_mask((__mmask8)(k), (__m512d)(a), (__m512d)(b), _CMP_LE_OQ))
 #define KERNEL_WHOLE_ROWS 128
 #define KERNEL_STREAM(dst, src, n) stream_rows((dst), (src), (n))
 #define KERNEL_STREAM_FENCE() _mm_sfence()
@@ -215,7 +216,7 @@ typedef struct {
 #include "poly/poly_eval_kernel.h"
 #undef KERNEL_FMA /* after the 8-ray instance too: the 32-ray one's bits */
 #undef KERNEL_SCATTER
-#undef KERNEL_MASKBITS
+#undef KERNEL_LE_BITS
 #undef KERNEL_GATHER
 #undef KERNEL_STORE_ROWS5
 #undef KERNEL_STORE_ROWS8

@@ -220,28 +220,68 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 if (s->plain && s->plain[o])
                     for (int q = 0; q < NV; q++)
                         res[o * NV + q] = res[(nres + o) * NV + q];
-        for (int q = 0; pass && what == RUN_EVAL && q < NV; q++) {
-            /* the passage test of poly_passes, per lane (all bits set: passes), on the
-             * frame's values as in poly_eval_part */
-            vmask ok = ~(vmask){0};
+        if (pass && what == RUN_EVAL) {
+            /* the passage test of poly_passes, per lane (bit set: passes), on the frame's
+             * values as in poly_eval_part; circle by circle, each one's outputs and
+             * radius fetched once a block (per vector they had cost the faithful
+             * passage's eight circles more than the compares) */
+            unsigned bits[NV];
+            for (int q = 0; q < NV; q++)
+                bits[q] = (1u << VW) - 1;
+#ifdef KERNEL_LE_BITS
+            /* compares into mask registers, each under the last one's mask, where
+             * vector masks took a move and an and each */
+            const vn zero = {0};
             for (int k = 0; k < job->nfinite; k++) {
-                const vn x = res[job->finite[k] * NV + q];
-                ok &= (x - x) == 0; /* inf - inf, nan: nan */
+                const vn *x = res + job->finite[k] * NV;
+                for (int q = 0; q < NV; q++) /* inf - inf, nan: nan, not <= 0 */
+                    bits[q] = KERNEL_LE_BITS(bits[q], x[q] - x[q], zero);
             }
             for (int c = 0; c < s->ncircles; c++) {
-                const vn a = res[s->circles[c].a * NV + q], b = res[s->circles[c].b * NV + q];
-                const double rad = s->circles[c].radius;
-                ok &= a * a + b * b <= rad * rad;
+                const vn *A = res + s->circles[c].a * NV, *B = res + s->circles[c].b * NV;
+                const vn r2 = (s->circles[c].radius * s->circles[c].radius) - zero;
+                for (int q = 0; q < NV; q++)
+                    bits[q] = KERNEL_LE_BITS(bits[q], A[q] * A[q] + B[q] * B[q], r2);
             }
-#ifdef KERNEL_MASKBITS
-            const unsigned bits = KERNEL_MASKBITS(ok); /* from a register, not the stack */
 #else
-            unsigned bits = 0;
-            for (int r = 0; r < VW; r++)
-                bits |= (unsigned)(ok[r] != 0) << r;
+            vmask ok[NV];
+            for (int q = 0; q < NV; q++)
+                ok[q] = ~(vmask){0};
+            for (int k = 0; k < job->nfinite; k++) {
+                const vn *x = res + job->finite[k] * NV;
+                for (int q = 0; q < NV; q++)
+                    ok[q] &= (x[q] - x[q]) == 0; /* inf - inf, nan: nan */
+            }
+            for (int c = 0; c < s->ncircles; c++) {
+                const vn *A = res + s->circles[c].a * NV, *B = res + s->circles[c].b * NV;
+                const double r2 = s->circles[c].radius * s->circles[c].radius;
+                for (int q = 0; q < NV; q++)
+                    ok[q] &= A[q] * A[q] + B[q] * B[q] <= r2;
+            }
+            for (int q = 0; q < NV; q++) {
+                bits[q] = 0;
+                for (int r = 0; r < VW; r++)
+                    bits[q] |= (unsigned)(ok[q][r] != 0) << r;
+            }
 #endif
-            for (int r = q * VW; r < m && r < (q + 1) * VW; r++)
-                pass[row[r]] = bits >> (r % VW) & 1;
+            /* a whole block of consecutive rows: eight flags a store (x86, little-endian:
+             * byte r is lane r's). With the test above, in the same process as the code
+             * before (interleaved, best of 300 calls of 20000 rays, the default
+             * fisheye-ii fit): 26.8 -> 25.6-26.0 ns a ray writing its optical outputs,
+             * 33.6 -> 32.8 writing all 19; its five optical outputs alone (one circle)
+             * 18.7-18.9 -> 18.2-18.3 */
+            if (VW == 8 && !idx && m == KBLK)
+                for (int q = 0; q < NV; q++) {
+                    /* byte r of the product is bits & 1 << r; + 0x7f carries a set bit
+                     * into that byte's top bit */
+                    const unsigned long long t = ((unsigned long long)bits[q] * 0x0101010101010101ULL) &
+                                                 0x8040201008040201ULL;
+                    const unsigned long long flags = ((t + 0x7f7f7f7f7f7f7f7fULL) >> 7) & 0x0101010101010101ULL;
+                    memcpy(pass + first + b0 + (size_t)q * VW, &flags, 8);
+                }
+            else
+                for (int r = 0; r < m; r++)
+                    pass[row[r]] = bits[r / VW] >> (r % VW) & 1;
         }
         if (fr && !jf) {
             const vn *C = (const vn *)cb, *S = (const vn *)sb;
