@@ -34,8 +34,32 @@ for b in "$BUILD"/bench/bench_*; do
     runs=("20000 $work/fisheye-ii.poly $work/fisheye-ii-noframe.poly poly"
           "20000 $work/fisheye-ii-5.poly $work/fisheye-ii-5-noframe.poly poly5")
   for a in "${runs[@]}"; do
-    # shellcheck disable=SC2086
-    { "$b" $a || echo "bench $(basename "$b")_failed 1 flag"; } | { grep "^bench " || true; } | tee -a "$out"
+    if [ "$(basename "$b")" != bench_poly ]; then
+      # shellcheck disable=SC2086
+      { "$b" $a || echo "bench $(basename "$b")_failed 1 flag"; } | { grep "^bench " || true; } | tee -a "$out"
+      continue
+    fi
+    # bench_poly in three processes: on this machine one process's kernels run up to
+    # 10% slower than the next one's all through it (the same binary and rays; where
+    # its memory and code land), which interleaving within a run cannot even out. The
+    # report keeps the run of the fastest batch evaluation whole (its ratios are
+    # within that run) and gives the range of the main ratios over the three.
+    tag=${a##* } best_run="" best_t=inf
+    for k in 1 2 3; do
+      # shellcheck disable=SC2086
+      { "$b" $a || echo "bench $(basename "$b")_failed 1 flag"; } | { grep "^bench " || true; } > "$work/run$k"
+      t=$(awk -v k="${tag}_batch_ns_per_ray" '$2 == k { print $3 }' "$work/run$k")
+      if [ -n "$t" ] && awk -v a="$t" -v b="$best_t" 'BEGIN { exit !(b == "inf" || a + 0 < b + 0) }'; then
+        best_t=$t best_run=$k
+      fi
+    done
+    tee -a "$out" < "$work/run${best_run:-1}"
+    for r in trace_over_batch_optics_per_passing_ray scalar_over_batch jacobian_batch_optics_over_batch \
+             jacobian_chunks_over_batch_chunks emitted_c_batch_over_batch; do
+      cat "$work/run1" "$work/run2" "$work/run3" |
+        awk -v k="ratio_${tag}_$r" '$2 == k { v = $3 + 0; if (n++ == 0 || v < lo) lo = v; if (n == 1 || v > hi) hi = v }
+          END { if (n) printf "bench %s_over_3_processes %.2f-%.2f x\n", k, lo, hi }'
+    done | tee -a "$out"
   done
 done
 
@@ -82,9 +106,11 @@ notes=$(awk -v m="$marker" 'f { print } $0 == m { f = 1 }' reports/bench.md 2>/d
   echo "  (on 2 cores a load above 1 means another job shared the machine: times grow, ratios less so)"
   echo
   echo "bench_poly times its methods in interleaved rounds and gives each one's best round,"
-  echo "median and spread (median / best - 1); the other programs give medians of several"
-  echo "runs. Ratios divide two figures of this same run: ratio_A_over_B is A's time over B's"
-  echo "(above 1: B is faster)."
+  echo "median and spread (median / best - 1); it runs in three processes per system, and the"
+  echo "figures are those of the process whose batch evaluation was fastest (*_over_3_processes:"
+  echo "the range of the main ratios over the three). The other programs give medians of"
+  echo "several runs. Ratios divide two figures of one run: ratio_A_over_B is A's time over"
+  echo "B's (above 1: B is faster)."
   echo
   echo '```'
   cat "$out"
