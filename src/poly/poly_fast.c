@@ -212,13 +212,14 @@ FAST_TARGET static inline void fast_powers(const double *s, int high, __m512d *l
     *hi = high ? _mm512_mul_pd(*lo, _mm512_mul_pd(b4, b4)) : *lo;
 }
 
-/* The frame's rotation back when fast_sums does it: bit j of pairs set when outputs
- * 2j and 2j + 1 are a turned pair (their two lanes turned by c, s); then every output's
- * value before the turn also goes to pre, for the pass test (made on the frame's
- * values in every path, poly_eval_part). */
+/* How fast_sums adds the outputs' lanes, and the frame's rotation back when it does it:
+ * bit o of group set when outputs o and o + 1 are added together (their two lanes; the
+ * others alone); bit o of pairs when they are a turned pair (then turned by c, s in
+ * those lanes), and then every output's value before the turn also goes to pre, for
+ * the pass test (made on the frame's values in every path, poly_eval_part). */
 typedef struct {
     double c, s;
-    unsigned pairs;
+    uint64_t group, pairs;
     double *pre;
 } fast_turn;
 
@@ -283,11 +284,11 @@ fast_sums(const int NA, const poly_fast *f, const double *sc, const fast_turn *t
             a = fast_chunks(NA, NO, 2, lo, hi, c0 + ke[2], &ix, &cf, a);
             a = fast_chunks(NA, NO, 3, lo, hi, c0 + ke[3], &ix, &cf, a);
         }
-        if (!(o & 1) && o + 1 < f->nout) {
+        if (tn->group >> o & 1) {
             prev = a; /* added across lanes with the next output's */
             continue;
         }
-        if (!(o & 1)) {
+        if (!(o > 0 && (tn->group >> (o - 1) & 1))) {
             const double v = _mm512_reduce_add_pd(a);
             fin = _mm_add_pd(fin, _mm_set_sd(v - v));
             out[o] = v;
@@ -302,7 +303,7 @@ fast_sums(const int NA, const poly_fast *f, const double *sc, const fast_turn *t
         fin = _mm_add_pd(fin, _mm_sub_pd(q, q));
         if (tn->pairs)
             _mm_storeu_pd(tn->pre + o - 1, q);
-        if (tn->pairs >> (o >> 1) & 1) /* (a, b) to (c a - s b, s a + c b) */
+        if (tn->pairs >> (o - 1) & 1) /* (a, b) to (c a - s b, s a + c b) */
             q = _mm_fmaddsub_pd(q, tc, _mm_mul_pd(_mm_permute_pd(q, 1), ts));
         _mm_storeu_pd(out + o - 1, q);
     }
@@ -323,6 +324,19 @@ FAST_TARGET static int fast_dispatch(const poly_fast *f, const double *sc, const
     }
 }
 
+/* fast_turn's group for nout outputs and turned pairs at the bits of pairs: each turned
+ * pair, and the other outputs two by two from an even one whose next is in no pair
+ * (without pairs: 0 and 1, 2 and 3, ...). A default fit's passage hit points come after
+ * its out_eta, in pairs from an odd output: turned in the lane sums too, poly_eval on
+ * that 19-output fisheye-ii fit 100-102 -> 95 ns a ray (three runs of bench_poly in
+ * turn with the build before), where poly_frame_turn_back had turned them after. */
+static uint64_t fast_group(int nout, uint64_t pairs)
+{
+    const uint64_t in_pair = pairs | pairs << 1;
+    const uint64_t next = nout <= 1 ? 0 : nout >= 64 ? ~(uint64_t)0 >> 1 : ((uint64_t)1 << (nout - 1)) - 1;
+    return pairs | (0x5555555555555555ULL & ~in_pair & ~(in_pair >> 1) & next);
+}
+
 /* The core's sums from its raw inputs (scaled here). */
 FAST_TARGET static int fast_run(const poly_fast *f, const poly_system *s, const double *in,
                                 double *out)
@@ -332,20 +346,21 @@ FAST_TARGET static int fast_run(const poly_fast *f, const poly_system *s, const 
         sc[k] = in[f->act[k]];
         poly_scale_column(s, f->act[k], &sc[k], 1);
     }
-    const fast_turn none = {1, 0, 0, NULL};
+    const fast_turn none = {1, 0, fast_group(f->nout, 0), 0, NULL};
     return fast_dispatch(f, sc, &none, out);
 }
 
-/* The turned pairs as fast_turn's bits when every one is two neighbouring outputs from
- * an even one (lens-fit's optical outputs: out_x, out_y, out_u, out_v first), else 0. */
-static unsigned fast_pairs(const poly_system *s)
+/* The turned pairs as fast_turn's bits when every one is two neighbouring outputs
+ * (lens-fit's: out_x, out_y, out_u, out_v, then the passage's hit points after
+ * out_eta), else 0. */
+static uint64_t fast_pairs(const poly_system *s)
 {
-    unsigned bits = 0;
+    uint64_t bits = 0;
     for (int k = 0; k < s->npairs; k++) {
         const int a = s->pair[2 * k], b = s->pair[2 * k + 1];
-        if ((a & 1) || b != a + 1 || a >= 64)
+        if (b != a + 1 || b >= 64)
             return 0;
-        bits |= 1u << (a >> 1);
+        bits |= (uint64_t)1 << a;
     }
     return bits;
 }
@@ -386,7 +401,8 @@ FAST_TARGET static int fast_eval(const poly_fast *f, const poly_system *s, const
         t[k] = fma(v, inv, -off);
     }
     double pre[POLY_MAX_OUTPUTS];
-    const fast_turn tn = {c, sn, fast_pairs(s), pre};
+    const uint64_t pairs = fast_pairs(s);
+    const fast_turn tn = {c, sn, fast_group(f->nout, pairs), pairs, pre};
     if (!fast_dispatch(f, t, &tn, out)) /* an output not finite */
         return -1;
     if (tn.pairs) /* poly_passes (every output is finite) on the frame's values */

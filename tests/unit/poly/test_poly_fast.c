@@ -101,8 +101,9 @@ static void test_framed_eval(void **st)
 }
 
 /* Turned pairs that are not outputs (2j, 2j + 1): out_eta first, so the pairs are (1, 2)
- * and (3, 4) (poly_fast turns the pairs in its lane sums only when every pair is such a
- * neighbour pair; here after them, as the plan). */
+ * and (3, 4), as a default fit's passage hit points come after its out_eta: poly_fast
+ * adds each pair's lanes together and turns them there (out_eta alone), and with the
+ * pair bits off by one output the values are far off (checked). */
 static void test_shifted_pairs(void **st)
 {
     (void)st;
