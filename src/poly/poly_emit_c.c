@@ -161,15 +161,18 @@ static void emit_pass_values(FILE *f, const poly_system *s, const char *ind, con
     }
 }
 
-/* The pass test on emit_pass_values' values (indexed by at), as one C condition. */
+/* The pass test on emit_pass_values' values (indexed by at), as one C expression: the
+ * comparisons joined by &, every one made (which one a blocked ray fails is data, and
+ * && is a branch on it, as poly_in_circles says). */
 static void emit_pass_compare(FILE *f, const poly_system *s, const char *ind, const char *at)
 {
-    fprintf(f, "fin%s == 0", at);
+    fprintf(f, "(fin%s == 0)", at);
     for (int c = 0; c < s->ncircles; c++) {
-        fprintf(f, "\n%s&& cq%d%s <= ", ind, c, at);
+        fprintf(f, "\n%s& (cq%d%s <= ", ind, c, at);
         num(f, s->circles[c].radius);
         fputs(" * ", f);
         num(f, s->circles[c].radius);
+        fputs(")", f);
     }
 }
 
@@ -434,6 +437,19 @@ static int emit_core_body(FILE *f, const poly_system *s, int voids)
     return 0;
 }
 
+/* Before each one-ray function: GCC's tuning for this machine's cores (-march=native
+ * on a Rocket Lake / Ice Lake Xeon) spills the many doubles of a sum into integer
+ * registers (vmovq there and back: 175 of them in the 5-output fisheye-ii function),
+ * and one call went from 63 ns at -O2 to 77 at -O3 -march=native; the generic tuning
+ * keeps the instruction set and gives 64. Tuning does not change the arithmetic. */
+static void emit_one_ray_tuning(FILE *f)
+{
+    fputs("#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)\n"
+          "__attribute__((target(\"tune=generic\")))\n"
+          "#endif\n",
+          f);
+}
+
 int poly_emit_c(FILE *f, const poly_system *s, const char *func)
 {
     if (!c_identifier(func))
@@ -462,12 +478,13 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
             " * %s_batch does the same for many rays, in blocks of 8 that compilers vectorise.\n"
             " * Measured on lens-fit's default fit of fisheye-ii (40 terms of degree <= 11;\n"
             " * 19 outputs: the five optical ones and the passage's hit points; GCC 12, one\n"
-            " * thread of a Xeon with AVX-512, bench_poly of make bench, best of 21\n"
-            " * interleaved rounds on a shared machine): one call 91 ns a ray at -O2, 111 at\n"
-            " * -O3 -march=native (liblens's poly_eval 102); the batch function 35 and 32 ns\n"
-            " * a ray, 1.02 and 0.95 times the time of liblens's own batch kernel (34 ns);\n"
-            " * the five optical outputs alone (--outputs out_x,out_y,out_u,out_v,out_eta):\n"
-            " * 19 and 20 ns, 0.96 and 1.00 times the kernel's 20 ns.\n"
+            " * thread of a Xeon with AVX-512, bench_poly, best of 21 interleaved rounds, three\n"
+            " * runs on a shared machine): one call 89-91 ns a ray at -O2 and 90 at -O3\n"
+            " * -march=native (liblens's poly_eval 95-100); the batch function 0.98-0.99 and\n"
+            " * 0.98 times the time of liblens's own batch kernel (about 32 ns a ray); the\n"
+            " * five optical outputs alone (--outputs out_x,out_y,out_u,out_v,out_eta): one\n"
+            " * call 62-63 and 63-64 ns (poly_eval 50-52), the batch function 0.96-1.06 and\n"
+            " * 1.06-1.15 times the kernel's 18-20 ns.\n"
             " * Compile without floating-point contraction (-ffp-contract=off, the default\n"
             " * with -std=c99 or -std=c11) to get exactly the values of lens-eval. */\n"
             "#include <math.h>\n#include <stddef.h>\n\n",
@@ -476,6 +493,7 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
     const int act = poly_frame_active(s) && s->nparts > 0;
     if (act && s->vframe) {
         /* the two views evaluation runs (poly_impl.h), for the same sums */
+        emit_one_ray_tuning(f);
         fprintf(f, "static void %s_core_plain(const double in[%d], double out[%d])\n{\n", func,
                 nin, nout);
         if (emit_core_body(f, s->vplain, 1) != 0)
@@ -483,6 +501,7 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
         fputs("}\n\n", f);
         s = s->vframe; /* NAME_core below; the frame itself is taken from the caller's */
     }
+    emit_one_ray_tuning(f);
     if (act) /* the polynomials alone; the function below wraps the frame around them */
         fprintf(f, "static void %s_core(const double in[%d], double out[%d])\n{\n", func, nin,
                 nout);
@@ -498,6 +517,7 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
         return -1;
     if (act) {
         fputs("}\n\n", f);
+        emit_one_ray_tuning(f);
         fprintf(f, "int %s(const double in[%d], double out[%d])\n{\n", func, nin, nout);
         emit_frame(f, whole, func);
         return emit_batch(f, whole, func) != 0 || ferror(f) ? -1 : 0;
