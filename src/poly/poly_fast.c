@@ -350,21 +350,6 @@ FAST_TARGET static int fast_run(const poly_fast *f, const poly_system *s, const 
     return fast_dispatch(f, sc, &none, out);
 }
 
-/* The turned pairs as fast_turn's bits when every one is two neighbouring outputs
- * (lens-fit's: out_x, out_y, out_u, out_v, then the passage's hit points after
- * out_eta), else 0. */
-static uint64_t fast_pairs(const poly_system *s)
-{
-    uint64_t bits = 0;
-    for (int k = 0; k < s->npairs; k++) {
-        const int a = s->pair[2 * k], b = s->pair[2 * k + 1];
-        if (b != a + 1 || b >= 64)
-            return 0;
-        bits |= (uint64_t)1 << a;
-    }
-    return bits;
-}
-
 /* poly_eval_part of a system without outputs outside its frame, in one pass: the
  * frame and transforms of the active inputs (poly_frame_in), their scaling, the core's
  * sums, the turned pairs rotated back (poly_frame_out) and the pass test; -1 where the
@@ -401,7 +386,7 @@ FAST_TARGET static int fast_eval(const poly_fast *f, const poly_system *s, const
         t[k] = fma(v, inv, -off);
     }
     double pre[POLY_MAX_OUTPUTS];
-    const uint64_t pairs = fast_pairs(s);
+    const uint64_t pairs = s->neighbour_pairs; /* lens-fit's pairs: in the lane sums */
     const fast_turn tn = {c, sn, fast_group(f->nout, pairs), pairs, pre};
     if (!fast_dispatch(f, t, &tn, out)) /* an output not finite */
         return -1;

@@ -69,6 +69,21 @@ static int partner(const poly_system *s, int o, int *first)
     return -2;
 }
 
+/* s->neighbour_pairs from s->pair (poly_impl.h). */
+static void set_neighbour_pairs(poly_system *s)
+{
+    uint64_t bits = 0;
+    for (int k = 0; k < s->npairs; k++) {
+        const int a = s->pair[2 * k], b = s->pair[2 * k + 1];
+        if (b != a + 1 || b >= 64) {
+            bits = 0;
+            break;
+        }
+        bits |= (uint64_t)1 << a;
+    }
+    s->neighbour_pairs = bits;
+}
+
 /* The rotated pairs: outputs ..._x/..._y and ..._u/..._v computed in the frame.
  * strict: -1 when an output in the frame lacks its partner in the frame. */
 static int rebuild_pairs(poly_system *s, int strict)
@@ -99,6 +114,7 @@ static int rebuild_pairs(poly_system *s, int strict)
     free(s->pair);
     s->pair = pair;
     s->npairs = np;
+    set_neighbour_pairs(s);
     return 0;
 }
 
@@ -166,6 +182,7 @@ int poly_set_frame(poly_system *s, int frame)
     if (frame == POLY_FRAME_NONE) {
         s->frame = frame;
         s->npairs = 0;
+        s->neighbour_pairs = 0;
         s->nplain = 0;
         free(s->plain);
         s->plain = NULL;

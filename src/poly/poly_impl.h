@@ -137,6 +137,9 @@ struct poly_system {
     poly_system *vframe, *vplain;
     int npairs;     /* output pairs rotated with the frame */
     int *pair;      /* npairs x 2: outputs (a, b) = (..._x, ..._y) or (..._u, ..._v) */
+    /* bit a set for each pair (a, a + 1) when every pair is two neighbouring outputs
+     * (lens-fit's), else 0: poly_fast.c's, kept with pair by poly_frame.c */
+    uint64_t neighbour_pairs;
     int nparts;
     poly_part *parts;
     poly_part *empty; /* the tables of every part without terms, made with the first part */
