@@ -274,9 +274,9 @@ KERNEL_TARGET static void KERNEL_NAME(const poly_system *s, const poly_plan *con
                 for (int q = 0; q < NV; q++) {
                     /* byte r of the product is bits & 1 << r; + 0x7f carries a set bit
                      * into that byte's top bit */
-                    const unsigned long long t = ((unsigned long long)bits[q] * 0x0101010101010101ULL) &
-                                                 0x8040201008040201ULL;
-                    const unsigned long long flags = ((t + 0x7f7f7f7f7f7f7f7fULL) >> 7) & 0x0101010101010101ULL;
+                    const unsigned long long ones = 0x0101010101010101ULL;
+                    const unsigned long long t = (bits[q] * ones) & 0x8040201008040201ULL;
+                    const unsigned long long flags = ((t + 0x7f7f7f7f7f7f7f7fULL) >> 7) & ones;
                     memcpy(pass + first + b0 + (size_t)q * VW, &flags, 8);
                 }
             else

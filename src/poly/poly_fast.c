@@ -333,7 +333,9 @@ FAST_TARGET static int fast_dispatch(const poly_fast *f, const double *sc, const
 static uint64_t fast_group(int nout, uint64_t pairs)
 {
     const uint64_t in_pair = pairs | pairs << 1;
-    const uint64_t next = nout <= 1 ? 0 : nout >= 64 ? ~(uint64_t)0 >> 1 : ((uint64_t)1 << (nout - 1)) - 1;
+    const uint64_t next = nout <= 1    ? 0 /* outputs o with o + 1 < nout */
+                          : nout >= 64 ? ~(uint64_t)0 >> 1
+                                       : ((uint64_t)1 << (nout - 1)) - 1;
     return pairs | (0x5555555555555555ULL & ~in_pair & ~(in_pair >> 1) & next);
 }
 
