@@ -182,7 +182,7 @@ int poly_set_frame(poly_system *s, int frame)
     if (frame == POLY_FRAME_NONE) {
         s->frame = frame;
         s->npairs = 0;
-        s->neighbour_pairs = 0;
+        set_neighbour_pairs(s);
         s->nplain = 0;
         free(s->plain);
         s->plain = NULL;
