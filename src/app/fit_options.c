@@ -37,6 +37,17 @@ static const opt_spec fit_table[] = {
      "With\n"
      ".IB name = T , name = T\n"
      "the outputs not named are not stopped by a tolerance.\n"},
+    {0, "passage-tolerance", "F", OPT_DOUBLE, OPT_AT(fit_cli, fit.passage_tolerance), .lo = 0,
+     .hi = 0.5,
+     .help = "fit each passage hit (ap_x,ap_y, sN_x,sN_y) until its held-out RMS error <= F "
+             "times its pass circle's radius; 0: as the other outputs",
+     .def = "0.001",
+     .man =
+     "A tolerance given by name in\n"
+     ".B \\-\\-tolerance\n"
+     "wins. A looser passage has fewer terms and costs less to evaluate, and lets through\n"
+     "rays the lens blocks and blocks rays it lets through: see PASSAGE for what each\n"
+     "setting costs and buys.\n"},
     {0, "parts", "P", OPT_INT, OPT_AT(fit_cli, fit.max_parts), .lo = 1, .hi = 64,
      .help = "allow up to P radial parts where one polynomial misses T", .def = "1"},
     {0, "inputs", "LIST", OPT_STRING, OPT_AT(fit_cli, inputs),

@@ -368,8 +368,14 @@ static void record_frame_flags(poly_system *sys, int noutputs, const char *const
             size_t l = strlen(ex);
             snprintf(ex + l, sizeof ex - l, "%s%s", n++ ? "," : " --frame-except ", outputs[o]);
         }
-    snprintf(buf, sizeof buf, "%s --frame %s%s --lambda-transform %s", ff ? ff : "",
-             poly_frame_name(opt->frame), ex, poly_xform_name(xf));
+    char pt[64] = ""; /* with passage hits among the outputs: how finely they were fitted */
+    for (int o = 0; o < noutputs; o++)
+        if (fit_is_passage_output(outputs[o])) {
+            snprintf(pt, sizeof pt, " --passage-tolerance %.6g", opt->passage_tolerance);
+            break;
+        }
+    snprintf(buf, sizeof buf, "%s --frame %s%s --lambda-transform %s%s", ff ? ff : "",
+             poly_frame_name(opt->frame), ex, poly_xform_name(xf), pt);
     poly_set_meta(sys, "fit_flags", buf);
 }
 

@@ -20,6 +20,30 @@ else fail fit_fisheye_runs "$(cat $T/fit.err)"; fi
 if [ "$(grep -c 'holdout_rms' $T/fit.err)" -gt 5 ] && grep -q 'ap_x .*holdout_rms' $T/fit.err &&
    grep -q 'fit time' $T/fit.err
 then ok fit_summary; else fail fit_summary "$(cat $T/fit.err)"; fi
+
+# --passage-tolerance F: each passage hit is fitted until its held-out error is F times
+# its pass circle's radius (the radius read from the system's pass line, the tolerance
+# from its meta line), or its terms run out; a coarser F, fewer terms. Default 0.001.
+passage_check() { # FILE F MAXTERMS: every passage hit's tolerance and stop, and its terms in all
+  awk -v f="$2" -v kmax="$3" '
+    $1 == "pass" && $2 != "out_x" { r[$2] = $4; r[$3] = $4 }
+    $1 == "meta" && $2 ~ /^fit_(ap|s[0-9]+)_[xy]$/ {
+      o = substr($2, 5); n++; terms += $4
+      for (i = 3; i < NF; i++) { if ($i == "tolerance") tol = $(i + 1); if ($i == "holdout_rms") h = $(i + 1) }
+      if (!(o in r) || (tol - f * r[o]) ^ 2 > (1e-5 * f * r[o]) ^ 2 || (h > tol * 1.000001 && $4 < kmax)) bad = bad " " o
+    }
+    END { if (n < 4 || bad != "") { print "bad:" bad " (" n " hits)"; exit 1 } print terms }' "$1"
+}
+kmax=$(sed -n 's/.*--terms \([0-9]*\).*/\1/p' <<<"$opts"); kmax=${kmax:-40}
+if run $F $opts --passage-tolerance 0.01 -q $T/train.txt -o $T/coarse.poly &&
+   fine=$(passage_check $T/fe.poly 0.001 "$kmax") && coarse=$(passage_check $T/coarse.poly 0.01 "$kmax") &&
+   [ "$coarse" -lt "$fine" ] && grep -q '^meta fit_flags .* --passage-tolerance 0.01$' $T/coarse.poly &&
+   grep -q '^meta fit_flags .* --passage-tolerance 0.001$' $T/fe.poly
+then ok fit_passage_tolerance "passage terms $fine at 0.001, $coarse at 0.01"
+else fail fit_passage_tolerance "$(passage_check $T/fe.poly 0.001 "$kmax"; passage_check $T/coarse.poly 0.01 "$kmax"; grep fit_flags $T/coarse.poly)"; fi
+expect_error fit_passage_tolerance_range 'passage-tolerance: must lie in \[0, 0.5\], not 0.7' \
+  $F --passage-tolerance 0.7 -q $T/train.txt
+expect_error fit_passage_tolerance_nan 'passage-tolerance' $F --passage-tolerance nan -q $T/train.txt
 # outputs never nan inside the domain (--raw: also where the system says "blocked")
 run $E $T/fe.poly $T/test.txt --raw >$T/pred.txt 2>/dev/null
 if [ "$(grep -vc '^#' $T/pred.txt)" = 3000 ] && ! grep -v '^#' $T/pred.txt | grep -qiE 'nan|inf'
