@@ -132,11 +132,12 @@ def main():
           "errors combined, and the largest x or y error of any ray: where a few rays swing,",
           "the RMS follows them and the p99 shows the rest). Times are batch evaluations on one",
           "thread (`build/bench/bench_system`, CPU time): 15 rounds, each timing the exact",
-          "tracer and then every system of the lens once on the same rays, so a slow phase",
-          "of a shared machine slows them all alike; each figure is its best round, and the",
-          "spread of the rounds is given per lens. A time difference smaller than that spread",
-          "is noise, and is reported as such. Every row names its system file and the",
-          "command that made it in `reports/cache/<lens>/sweep.tsv`.",
+          "tracer and then every system of the lens once on the same rays (each timed call",
+          "after an untimed one of the same work, so that none pays for the last one's",
+          "caches), so a slow phase of a shared machine slows them all alike; each figure is",
+          "its best round, and the spread of the rounds is given per lens. A time difference",
+          "smaller than that spread is noise, and is reported as such. Every row names its",
+          "system file and the command that made it in `reports/cache/<lens>/sweep.tsv`.",
           ""]
     for lens, rows in sweeps.items():
         front = pareto(rows)
