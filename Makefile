@@ -71,7 +71,7 @@ TESTS    := $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(TEST_SRC)))
 BENCHES  := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/bench_*.c))
 LIB      := $(BUILD)/liblens.a
 
-.PHONY: all deps test check demo bench reports install fuzz clean man
+.PHONY: all deps test check demo bench bench-compare reports install fuzz clean man
 all: $(CMDS) $(TESTS) $(BENCHES) man
 
 # The SYNOPSIS and OPTIONS sections of each command's man page are generated from its
@@ -138,6 +138,12 @@ demo: deps
 bench: deps
 	@$(MAKE) --no-print-directory -j$(shell nproc 2>/dev/null || echo 2) all
 	@BIN=$(BIN) tools/bench.sh
+
+# Two revisions' kernels side by side (tools/bench-compare.sh): make bench-compare A=REV
+# B=REV [RUNS=5] [RAYS=20000]; "." is the working tree (the default B, with A=HEAD).
+bench-compare: deps
+	@$(MAKE) --no-print-directory -j$(shell nproc 2>/dev/null || echo 2) all
+	@BIN=$(BIN) BUILD=$(BUILD) tools/bench-compare.sh $(or $(A),HEAD) $(or $(B),.) $(or $(RUNS),5) $(or $(RAYS),20000)
 
 reports: deps
 	@$(MAKE) --no-print-directory -j$(shell nproc 2>/dev/null || echo 2) all
