@@ -63,11 +63,11 @@ for b in "$BUILD"/bench/bench_*; do
   done
 done
 
-# lens-spot and lens-distort through the fitted system (Newton on its Jacobian from
-# each object-space ray back to the sensor) beside the same command on the lens: CPU
+# lens-spot, lens-distort and lens-mtf through the fitted system (Newton on its Jacobian
+# from each object-space ray back to the sensor) beside the same command on the lens: CPU
 # time (user + system) of the whole command, best of 3 rounds that alternate the two.
 cputime() { /usr/bin/time -f '%U %S' -o "$work/t" "$@" > /dev/null 2>&1 || return 1; awk '{ print $1 + $2 }' "$work/t"; }
-for cmd in lens-spot lens-distort; do
+for cmd in lens-spot lens-distort lens-mtf; do
   best_l=inf best_p=inf
   for _ in 1 2 3; do
     tl=$(cputime "$BIN/$cmd" lenses/fisheye-ii.lens) || tl=inf
@@ -91,6 +91,7 @@ ratio ratio_trace_1thread_over_all trace_fisheye-ii_1thread_ns_per_ray trace_fis
 ratio ratio_render_exact_over_poly_dgauss render_map_exact_dgauss_ns_per_ray render_map_poly_dgauss_ns_per_ray
 ratio ratio_spot_poly_over_lens spot_fisheye-ii_poly_cpu_s spot_fisheye-ii_lens_cpu_s
 ratio ratio_distort_poly_over_lens distort_fisheye-ii_poly_cpu_s distort_fisheye-ii_lens_cpu_s
+ratio ratio_mtf_poly_over_lens mtf_fisheye-ii_poly_cpu_s mtf_fisheye-ii_lens_cpu_s
 # Notes written by hand below the marker line of the old report are kept.
 marker='<!-- notes: kept by tools/bench.sh -->'
 notes=$(awk -v m="$marker" 'f { print } $0 == m { f = 1 }' reports/bench.md 2>/dev/null || true)

@@ -58,6 +58,24 @@ int imaging_aim_prepare(const imaging *im, const double *n, double field, aim_ob
 int imaging_trace(const imaging *im, const double *n, double lambda, const lens_ray *r,
                   const double *guess, double s[4], double *eta);
 
+/* The seed imaging_trace solves r through the system from: r's exact sensor ray (on
+ * the file's plane) where the lens passes it, else guess (NULL: the axis). */
+void imaging_seed(const imaging *im, const double *n, const lens_ray *r, const double *guess,
+                  double seed[4]);
+
+/* Many object-space rays of one wavelength through the system (im->sys) at once: each
+ * used ray's outer-pupil coordinates, then its sensor ray solved for from the seed
+ * seeds + i * seed_stride (stride 0: one seed for all; seeds NULL: the axis) by
+ * poly_solve_sensor_batch in at most max_iter steps, the rays in parallel blocks. ok[i] is 1 where use[i] (NULL:
+ * every ray), the solve succeeds and the system passes the ray; then s[4 i ..] is its
+ * sensor ray on the file's plane (not shifted: the caller shifts, as imaging_trace
+ * does) and eta[i] (eta may be NULL) its transmittance. blocked[i] (blocked may be
+ * NULL) is 1 where the solve succeeds and the system blocks the ray: vignetted, not
+ * lost to Newton. Returns 0, or -1 when memory runs out. */
+int imaging_system_batch(const imaging *im, double lambda, size_t n, const lens_ray *rays,
+                         const int *use, const double *seeds, size_t seed_stride,
+                         int max_iter, double *s, double *eta, int *ok, int *blocked);
+
 /* The chief ray of field f: 0 and its sensor ray, or -1 with err set naming the field
  * ("field 95 deg: no chief ray through the stop reaches the sensor"). */
 int imaging_chief(const imaging *im, const double *n, double lambda, double field, double s[4],

@@ -20,4 +20,18 @@ int poly_solve_check(const poly_system *sys, lens_err *err);
 int poly_solve_sensor(const poly_system *sys, double lambda, const double outer[4],
                       const double *guess, double sensor[4], int *pass, double *eta);
 
+/* poly_solve_sensor for n rays at once, each as that function solves it (the same steps
+ * and acceptance, values to 1e-12: the rays still iterating are evaluated together by the
+ * batch kernel at each step), in at most max_iter Newton steps (<= 0 or more than
+ * poly_solve_sensor's 60: 60). Ray i: wavelength lambda[i], target outer[4 i .. 4 i + 3],
+ * seed guess + i * guess_stride (guess NULL: the axis; stride 0: one seed for all);
+ * status[i] 0 (solved) or -1, sensor[4 i ..] the last iterate either way, pass[i] and
+ * eta[i] (each may be NULL) the passage test and out_eta (1 without it) at a solution, 0
+ * and 1 otherwise. Returns 0, or -1 when the system lacks the inputs or outputs or memory
+ * runs out (nothing written to status then). */
+int poly_solve_sensor_batch(const poly_system *sys, size_t n, const double *lambda,
+                            const double *outer, const double *guess, size_t guess_stride,
+                            int max_iter, double *sensor, int *status, unsigned char *pass,
+                            double *eta);
+
 #endif

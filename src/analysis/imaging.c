@@ -8,6 +8,7 @@
 #include "sparselens/aim.h"
 #include "sparselens/paraxial.h"
 #include "sparselens/poly_solve.h"
+#include "sparselens/ray_frames.h"
 #include "sparselens/numparse.h"
 
 /* Fraunhofer line wavelengths, um (Schott's table of the lines used in glass data). */
@@ -126,18 +127,38 @@ static void shift_sensor(double s[4], double dz)
     s[1] -= dz * s[3];
 }
 
-int imaging_trace(const imaging *im, const double *n, double lambda, const lens_ray *r,
-                  const double *guess, double s[4], double *eta)
+/* The exact trace of r: 1 and its sensor ray in s (on the file's plane) with *eta when
+ * it passes; else 0, and s the seed of a solve through the system, guess or the axis. */
+static int exact_or_guess(const imaging *im, const double *n, const lens_ray *r,
+                          const double *guess, double s[4], double *eta)
 {
     lens_ray t = *r;
     trace_result res = trace_to_sensor(im->lens, n, &t);
-    int passed = res.status == TRACE_PASSED;
-    if (passed)
+    if (res.status == TRACE_PASSED) {
         ray_to_sensor(im->lens, &t, s);
-    if (!im->sys) {
-        if (!passed)
-            return 0;
         *eta = res.transmittance;
+        return 1;
+    }
+    if (guess)
+        memcpy(s, guess, sizeof(double) * 4);
+    else
+        memset(s, 0, sizeof(double) * 4);
+    return 0;
+}
+
+void imaging_seed(const imaging *im, const double *n, const lens_ray *r, const double *guess,
+                  double seed[4])
+{
+    double eta;
+    exact_or_guess(im, n, r, guess, seed, &eta);
+}
+
+int imaging_trace(const imaging *im, const double *n, double lambda, const lens_ray *r,
+                  const double *guess, double s[4], double *eta)
+{
+    if (!im->sys) {
+        if (!exact_or_guess(im, n, r, NULL, s, eta))
+            return 0;
         shift_sensor(s, im->sensor_shift);
         return 1;
     }
@@ -145,12 +166,7 @@ int imaging_trace(const imaging *im, const double *n, double lambda, const lens_
     if (outer_of_object_ray(im->lens, r, outer) != 0)
         return 0;
     /* The exact ray is the natural seed; a vignetted one leaves the caller's guess. */
-    if (passed)
-        memcpy(seed, s, sizeof seed);
-    else if (guess)
-        memcpy(seed, guess, sizeof seed);
-    else
-        memset(seed, 0, sizeof seed);
+    imaging_seed(im, n, r, guess, seed);
     int pass = 0;
     double e = 1;
     if (poly_solve_sensor(im->sys, lambda, outer, seed, sol, &pass, &e) != 0 || !pass)
@@ -159,6 +175,56 @@ int imaging_trace(const imaging *im, const double *n, double lambda, const lens_
     *eta = e;
     shift_sensor(s, im->sensor_shift);
     return 1;
+}
+
+/* Rays per batch solve: a block's Newton iterates are evaluated together, and the blocks
+ * go to the threads. */
+#define SYSTEM_BLOCK 256
+
+int imaging_system_batch(const imaging *im, double lambda, size_t n, const lens_ray *rays,
+                         const int *use, const double *seeds, size_t seed_stride,
+                         int max_iter, double *s, double *eta, int *ok, int *blocked)
+{
+    int failed = 0;
+    const size_t nblk = (n + SYSTEM_BLOCK - 1) / SYSTEM_BLOCK;
+#pragma omp parallel for schedule(dynamic, 1) reduction(| : failed) if (nblk > 1)
+    for (size_t bk = 0; bk < nblk; bk++) {
+        double outer[4 * SYSTEM_BLOCK], seed[4 * SYSTEM_BLOCK], lam[SYSTEM_BLOCK];
+        double sol[4 * SYSTEM_BLOCK], e[SYSTEM_BLOCK];
+        int status[SYSTEM_BLOCK];
+        unsigned char pass[SYSTEM_BLOCK];
+        size_t row[SYSTEM_BLOCK], m = 0, i0 = bk * SYSTEM_BLOCK;
+        for (size_t i = i0; i < n && i < i0 + SYSTEM_BLOCK; i++) {
+            ok[i] = 0;
+            if (blocked)
+                blocked[i] = 0;
+            if ((use && !use[i]) || outer_of_object_ray(im->lens, &rays[i], outer + 4 * m) != 0)
+                continue;
+            if (seeds)
+                memcpy(seed + 4 * m, seeds + i * seed_stride, sizeof(double) * 4);
+            else
+                memset(seed + 4 * m, 0, sizeof(double) * 4);
+            lam[m] = lambda;
+            row[m++] = i;
+        }
+        if (m == 0)
+            continue;
+        if (poly_solve_sensor_batch(im->sys, m, lam, outer, seed, 4, max_iter, sol, status, pass, e) != 0) {
+            failed = 1;
+            continue;
+        }
+        for (size_t k = 0; k < m; k++)
+            if (status[k] == 0 && !pass[k] && blocked)
+                blocked[row[k]] = 1;
+            else if (status[k] == 0 && pass[k]) {
+                size_t i = row[k];
+                ok[i] = 1;
+                memcpy(s + 4 * i, sol + 4 * k, sizeof(double) * 4);
+                if (eta)
+                    eta[i] = e[k];
+            }
+    }
+    return failed ? -1 : 0;
 }
 
 static const char *field_unit(const imaging *im)

@@ -163,6 +163,52 @@ double spot_best_shift(const spot *sp, size_t n)
     return C > 0 ? B / C : 0;
 }
 
+/* A spot's aimed rays and the seeds of their solves through a system, in one block
+ * (seed first: every part is aligned for its type). */
+typedef struct {
+    double *seed, *sol, *eta;
+    lens_ray *ray;
+    int *aimed, *got;
+} aimed_rays;
+
+static void aimed_rays_free(aimed_rays *a)
+{
+    free(a->seed);
+    memset(a, 0, sizeof *a);
+}
+
+static int aimed_rays_alloc(aimed_rays *a, size_t np)
+{
+    size_t m = np ? np : 1;
+    a->seed = malloc(m * (9 * sizeof(double) + sizeof(lens_ray) + 2 * sizeof(int)));
+    if (!a->seed)
+        return -1;
+    a->sol = a->seed + 4 * m;
+    a->eta = a->sol + 4 * m;
+    a->ray = (lens_ray *)(a->eta + m);
+    a->aimed = (int *)(a->ray + m);
+    a->got = a->aimed + m;
+    return 0;
+}
+
+/* The aimed rays through the system at once, into spot_trace's rows (x, y, u, v on the
+ * shifted sensor, eta, imaged). -1 when memory runs out. */
+static int system_rays(const imaging *im, double lambda, aimed_rays *a, size_t np, double *res)
+{
+    if (imaging_system_batch(im, lambda, np, a->ray, a->aimed, a->seed, 4, 0, a->sol, a->eta,
+                             a->got, NULL) != 0)
+        return -1;
+    for (size_t i = 0; i < np; i++)
+        if (a->got[i]) {
+            const double *q = a->sol + 4 * i;
+            double *o = res + 6 * i;
+            o[0] = q[0] - im->sensor_shift * q[2];
+            o[1] = q[1] - im->sensor_shift * q[3];
+            o[2] = q[2], o[3] = q[3], o[4] = a->eta[i], o[5] = 1;
+        }
+    return 0;
+}
+
 int spot_trace(const imaging *im, double field, double lambda, pupil_pattern pat, size_t rays,
                unsigned long long seed, spot *sp, lens_err *err)
 {
@@ -203,6 +249,11 @@ int spot_trace(const imaging *im, double field, double lambda, pupil_pattern pat
     /* The chief ray was aimed, so the field has a start. */
     aim_object_start start;
     int started = imaging_aim_prepare(im, n, field, &start) == 0;
+    /* Through a system the rays are aimed and seeded here and solved together after
+     * (system_rays: the batch kernel's Newton steps, where one ray at a time took a
+     * one-ray Jacobian each), as imaging_trace would solve each. */
+    aimed_rays ar = {0};
+    int batch = im->sys && aimed_rays_alloc(&ar, np) == 0;
 #pragma omp parallel for schedule(dynamic, 8)
     for (size_t i = 0; i < np; i++) {
         lens_ray r;
@@ -210,10 +261,24 @@ int spot_trace(const imaging *im, double field, double lambda, pupil_pattern pat
         /* The rim itself is a grazing case for aiming; stay a hair inside. */
         double sx = xy[2 * i] * stop * (1 - 1e-9), sy = xy[2 * i + 1] * stop * (1 - 1e-9);
         o[5] = 0;
-        if (started && aim_object_to(&start, sx, sy, &r) == 0 &&
-            imaging_trace(im, n, lambda, &r, sp->chief, o, &o[4]))
+        int a = started && aim_object_to(&start, sx, sy, &r) == 0;
+        if (batch) {
+            ar.aimed[i] = a;
+            if (a) {
+                ar.ray[i] = r;
+                imaging_seed(im, n, &r, sp->chief, ar.seed + 4 * i);
+            }
+        } else if (a && imaging_trace(im, n, lambda, &r, sp->chief, o, &o[4])) {
             o[5] = 1;
+        }
     }
+    if (batch && system_rays(im, lambda, &ar, np, res) != 0) {
+        aimed_rays_free(&ar);
+        free(res);
+        lens_errf(err, NULL, 0, "out of memory");
+        goto out;
+    }
+    aimed_rays_free(&ar);
     for (size_t i = 0; i < np; i++)
         if (res[6 * i + 5] != 0) {
             memcpy(sp->ray + 4 * sp->passed, res + 6 * i, sizeof(double) * 4);
