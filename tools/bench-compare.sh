@@ -20,42 +20,48 @@ case $rays in '' | *[!0-9]* | 0) echo "bench-compare: RAYS must be a positive in
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# tree REV NAME: a built tree of REV; prints its root
+# quietly CMD...: CMD with its stderr kept aside, shown (and the script stopped) if it fails
+quietly() {
+  "$@" 2>"$work/err" || { echo "bench-compare: failed: $*" >&2; cat "$work/err" >&2; exit 1; }
+}
+
+# tree REV NAME: a built tree of REV; prints its bin directory and its bench_poly, one a line
 tree() {
   if [ "$1" = . ]; then
-    local f
-    for f in "${BUILD:-build}/bench/bench_poly" "${BIN:-bin}/lens-trace" "${BIN:-bin}/lens-fit"; do
+    local bin bench
+    bin=$(realpath -m "${BIN:-bin}") bench=$(realpath -m "${BUILD:-build}/bench/bench_poly")
+    for f in "$bench" "$bin/lens-trace" "$bin/lens-fit"; do
       [ -x "$f" ] || { echo "bench-compare: $f missing: build the working tree first (make)" >&2; return 1; }
     done
-    echo "$PWD"
+    printf '%s\n%s\n' "$bin" "$bench"
     return
   fi
   local c dir=$work/$2
   c=$(git rev-parse --verify --quiet "$1^{commit}") || { echo "bench-compare: '$1' is not a commit" >&2; return 1; }
-  mkdir -p "$dir"
-  git archive "$c" | tar -x -C "$dir"
+  mkdir -p "$dir" || return 1
+  git archive "$c" | tar -x -C "$dir" || { echo "bench-compare: cannot unpack $1" >&2; return 1; }
   echo "bench-compare: building $1 ($(git rev-parse --short "$c")) in $dir" >&2
   env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL make -s --no-print-directory -C "$dir" -j2 \
-    build/bench/bench_poly bin/lens-trace bin/lens-fit >&2
-  echo "$dir"
+    build/bench/bench_poly bin/lens-trace bin/lens-fit >&2 || { echo "bench-compare: building $1 failed" >&2; return 1; }
+  printf '%s\n%s\n' "$dir/bin" "$dir/build/bench/bench_poly"
 }
-rootA=$(tree "$revA" A) rootB=$(tree "$revB" B)
-rootof() { if [ "$1" = A ]; then echo "$rootA"; else echo "$rootB"; fi; }
+treeA=$(tree "$revA" A)
+treeB=$(tree "$revB" B)
+binof() { if [ "$1" = A ]; then sed -n 1p <<<"$treeA"; else sed -n 1p <<<"$treeB"; fi; }
+benchof() { if [ "$1" = A ]; then sed -n 2p <<<"$treeA"; else sed -n 2p <<<"$treeB"; fi; }
 label() { if [ "$1" = . ]; then echo "working tree"; else git rev-parse --short "$1"; fi; }
-binof() { if [ "$1" = "$PWD" ]; then echo "$PWD/${BIN:-bin}"; else echo "$1/bin"; fi; }
-benchof() { if [ "$1" = "$PWD" ]; then echo "$PWD/${BUILD:-build}/bench/bench_poly"; else echo "$1/build/bench/bench_poly"; fi; }
 
 # make bench's two systems of fisheye-ii, fitted by each side from the same samples
-"$(binof "$rootB")/lens-trace" lenses/fisheye-ii.lens -n 4000 --seed 1 -o "$work/train.txt" 2>/dev/null
+quietly "$(binof B)/lens-trace" lenses/fisheye-ii.lens -n 4000 --seed 1 -o "$work/train.txt"
 optics=out_x,out_y,out_u,out_v,out_eta
 for s in A B; do
-  bin=$(binof "$(rootof $s)")
-  "$bin/lens-fit" -q --terms 40 --degree 11 -o "$work/$s.poly" "$work/train.txt"
-  "$bin/lens-fit" -q --terms 40 --degree 11 --frame none --lambda-transform identity -o "$work/$s-nf.poly" "$work/train.txt"
+  bin=$(binof $s)
+  quietly "$bin/lens-fit" -q --terms 40 --degree 11 -o "$work/$s.poly" "$work/train.txt"
+  quietly "$bin/lens-fit" -q --terms 40 --degree 11 --frame none --lambda-transform identity -o "$work/$s-nf.poly" "$work/train.txt"
   # (the optical outputs alone: lens-fit warns that the passage is partial, as meant)
-  "$bin/lens-fit" -q --terms 40 --degree 11 --outputs $optics -o "$work/$s-5.poly" "$work/train.txt" 2>/dev/null
-  "$bin/lens-fit" -q --terms 40 --degree 11 --outputs $optics --frame none --lambda-transform identity \
-    -o "$work/$s-5nf.poly" "$work/train.txt" 2>/dev/null
+  quietly "$bin/lens-fit" -q --terms 40 --degree 11 --outputs $optics -o "$work/$s-5.poly" "$work/train.txt"
+  quietly "$bin/lens-fit" -q --terms 40 --degree 11 --outputs $optics --frame none --lambda-transform identity \
+    -o "$work/$s-5nf.poly" "$work/train.txt"
 done
 # (their terms and coefficients; the meta lines may differ between versions)
 grep -v '^meta ' "$work/A.poly" >"$work/A.terms"
@@ -65,9 +71,10 @@ cmp -s "$work/A.terms" "$work/B.terms" || echo "bench-compare: note: the two rev
 for k in $(seq "$runs"); do
   echo "bench-compare: round $k of $runs" >&2
   for s in A B; do
-    b=$(benchof "$(rootof $s)")
-    "$b" "$rays" "$work/$s.poly" "$work/$s-nf.poly" poly 2>/dev/null | grep '^bench ' | sed "s/^/$s /" >> "$work/all"
-    "$b" "$rays" "$work/$s-5.poly" "$work/$s-5nf.poly" poly5 2>/dev/null | grep '^bench ' | sed "s/^/$s /" >> "$work/all"
+    b=$(benchof $s)
+    quietly "$b" "$rays" "$work/$s.poly" "$work/$s-nf.poly" poly >"$work/run"
+    quietly "$b" "$rays" "$work/$s-5.poly" "$work/$s-5nf.poly" poly5 >>"$work/run"
+    grep '^bench ' "$work/run" | sed "s/^/$s /" >>"$work/all"
   done
 done
 

@@ -16,20 +16,22 @@ shift 3 2>/dev/null || shift $#
 tols=("$@"); [ ${#tols[@]} -gt 0 ] || tols=(0.0003 0.001 0.003 0.01 0.03)
 [ -x "$BUILD/bench/bench_poly" ] || { echo "passage-cost: $BUILD/bench/bench_poly missing (make bench builds it)" >&2; exit 1; }
 D=$(mktemp -d); trap 'rm -rf "$D"' EXIT
-"$B/lens-trace" "$lens" -n "$ntrain" -o "$D/train.txt" 2>/dev/null
-"$B/lens-trace" "$lens" -n "$ntest" --seed 2 --sampling full -o "$D/test.txt" 2>/dev/null
+# quietly CMD...: CMD with its stderr kept aside, shown (and the script stopped) if it fails
+quietly() { "$@" 2>"$D/err" || { echo "passage-cost: failed: $*" >&2; cat "$D/err" >&2; exit 1; }; }
+quietly "$B/lens-trace" "$lens" -n "$ntrain" -o "$D/train.txt"
+quietly "$B/lens-trace" "$lens" -n "$ntest" --seed 2 --sampling full -o "$D/test.txt"
 echo "Lens $(basename "$lens" .lens); training: lens-trace -n $ntrain (seed 1), test: -n $ntest --sampling full --seed 2."
 echo
 echo "| --passage-tolerance | passage terms | batch ns a ray | exact tracer over batch, per passing ray | false pass | false block | disagree | worst 1 mm ring |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|"
 for t in "${tols[@]}"; do
   echo "passage-cost: --passage-tolerance $t" >&2
-  "$B/lens-fit" -q --passage-tolerance "$t" -o "$D/sys.poly" "$D/train.txt"
+  quietly "$B/lens-fit" -q --passage-tolerance "$t" -o "$D/sys.poly" "$D/train.txt"
   terms=$(awk '$1 == "meta" && $2 ~ /^fit_(ap|s[0-9]+)_[xy]$/ { s += $4 } END { print s + 0 }' "$D/sys.poly")
-  "$B/lens-eval" "$D/sys.poly" "$D/test.txt" --report 2>/dev/null >"$D/rep.txt"
+  quietly "$B/lens-eval" "$D/sys.poly" "$D/test.txt" --report >"$D/rep.txt"
   best_t=inf ratio=""
   for _ in 1 2 3; do
-    "$BUILD/bench/bench_poly" 20000 "$D/sys.poly" "$D/sys.poly" p >"$D/bench.txt" 2>/dev/null
+    quietly "$BUILD/bench/bench_poly" 20000 "$D/sys.poly" "$D/sys.poly" p >"$D/bench.txt"
     tt=$(awk '$2 == "p_batch_optics_ns_per_ray" { print $3 }' "$D/bench.txt")
     if awk -v a="$tt" -v b="$best_t" 'BEGIN { exit !(b == "inf" || a + 0 < b + 0) }'; then
       best_t=$tt

@@ -8,15 +8,15 @@
 
 #include "sparselens/poly_solve.h"
 
-/* Newton steps of a bundle's solves through a system. A solve from the bundle's seed
- * converges within 8 steps or not at all, but for a few rays in ten thousand (lens-mtf
- * through fisheye-ii's default fit: 30 of 19704 after step 12); a ray that fails is tried
- * again from its solved neighbours. Rays outside the image of the system's domain (a
- * third of an off-axis bundle there) had crawled through all 60 of poly_solve_sensor's
- * steps, each try: lens-mtf 2.28 -> 1.99 s CPU with 16, the same figures; dgauss.50mm's
- * on-axis MTF through its system moves by 5e-5, where its stalled rays (accepted within
- * the fit's own error, poly_solve.c) stop elsewhere. */
-#define BUNDLE_NEWTON_STEPS 16
+/* Newton steps of a retry from a solved neighbour (the first solve from the bundle's seed
+ * takes poly_solve_sensor's 60). From a neighbour's solution a solve converges within a
+ * few steps or not at all; rays outside the image of the system's domain (a third of an
+ * off-axis bundle of fisheye-ii) had crawled through all 60 steps on each of their three
+ * tries: lens-mtf through fisheye-ii's default fit 2.28 -> 1.92 s CPU with 16, the same
+ * figures. (16 for the first solve too saved 0.1 s more but moved the on-axis MTF of a
+ * dgauss.50mm system by up to 6.5e-4: rays near the axis, where a meridional system is
+ * discontinuous, converge slowly from the bundle's seed.) */
+#define RETRY_NEWTON_STEPS 16
 
 double bundle_clock(void)
 {
@@ -136,7 +136,7 @@ static void retry_from_neighbours(const imaging *im, const ray_bundle *b, double
                 }
             }
             if (m == 0 ||
-                imaging_system_batch(im, b->lambda, n, b->ray, use, seeds, 4, BUNDLE_NEWTON_STEPS, sol, NULL, got, NULL) != 0)
+                imaging_system_batch(im, b->lambda, n, b->ray, use, seeds, 4, RETRY_NEWTON_STEPS, sol, NULL, got, NULL) != 0)
                 break;
             for (size_t i = 0; i < n; i++)
                 if (use[i] && got[i]) {
@@ -183,7 +183,7 @@ double bundle_image(const imaging *im, const ray_bundle *b, const double *seed, 
      * (most of lens-mtf's time through fisheye-ii's system went there). */
     int *blocked = malloc(sizeof(int) * (b->count ? b->count : 1));
     if (!blocked ||
-        imaging_system_batch(im, b->lambda, b->count, b->ray, b->aimed, first, 0, BUNDLE_NEWTON_STEPS, s, NULL, ok,
+        imaging_system_batch(im, b->lambda, b->count, b->ray, b->aimed, first, 0, 0, s, NULL, ok,
                              blocked) != 0) {
         free(blocked);
         blocked = NULL;

@@ -371,7 +371,7 @@ static void record_frame_flags(poly_system *sys, int noutputs, const char *const
     char pt[64] = ""; /* with passage hits among the outputs: how finely they were fitted */
     for (int o = 0; o < noutputs; o++)
         if (fit_is_passage_output(outputs[o])) {
-            snprintf(pt, sizeof pt, " --passage-tolerance %.6g", opt->passage_tolerance);
+            snprintf(pt, sizeof pt, " --passage-tolerance %.17g", opt->passage_tolerance);
             break;
         }
     snprintf(buf, sizeof buf, "%s --frame %s%s --lambda-transform %s%s", ff ? ff : "",

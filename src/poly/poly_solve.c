@@ -77,6 +77,16 @@ static int solve4(double a[4][4], double b[4], double x[4])
     return 0;
 }
 
+/* A target with an infinite out_x or out_y would make the tolerance below infinite and
+ * any iterate pass for a solution; a nan one never converges. */
+static int finite_target(const double outer[4])
+{
+    for (int o = 0; o < 4; o++)
+        if (!isfinite(outer[o]))
+            return 0;
+    return 1;
+}
+
 /* The columns of x y u v lambda and out_x .. out_v; -1 when one is missing or the system
  * is larger than a solve's buffers. */
 static int solve_columns(const poly_system *sys, int in[5], int out[4])
@@ -162,6 +172,8 @@ int poly_solve_sensor(const poly_system *sys, double lambda, const double outer[
     if (solve_columns(sys, sv.in, sv.out) != 0)
         return -1;
     sv.eta = poly_output_index(sys, "out_eta");
+    if (!finite_target(outer))
+        return -1;
     double s[4] = {0, 0, 0, 0};
     if (guess)
         memcpy(s, guess, sizeof s);
@@ -401,7 +413,8 @@ int poly_solve_sensor_batch(const poly_system *sys, size_t n, const double *lamb
         return 0;
     batch_ray *br = malloc(n * sizeof *br);
     e.rows = malloc(n * sizeof *e.rows);
-    e.in_buf = malloc(n * (size_t)e.nin * sizeof *e.in_buf);
+    /* zeros in the inputs other than x y u v lambda, as poly_solve_sensor's buf_in */
+    e.in_buf = calloc(n * (size_t)e.nin, sizeof *e.in_buf);
     e.val = malloc(n * 4 * sizeof *e.val);
     e.jac = malloc(n * 4 * (size_t)e.nin * sizeof *e.jac);
     e.pass = malloc(n);
@@ -421,6 +434,8 @@ int poly_solve_sensor_batch(const poly_system *sys, size_t n, const double *lamb
             b->s[0] = 1e-6; /* off the axis, as poly_solve_sensor */
         const double *t = outer + 4 * i;
         b->tol = 1e-9 * (1 + fmax(fmax(fabs(t[0]), fabs(t[1])), 1.0));
+        if (!finite_target(t))
+            b->state = SOLVE_FAILED;
         e.rows[i] = i;
     }
     eval_rays(&e, br, n, 1, at_s);
