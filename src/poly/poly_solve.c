@@ -288,13 +288,20 @@ static void at_trial(const batch_ray *b, double x[4])
         x[a] = b->s[a] + b->lam * b->step[a];
 }
 
-static void take_trial(batch_ray *b, int with_jac)
+/* The last evaluation's residual (and Jacobian) become the ray's current ones. */
+static void take_values(batch_ray *b, int with_jac)
 {
-    at_trial(b, b->s);
     memcpy(b->f, b->nf, sizeof b->f);
     if (with_jac)
         memcpy(b->j, b->nj, sizeof b->j);
     b->r = b->nr;
+}
+
+/* The trial point becomes the iterate, with its values. */
+static void take_trial(batch_ray *b, int with_jac)
+{
+    at_trial(b, b->s);
+    take_values(b, with_jac);
 }
 
 /* One Newton step of every ray still iterating: the full step with its Jacobian, then
@@ -355,12 +362,8 @@ static size_t newton_round(batch_eval *e, batch_ray *br, size_t n, size_t *pendi
     if (nj > 0) {
         memmove(e->rows, e->rows + n - nj, nj * sizeof *e->rows);
         eval_rays(e, br, nj, 1, at_s);
-        for (size_t k = 0; k < nj; k++) {
-            batch_ray *b = &br[e->rows[k]];
-            memcpy(b->f, b->nf, sizeof b->f);
-            memcpy(b->j, b->nj, sizeof b->j);
-            b->r = b->nr;
-        }
+        for (size_t k = 0; k < nj; k++)
+            take_values(&br[e->rows[k]], 1);
     }
     return m;
 }
@@ -440,7 +443,7 @@ int poly_solve_sensor_batch(const poly_system *sys, size_t n, const double *lamb
     }
     eval_rays(&e, br, n, 1, at_s);
     for (size_t i = 0; i < n; i++)
-        take_trial(&br[i], 1); /* lam and step are 0: s stays */
+        take_values(&br[i], 1);
     if (max_iter <= 0 || max_iter > SOLVE_MAX_ITER)
         max_iter = SOLVE_MAX_ITER;
     for (int it = 0; it < max_iter && newton_round(&e, br, n, pending) > 0; it++)
