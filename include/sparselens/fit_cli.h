@@ -17,6 +17,7 @@ typedef struct {
     int emit_c;                /* write C code instead of the system */
     const char *name;          /* the C function's name */
     int quiet;
+    int keep_circles;          /* --keep-circles: fit.drop_circles off */
     fit_options fit;
 } fit_cli;
 

@@ -48,6 +48,16 @@ static const opt_spec fit_table[] = {
      "wins. A looser passage has fewer terms and costs less to evaluate, and lets through\n"
      "rays the lens blocks and blocks rays it lets through: see PASSAGE for what each\n"
      "setting costs and buys.\n"},
+    {0, "keep-circles", NULL, OPT_FLAG, OPT_AT(fit_cli, keep_circles),
+     .help = "keep every passage pair sN_x,sN_y with its pass circle; by default one whose "
+             "circle alone blocks no more training rays the lens blocks than rays it passes "
+             "is dropped",
+     .man =
+     "A circle can end up doing nothing: its radius is the furthest hit of the passing\n"
+     "rays, and where a neighbouring surface vignettes first, that neighbour's circle\n"
+     "already blocks every ray it would. The dropped pairs are named in the meta line\n"
+     ".BR fit_dropped_circles ;\n"
+     "see PASSAGE.\n"},
     {0, "parts", "P", OPT_INT, OPT_AT(fit_cli, fit.max_parts), .lo = 1, .hi = 64,
      .help = "allow up to P radial parts where one polynomial misses T", .def = "1"},
     {0, "inputs", "LIST", OPT_STRING, OPT_AT(fit_cli, inputs),

@@ -458,6 +458,7 @@ poly_system *fit_run(const fit_cli *o, samples_reader *r, FILE *log, fit_run_sta
                      lens_err *err)
 {
     fit_job j = {.opt = o->fit};
+    j.opt.drop_circles = !o->keep_circles;
     poly_system *sys = NULL;
     memset(st, 0, sizeof *st);
     if (setup_columns(&j, o, r, err) != 0 || read_rows(&j, r, err) != 0)
@@ -512,4 +513,8 @@ void fit_run_print_summary(FILE *f, const poly_system *sys, const fit_run_stats 
         fprintf(f, "lens-fit: %-8s %s%s%s\n", name, m ? m : "", jump ? " largest_part_jump " : "",
                 jump ? jump : "");
     }
+    const char *dropped = poly_get_meta(sys, "fit_dropped_circles");
+    if (dropped)
+        fprintf(f, "lens-fit: dropped pass circles (rays they alone block; --keep-circles "
+                   "keeps them): %s\n", dropped);
 }

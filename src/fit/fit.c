@@ -36,6 +36,7 @@ void fit_options_default(fit_options *opt)
     opt->force_parts = 0;
     opt->lambda_transform = POLY_XFORM_IDENTITY;
     opt->passage_tolerance = 1e-3;
+    opt->drop_circles = 0;
 }
 
 int fit_is_passage_output(const char *name)

@@ -371,7 +371,8 @@ static void record_frame_flags(poly_system *sys, int noutputs, const char *const
     char pt[64] = ""; /* with passage hits among the outputs: how finely they were fitted */
     for (int o = 0; o < noutputs; o++)
         if (fit_is_passage_output(outputs[o])) {
-            snprintf(pt, sizeof pt, " --passage-tolerance %.17g", opt->passage_tolerance);
+            snprintf(pt, sizeof pt, " --passage-tolerance %.17g%s", opt->passage_tolerance,
+                     opt->drop_circles ? "" : " --keep-circles");
             break;
         }
     snprintf(buf, sizeof buf, "%s --frame %s%s --lambda-transform %s%s", ff ? ff : "",
@@ -454,6 +455,22 @@ poly_system *fit_system(const char *lens_name, int ninputs, const char *const *i
             poly_set_domain(sys, i, lo[i], hi[i]);
     frame_holdout_meta(sys, noutputs, outputs, opt);
     record_frame_flags(sys, noutputs, outputs, opt, xf);
+    if (opt->drop_circles && npassage > 0) {
+        /* the lens's verdict on each row */
+        unsigned char *lens_pass = malloc(count ? count : 1);
+        poly_system *kept = NULL;
+        if (lens_pass) {
+            for (size_t r = 0; r < count; r++)
+                lens_pass[r] = (unsigned char)usable(out + r * (size_t)noutputs, noutputs, ieta);
+            kept = fit_drop_circles(sys, count, in, lens_pass);
+            free(lens_pass);
+        }
+        if (!kept) {
+            lens_errf(err, NULL, 0, "out of memory");
+            goto fail;
+        }
+        sys = kept;
+    }
     free(outs); free(lo); free(hi);
     return sys;
 fail:

@@ -68,3 +68,25 @@ echo "# clip_columns: $n test rays, $only5 blocked only by surface 5: stop circl
 if [ "$fp0" -ge $((only5 / 2)) ] && [ $((2 * fp1)) -lt "$fp0" ] && [ $((fp1 + fb1)) -lt $((fp0 + fb0)) ]
 then ok clip_fewer_false_pass
 else fail clip_fewer_false_pass "false_pass $fp1 with the s5 circle, $fp0 without ($only5 blocked only by s5)"; fi
+
+# lens-fit drops a circle that decides nothing: surface 2 (12 mm, never the limit here)
+# forced among the columns; its circle lies at the passing rays' furthest hit, and every
+# ray beyond it is blocked by the stop or surface 5 already. The stop's and s5's circles
+# stay, the system lets through no more of the lens's blocked rays than with s2's circle
+# (test rays of another seed, blocked ones included), and --keep-circles keeps it.
+run $TR $L -n $n --seed 3 --clip-surfaces 2,5 -o $T/train25.txt
+run $TR $L -n $n --seed 7 --all --clip-surfaces 2,5 -o $T/test25.txt
+run $F -q --terms 20 --degree 6 $T/train25.txt -o $T/drop.poly
+run $F -q --terms 20 --degree 6 --keep-circles $T/train25.txt -o $T/keep.poly
+circles() { awk '$1 == "pass" { printf "%s%s", n++ ? " " : "", $2 }' "$1"; }
+if [ "$(circles $T/drop.poly)" = "out_x ap_x s5_x" ] && ! grep -q 's2_x' $T/drop.poly &&
+   grep -q '^meta fit_dropped_circles s2 ' $T/drop.poly
+then ok fit_drops_idle_circle; else fail fit_drops_idle_circle "circles: $(circles $T/drop.poly); $(grep dropped $T/drop.poly)"; fi
+if [ "$(circles $T/keep.poly)" = "out_x ap_x s2_x s5_x" ] && grep -q -- '--keep-circles' $T/keep.poly &&
+   ! grep -q dropped $T/keep.poly
+then ok fit_keep_circles; else fail fit_keep_circles "circles: $(circles $T/keep.poly)"; fi
+read -r fpd fbd < <(passage_errors $T/drop.poly $T/test25.txt)
+read -r fpk fbk < <(passage_errors $T/keep.poly $T/test25.txt)
+echo "# clip_columns: s2 dropped: false_pass $fpd false_block $fbd; kept: false_pass $fpk false_block $fbk"
+if [ "$fpd" -le $((fpk + 2)) ] && [ $((fpd + fbd)) -le $((fpk + fbk + 2)) ]
+then ok fit_drop_keeps_passage; else fail fit_drop_keeps_passage "dropped s2: $fpd/$fbd, kept: $fpk/$fbk"; fi
