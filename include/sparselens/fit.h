@@ -35,9 +35,9 @@ typedef struct {
                            this fraction of the pass circle's radius (default 1e-3;
                            0: the tolerance of the others) */
     int drop_circles;   /* 1: after the fit, drop the pass circles of surfaces sN (and
-                           their outputs) that alone block no more training rows the
-                           lens blocks than rows it passes, the least useful first
-                           (fit_circles.c); default 0: the outputs are those asked for */
+                           their outputs) that alone block none of the training rows the
+                           lens blocks (fit_circles.c): fit_system's system then has
+                           fewer outputs than asked for; default 0 */
 } fit_options;
 
 void fit_options_default(fit_options *opt);

@@ -98,7 +98,7 @@ int poly_add_pass_circle(poly_system *sys, int out_a, int out_b, double radius);
 /* A copy of sys with the outputs o where keep[o] != 0 (NULL: all), in their order: the
  * inputs, scaling, domain, frame, transforms, parts, their terms, the pass circles on
  * two kept outputs, the lens path and the meta lines (but fit_NAME and part_jump_NAME
- * of the outputs left out). NULL when out of memory. */
+ * of the outputs left out). NULL when out of memory or keep keeps no output. */
 poly_system *poly_copy_outputs(const poly_system *sys, const unsigned char *keep);
 /* Free-form "key value" metadata lines kept in the file (fit flags, errors). */
 void poly_set_meta(poly_system *sys, const char *key, const char *value);

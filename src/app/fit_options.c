@@ -50,8 +50,7 @@ static const opt_spec fit_table[] = {
      "setting costs and buys.\n"},
     {0, "keep-circles", NULL, OPT_FLAG, OPT_AT(fit_cli, keep_circles),
      .help = "keep every passage pair sN_x,sN_y with its pass circle; by default one whose "
-             "circle alone blocks no more training rays the lens blocks than rays it passes "
-             "is dropped",
+             "circle alone blocks none of the training rays the lens blocks is dropped",
      .man =
      "A circle can end up doing nothing: its radius is the furthest hit of the passing\n"
      "rays, and where a neighbouring surface vignettes first, that neighbour's circle\n"

@@ -131,10 +131,12 @@ poly_system *fit_system_core(const char *lens_name, int ninputs, const char *con
                              lens_err *err);
 
 /* fit_options.drop_circles: sys without the pass circles of surfaces sN that alone
- * block no more of the rows in (count x its inputs) whose lens_pass[r] is 0 than of
- * those where it is 1 (the meta fit_dropped_circles says which, and what each blocked):
- * a new system (sys freed), or sys itself when every circle counts. NULL when out of
- * memory (sys untouched). */
+ * block none of the rows in (count x its inputs) whose lens_pass[r] is 0 (the lens
+ * blocks them), the one that alone blocks most rows the lens passes first, the others
+ * counted again after each (the meta fit_dropped_circles says which): a new system (sys
+ * freed), or sys itself when every circle counts, when no row is blocked, or when every
+ * output is a passage hit (then lens_pass says nothing). NULL when out of memory (sys
+ * untouched). */
 #include "sparselens/poly.h"
 poly_system *fit_drop_circles(poly_system *sys, size_t count, const double *in,
                               const unsigned char *lens_pass);

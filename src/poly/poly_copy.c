@@ -4,9 +4,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* 1 when meta key belongs to an output left out: fit_NAME or part_jump_NAME. */
+/* 1 when meta key belongs to an output left out: fit_NAME or part_jump_NAME, not one of
+ * lens-fit's keys about the whole fit (an output may be called "flags"). */
 static int meta_of_dropped(const poly_system *s, const unsigned char *keep, const char *key)
 {
+    static const char *const whole[] = {"fit_flags", "fit_samples", "fit_parts",
+                                        "fit_dropped_circles"};
+    for (size_t k = 0; k < sizeof whole / sizeof *whole; k++)
+        if (!strcmp(key, whole[k]))
+            return 0;
     for (int o = 0; keep && o < poly_noutputs(s); o++) {
         if (keep[o])
             continue;
@@ -34,7 +40,7 @@ poly_system *poly_copy_outputs(const poly_system *s, const unsigned char *keep)
         if (to[o] >= 0)
             out[nk++] = poly_output_name(s, o);
     }
-    r = poly_new(poly_lens_name(s), nin, in, nk, out);
+    r = nk > 0 ? poly_new(poly_lens_name(s), nin, in, nk, out) : NULL;
     if (!r)
         goto done;
     poly_bulk_begin(r); /* planned once, at the end */

@@ -90,3 +90,8 @@ read -r fpk fbk < <(passage_errors $T/keep.poly $T/test25.txt)
 echo "# clip_columns: s2 dropped: false_pass $fpd false_block $fbd; kept: false_pass $fpk false_block $fbk"
 if [ "$fpd" -le $((fpk + 2)) ] && [ $((fpd + fbd)) -le $((fpk + fbk + 2)) ]
 then ok fit_drop_keeps_passage; else fail fit_drop_keeps_passage "dropped s2: $fpd/$fbd, kept: $fpk/$fbk"; fi
+# Passage hits alone say nothing of what the lens blocks (a blocked ray has them too):
+# nothing is dropped then, and the fit works.
+if run $F -q --terms 20 --degree 6 --outputs s5_x,s5_y $T/train.txt -o $T/s5only.poly 2>/dev/null &&
+   [ "$(circles $T/s5only.poly)" = "s5_x" ]
+then ok fit_passage_only_outputs; else fail fit_passage_only_outputs "$(circles $T/s5only.poly 2>&1)"; fi

@@ -28,8 +28,9 @@ static int cmp_double(const void *a, const void *b)
 }
 
 /* poly_copy_outputs (lens-fit's dropped circles): the outputs kept give the original's
- * bits in the batch and one ray at a time, frame, transform, parts and domain
- * included; a circle on a dropped output goes with it (the rays only it blocked pass),
+ * bits in the batch, frame, transform, parts and domain included, and one ray at a time
+ * the batch's values to rounding (poly_fast orders a copy's terms by its own outputs'
+ * variables); a circle on a dropped output goes with it (the rays only it blocked pass),
  * the others stay; so do the meta lines but those of the dropped outputs. */
 static void test_copy_outputs(void **st)
 {
