@@ -35,6 +35,10 @@ int main(int argc, char **argv)
                 prog);
     if (st.passage_gap[0])
         fprintf(stderr, "%s: warning: passage partial: %s\n", prog, st.passage_gap);
+    const char *dropped = poly_get_meta(sys, "fit_dropped_circles");
+    if (o.outputs && dropped) /* outputs named and not kept: said even with -q */
+        fprintf(stderr, "%s: note: pass circles dropped with their outputs, as deciding "
+                        "nothing (--keep-circles keeps them): %s\n", prog, dropped);
     outfile *of = outfile_open(o.out_path, &err);
     int rc = 0;
     if (!of) {

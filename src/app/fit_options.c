@@ -55,8 +55,12 @@ static const opt_spec fit_table[] = {
      "A circle can end up doing nothing: its radius is the furthest hit of the passing\n"
      "rays, and where a neighbouring surface vignettes first, that neighbour's circle\n"
      "already blocks every ray it would. The dropped pairs are named in the meta line\n"
-     ".BR fit_dropped_circles ;\n"
-     "see PASSAGE.\n"},
+     ".BR fit_dropped_circles ,\n"
+     "and on stderr (also with\n"
+     ".BR \\-q )\n"
+     "when\n"
+     ".B \\-\\-outputs\n"
+     "named them; see PASSAGE.\n"},
     {0, "parts", "P", OPT_INT, OPT_AT(fit_cli, fit.max_parts), .lo = 1, .hi = 64,
      .help = "allow up to P radial parts where one polynomial misses T", .def = "1"},
     {0, "inputs", "LIST", OPT_STRING, OPT_AT(fit_cli, inputs),

@@ -95,3 +95,8 @@ then ok fit_drop_keeps_passage; else fail fit_drop_keeps_passage "dropped s2: $f
 if run $F -q --terms 20 --degree 6 --outputs s5_x,s5_y $T/train.txt -o $T/s5only.poly 2>/dev/null &&
    [ "$(circles $T/s5only.poly)" = "s5_x" ]
 then ok fit_passage_only_outputs; else fail fit_passage_only_outputs "$(circles $T/s5only.poly 2>&1)"; fi
+# Outputs named with --outputs and dropped: a note says so, even with -q.
+run $F -q --terms 20 --degree 6 --outputs out_x,out_y,out_u,out_v,out_eta,ap_x,ap_y,s2_x,s2_y,s5_x,s5_y \
+  $T/train25.txt -o $T/named.poly 2>$T/named.err
+if grep -q '^lens-fit: note: pass circles dropped .*s2 (alone' $T/named.err && ! grep -q s2_x $T/named.poly
+then ok fit_named_dropped_note; else fail fit_named_dropped_note "$(cat $T/named.err)"; fi
