@@ -53,6 +53,21 @@ static void rows(double *in, unsigned char *pass, double rlens)
     }
 }
 
+/* fit_drop_circles on circles(ncirc, radius, passage_only) with the lens passing
+ * r <= rlens; *orig gets the system it was given (the result, or freed by it). */
+static poly_system *drop(int ncirc, const double *radius, int passage_only, double rlens,
+                         poly_system **orig)
+{
+    poly_system *s = circles(ncirc, radius, passage_only);
+    double in[2 * N];
+    unsigned char pass[N];
+    rows(in, pass, rlens);
+    *orig = s;
+    poly_system *d = fit_drop_circles(s, N, in, pass);
+    assert_non_null(d);
+    return d;
+}
+
 static int has_output(const poly_system *s, const char *name)
 {
     return poly_output_index(s, name) >= 0;
@@ -66,12 +81,7 @@ static void test_drops_idle(void **st)
 {
     (void)st;
     const double radius[4] = {1, 1, 2, 0.8};
-    poly_system *s = circles(4, radius, 0);
-    double in[2 * N];
-    unsigned char pass[N];
-    rows(in, pass, 1);
-    poly_system *d = fit_drop_circles(s, N, in, pass);
-    assert_non_null(d);
+    poly_system *s, *d = drop(4, radius, 0, 1, &s);
     assert_true(d != s);
     assert_int_equal(poly_noutputs(d), 3);
     assert_int_equal(poly_npass_circles(d), 1);
@@ -91,13 +101,10 @@ static void test_keeps_needed(void **st)
 {
     (void)st;
     const double radius[1] = {1};
-    poly_system *s = circles(1, radius, 0);
-    double in[2 * N];
-    unsigned char pass[N];
-    rows(in, pass, 0.8);
-    assert_ptr_equal(fit_drop_circles(s, N, in, pass), s);
-    assert_int_equal(poly_npass_circles(s), 1);
-    poly_free(s);
+    poly_system *s, *d = drop(1, radius, 0, 0.8, &s);
+    assert_ptr_equal(d, s);
+    assert_int_equal(poly_npass_circles(d), 1);
+    poly_free(d);
 }
 
 /* A circle that alone blocks rows the lens blocks stays even when it alone blocks more
@@ -109,12 +116,7 @@ static void test_keeps_rightful(void **st)
 {
     (void)st;
     const double radius[2] = {0.9, 1.05};
-    poly_system *s = circles(2, radius, 0);
-    double in[2 * N];
-    unsigned char pass[N];
-    rows(in, pass, 1);
-    poly_system *d = fit_drop_circles(s, N, in, pass);
-    assert_non_null(d);
+    poly_system *s, *d = drop(2, radius, 0, 1, &s);
     assert_true(has_output(d, "s1_x"));
     assert_false(has_output(d, "s2_x"));
     poly_free(d);
@@ -126,18 +128,14 @@ static void test_nothing_to_judge(void **st)
 {
     (void)st;
     const double radius[2] = {1, 2};
-    double in[2 * N];
-    unsigned char pass[N];
-    poly_system *s = circles(2, radius, 0);
-    rows(in, pass, 10);
-    assert_ptr_equal(fit_drop_circles(s, N, in, pass), s);
-    assert_int_equal(poly_npass_circles(s), 2);
-    poly_free(s);
-    s = circles(2, radius, 1);
-    rows(in, pass, 1);
-    assert_ptr_equal(fit_drop_circles(s, N, in, pass), s);
-    assert_int_equal(poly_noutputs(s), 4);
-    poly_free(s);
+    poly_system *s, *d = drop(2, radius, 0, 10, &s);
+    assert_ptr_equal(d, s);
+    assert_int_equal(poly_npass_circles(d), 2);
+    poly_free(d);
+    d = drop(2, radius, 1, 1, &s);
+    assert_ptr_equal(d, s);
+    assert_int_equal(poly_noutputs(d), 4);
+    poly_free(d);
 }
 
 int main(void)
