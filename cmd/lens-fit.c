@@ -36,7 +36,8 @@ int main(int argc, char **argv)
     if (st.passage_gap[0])
         fprintf(stderr, "%s: warning: passage partial: %s\n", prog, st.passage_gap);
     const char *dropped = poly_get_meta(sys, "fit_dropped_circles");
-    if (o.outputs && dropped) /* outputs named and not kept: said even with -q */
+    if (o.outputs && dropped && o.quiet) /* outputs named and not kept; without -q the
+                                          * summary says it */
         fprintf(stderr, "%s: note: pass circles dropped with their outputs, as deciding "
                         "nothing (--keep-circles keeps them): %s\n", prog, dropped);
     outfile *of = outfile_open(o.out_path, &err);
