@@ -27,6 +27,10 @@ typedef struct {
     size_t rows, bad_rows;
     size_t outside;           /* rows with an input outside the training domain */
     size_t outside_input[64]; /* per system input (the first 64) */
+    /* With the report (the lens's reference known): of those rows, the ones the lens
+     * passes, whose extrapolated values reach the picture; the rest only need blocking */
+    int lens_known;
+    size_t outside_passing, outside_passing_input[64];
 } eval_run_stats;
 
 /* 0 on success (bad rows are counted, not fatal); -1 with err set when the inputs'

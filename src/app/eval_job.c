@@ -18,13 +18,28 @@ static int emit(const eval_cli *o, const poly_system *sys, outfile *of, lens_err
     return outfile_commit(of, err);
 }
 
+/* " NAME COUNT" per input with a count. */
+static void print_per_input(FILE *log, const poly_system *sys, const size_t *count)
+{
+    for (int i = 0; i < poly_ninputs(sys) && i < 64; i++)
+        if (count[i])
+            fprintf(log, " %s %zu", poly_input_name(sys, i), count[i]);
+}
+
+/* With the lens's reference known, how many of those rays it passes: a test set over the
+ * whole ray space (--sampling full) has many blocked rays beyond a training set's range,
+ * which the system need only block (the report's passage lines say whether it does). */
 static void print_outside(FILE *log, const poly_system *sys, const eval_run_stats *st)
 {
     fprintf(log, "lens-eval: %zu of %zu rays outside the training domain (extrapolated):",
             st->outside, st->rows);
-    for (int i = 0; i < poly_ninputs(sys) && i < 64; i++)
-        if (st->outside_input[i])
-            fprintf(log, " %s %zu", poly_input_name(sys, i), st->outside_input[i]);
+    print_per_input(log, sys, st->outside_input);
+    if (st->lens_known) {
+        fprintf(log, "; the lens passes %zu of them", st->outside_passing);
+        if (st->outside_passing)
+            fputc(':', log);
+        print_per_input(log, sys, st->outside_passing_input);
+    }
     fputc('\n', log);
 }
 

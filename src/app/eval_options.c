@@ -84,7 +84,8 @@ const opt_command eval_command = {
     "by name, and writes the inputs and predicted outputs as a sample file. A malformed row "
     "writes a row of nan, is reported as FILE:LINE on stderr, and makes the exit status 1 at "
     "the end. Rays outside the training domain are evaluated (extrapolated) and counted on "
-    "stderr.",
+    "stderr; with --report also how many of them the lens passes (the others need only be "
+    "blocked).",
     eval_table};
 
 void eval_cli_default(eval_cli *o)

@@ -176,12 +176,17 @@ static void take_row(ctx_t *c, size_t n, int got, lens_err *rowerr, const sample
         if (opt->on_bad_row)
             opt->on_bad_row(opt->ctx, rowerr);
     } else if (!poly_in_domain(c->sys, in)) {
+        const int lens_passes =
+            opt->report && eval_reference_passes(c->sys, c->ref + n * (size_t)c->nout);
         st->outside++;
+        st->outside_passing += lens_passes;
         for (int i = 0; i < c->nin && i < 64; i++) {
             double lo, hi;
             poly_get_domain(c->sys, i, &lo, &hi);
-            if (!(in[i] >= lo && in[i] <= hi))
+            if (!(in[i] >= lo && in[i] <= hi)) {
                 st->outside_input[i]++;
+                st->outside_passing_input[i] += lens_passes;
+            }
         }
     }
     st->rows++;
@@ -192,6 +197,7 @@ int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_r
 {
     ctx_t c = {0};
     memset(st, 0, sizeof *st);
+    st->lens_known = opt->report;
     int rc = -1;
     eval_report *rep = NULL;
     if (ctx_init(&c, sys, rd, err) != 0 || samples_map(rd, c.names, c.nin, c.map_in, err) != 0 ||

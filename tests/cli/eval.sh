@@ -28,6 +28,10 @@ rms=$(awk '$1 == "out_x_mm" && NF == 7 { print $3 }' $T/rep.txt)
 if head -1 $T/rep.txt | grep -q '^# columns: key rays rms mean p99 max unit' && near "$rms" 0.661438 1e-6 &&
    [ "$(awk '$1 == "false_pass" { print $2 }' $T/rep.txt)" = 1 ] && [ "$(awk '$1 == "false_block" { print $2 }' $T/rep.txt)" = 1 ]
 then ok eval_report; else fail eval_report "$(head -3 $T/rep.txt)"; fi
+# with the report the lens's reference is known: of the two rays outside, it passes x = 20
+run $E $tiny tests/data/eval_tiny.txt --report >/dev/null 2>$T/err.txt
+if grep -q '^lens-eval: 2 of 6 rays outside the training domain (extrapolated): x 2; the lens passes 1 of them: x 1$' $T/err.txt
+then ok eval_extrapolation_lens_passes; else fail eval_extrapolation_lens_passes "$(cat $T/err.txt)"; fi
 expect_error eval_report_needs_reference "no reference column 'out_x'" \
   $E $tiny $T/bad.txt --report
 

@@ -55,6 +55,11 @@ static char *report(const char *extra_bins, int nbins, eval_dir_kind dirs)
     assert_int_equal(st.rows, 6);
     assert_int_equal(st.bad_rows, 0);
     assert_int_equal(st.outside, 2); /* x = 20 and x = 50 lie outside [-10, 10] */
+    /* of them the lens passes x = 20 (out_eta 0.8), not x = 50 (nan, out_eta 0) */
+    assert_int_equal(st.lens_known, 1);
+    assert_int_equal(st.outside_passing, 1);
+    assert_int_equal(st.outside_passing_input[0], 1);
+    assert_int_equal(st.outside_passing_input[1], 0);
     samples_close(rd);
     poly_free(s);
     return buf;
