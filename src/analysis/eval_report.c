@@ -26,6 +26,9 @@ struct eval_report {
     double *err;   /* n x nrows */
     double *radius;
     size_t total, both, false_pass, false_block, neither;
+    size_t outside, outside_lens_pass; /* rays outside the training domain, and those of
+                                          them the lens passes (extrapolated values that
+                                          reach the picture) */
     int nbound;    /* part boundaries (parts sorted by rmin, neighbours touching) */
     int *below, *above; /* the parts on either side of boundary b */
     double *jump;  /* nbound x noutputs: the largest |difference| seen at the boundary */
@@ -184,6 +187,10 @@ int eval_report_add(eval_report *r, const double *in, const double *pred, int sy
                     const double *ref, int lens_pass)
 {
     r->total++;
+    if (!poly_in_domain(r->sys, in)) {
+        r->outside++;
+        r->outside_lens_pass += lens_pass != 0;
+    }
     if (eval_passage_add(&r->passage, in, pred, sys_pass, ref, lens_pass) != 0)
         return -1;
     if (sys_pass && !lens_pass) {
@@ -407,6 +414,8 @@ int eval_report_print(table_out *t, const eval_report *r)
         count(t, "false_block", r->false_block);
         count(t, "both_block", r->neither);
     }
+    count(t, "outside_domain", r->outside);
+    count(t, "outside_domain_lens_passes", r->outside_lens_pass);
     eval_passage_write(t, &r->passage);
     free(buf);
     return ferror(t->f) ? -1 : 0;

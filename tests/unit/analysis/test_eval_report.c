@@ -154,6 +154,11 @@ static void test_bins_and_counts(void **st)
     near(c, 1);
     assert_true(find_row(text, "both_block", NULL, NULL, &c, 1));
     near(c, 1);
+    /* x = 20 and x = 50 outside [-10, 10]; the lens passes x = 20 */
+    assert_true(find_row(text, "outside_domain", NULL, NULL, &c, 1));
+    near(c, 2);
+    assert_true(find_row(text, "outside_domain_lens_passes", NULL, NULL, &c, 1));
+    near(c, 1);
     free(text);
 }
 
