@@ -163,6 +163,7 @@ static int resolve(const char *path, char **target, int *in_place, lens_err *err
         if (S_ISDIR(st.st_mode)) {
             lens_errf(err, path, 0, "cannot write: is a directory");
             free(*target);
+            *target = NULL; /* the callers free it too */
             return -1;
         }
         *in_place = !S_ISREG(st.st_mode);

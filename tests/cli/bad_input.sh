@@ -298,6 +298,24 @@ else
   skip bad_fit fit
 fi
 
+# ---- -o naming a directory: one line, nothing written into it -------------------------
+# (lens-trace and lens-eval once freed the resolved name twice here: a crash, status 134)
+D=$T/outdir; mkdir -p "$D"
+printf '# columns: x y u v lambda out_x out_y out_u out_v out_eta\n0 0 0 0 0.55 0 0 0 0 1\n' >"$S/ref.txt"
+dir_cmds=("trace:$LENS -n 10" "eval:$P/good.poly $S/good.txt" "eval:$P/good.poly $S/ref.txt --report"
+          "eval:$P/good.poly --emit c" "fit:-q $S/good.txt")
+k=0
+for spec in "${dir_cmds[@]}"; do
+  verb=${spec%%:*} args=${spec#*:}
+  k=$((k + 1))
+  if ! have "$verb"; then skip "output_is_directory_$verb" "$verb"; continue; fi
+  # shellcheck disable=SC2086
+  err=$(run "$BIN/lens-$verb" $args -o "$D" 2>&1 >/dev/null)
+  if ! grep -q "is a directory" <<<"$err"; then fail "output_is_directory_${verb}_$k" "$err"; continue; fi
+  # shellcheck disable=SC2086
+  clean_error "output_is_directory_${verb}_$k" "$D" "$BIN/lens-$verb" $args -o "$D"
+done
+
 # ---- constant memory on long streams -------------------------------------------------
 # A header, then the same ray again and again: MB of stream -> max RSS (kB).
 stream_rss() { # MB CMD...
