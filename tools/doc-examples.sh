@@ -15,7 +15,8 @@
 # --run runs each file's blocks in one bash (pipefail; standard input /dev/null) in its
 # own directory DIR/<file name>, which the caller prepares (README: a plain clone; man
 # pages: an empty directory). A block fails when one of its commands exits non-zero (a
-# writer killed by SIGPIPE because the reader stopped early, `| head`, is not a failure).
+# writer killed by SIGPIPE because the reader stopped early, `| head`, is not a failure),
+# or when its last command is a filter (awk, grep, sed) and it prints nothing.
 # Output: "ok docs FILE (N examples, S s)" or "FAIL docs FILE:LINE: <the command>" and the tail
 # of its stderr; exit 1 if any block failed. The caller sets PATH, XDG_CACHE_HOME, ...
 set -u
@@ -64,6 +65,7 @@ script_for() { # FILE LOGDIR
     printf 'echo "$SECONDS" > %q\n' "$logs/$n.end"
     at=$((at + 5 + $(printf '%s\n' "$body" | wc -l)))
     printf '%s\n' "$body" > "$logs/$n.cmd"
+    printf '%s\n' "$loc" > "$logs/$n.loc"
   }
   while IFS= read -r line; do
     if [[ $line == "#@ "* ]]; then flush; loc=${line#\#@ }; body=""
@@ -87,10 +89,23 @@ case ${1:-} in
       count=$(ls "$logs" | grep -c '\.cmd$')
       ( cd "$dir/$name" && timeout 900 bash "$logs/script.sh" ); rc=$?
       [ $rc -ne 124 ] || echo "0 $f:timeout 124 1" >> "$logs/fails"
+      # a block that ends in a filter (awk, grep, sed) and prints nothing: the filter
+      # matched nothing, so the example shows nothing of what it promises
+      for ((k = 1; k <= count; k++)); do
+        last=$(grep -v '^[[:space:]]*$' "$logs/$k.cmd" | tail -n 1)
+        if [ -f "$logs/$k.out" ] && [ ! -s "$logs/$k.out" ] &&
+           grep -qE "\|[[:space:]]*(awk|grep|sed)[[:space:]]" <<<"$last" &&
+           ! grep -q "^$k " "$logs/fails"; then
+          n_lines=$(grep -c '' "$logs/$k.cmd") loc=$(cat "$logs/$k.loc")
+          echo "$k ${loc%:*}:$((${loc##*:} + n_lines - 1)) nothing $n_lines" >> "$logs/fails"
+        fi
+      done
       if [ -s "$logs/fails" ]; then
         status=1
         while read -r k loc rc idx; do
-          echo "FAIL docs $loc: exit $rc: $(sed -n "${idx}p" "$logs/$k.cmd" 2>/dev/null | head -c 300)"
+          what="exit $rc"
+          [ "$rc" != nothing ] || what="printed nothing"
+          echo "FAIL docs $loc: $what: $(sed -n "${idx}p" "$logs/$k.cmd" 2>/dev/null | head -c 300)"
           tail -n 4 "$logs/$k.err" 2>/dev/null | sed 's/^/    /'
         done < "$logs/fails"
       elif [ "$count" -gt 0 ]; then
