@@ -67,8 +67,9 @@ static const opt_spec fit_table[] = {
      .help = "input columns; without lambda the samples must hold a single wavelength",
      .def = "x,y,u,v,lambda"},
     {0, "outputs", "LIST", OPT_STRING, OPT_AT(fit_cli, outputs),
-     .help = "output columns: each pair ap_x,ap_y and sN_x,sN_y (the passage columns of "
-             "lens-trace), and out_x,out_y, gets a pass circle",
+     .help = "output columns, each once and none of them an input: each pair ap_x,ap_y and "
+             "sN_x,sN_y (the passage columns of lens-trace), and out_x,out_y, gets a pass "
+             "circle",
      .def = "out_x,out_y,out_u,out_v,out_eta and the pairs ap_x,ap_y and sN_x,sN_y the "
             "samples have",
      .man =

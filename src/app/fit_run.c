@@ -239,6 +239,29 @@ static int samples_fnumber(const samples_reader *r, char *fnumber, size_t len, l
     return 0;
 }
 
+/* Each column once, and no output that is also an input (a system that predicted x
+ * from x would fit, with one term, and write two x columns). Checked before the rows are
+ * read, so that a slip in the options costs no time. */
+static int check_names(const fit_job *j, lens_err *err)
+{
+    for (int k = 0; k < j->nin + j->nout; k++) {
+        const int out = k >= j->nin;
+        const char *a = out ? j->out_names[k - j->nin] : j->in_names[k];
+        for (int q = 0; q < k; q++) {
+            const int qout = q >= j->nin;
+            if (strcmp(a, qout ? j->out_names[q - j->nin] : j->in_names[q]) != 0)
+                continue;
+            if (out && !qout)
+                lens_errf(err, NULL, 0, "--outputs: '%s' is an input (--inputs): a system "
+                          "cannot predict its own input", a);
+            else
+                lens_errf(err, NULL, 0, "%s: '%s' is named twice", out ? "--outputs" : "--inputs", a);
+            return -1;
+        }
+    }
+    return 0;
+}
+
 /* The columns: inputs, outputs (by default with every passage pair the samples have, so
  * the system gets their pass circles and rays blocked there do not pass it), how many
  * passage columns are left unfitted, the tolerances, and where each is in the rows. */
@@ -253,7 +276,8 @@ static int setup_columns(fit_job *j, const fit_cli *o, samples_reader *r, lens_e
     if (!o->outputs)
         outputs_s = j->default_out;
     if ((j->nin = split_list("--inputs", o->inputs, &j->incopy, &j->in_names, err)) < 0 ||
-        (j->nout = split_list("--outputs", outputs_s, &j->outcopy, &j->out_names, err)) < 0)
+        (j->nout = split_list("--outputs", outputs_s, &j->outcopy, &j->out_names, err)) < 0 ||
+        check_names(j, err) != 0)
         return -1;
     char *avail_copy;
     const char **avail;

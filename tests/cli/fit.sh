@@ -102,6 +102,9 @@ if run $F --terms 15 --degree 5 --inputs x,y,u,v -q $T/mono.txt --emit c --name 
 then ok fit_emit_c; else fail fit_emit_c "$(head -3 $T/cc.err)"; fi
 
 # degenerate input: one-line errors naming the problem, and no output file left behind
+expect_error fit_output_is_input "--outputs: 'x' is an input" $F -q --outputs x $T/train.txt
+expect_error fit_output_twice "--outputs: 'out_x' is named twice" $F -q --outputs out_x,out_y,out_x $T/train.txt
+expect_error fit_input_twice "--inputs: 'u' is named twice" $F -q --inputs x,y,u,u $T/train.txt
 printf '# columns: x y u v lambda out_x out_y out_u out_v out_eta\n' >$T/empty.txt
 expect_error fit_empty 'no samples' $F -q $T/empty.txt
 : >$T/nothing.txt
