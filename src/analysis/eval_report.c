@@ -243,7 +243,10 @@ int eval_report_add(eval_report *r, const double *in, const double *pred, int sy
     double rr = ix >= 0 && iy >= 0 ? sqrt(in[ix] * in[ix] + in[iy] * in[iy]) : NAN;
     r->radius[r->n] = rr;
     r->n++;
-    /* The ray moved radially onto each boundary, evaluated by the parts on both sides. */
+    /* The ray moved radially onto each boundary, evaluated by the parts on both sides,
+     * where both pass it there: a ray the system blocks at the boundary shows only
+     * extrapolated values, no jump a picture sees (counted, fisheye-ii's 3-part fit
+     * jumped 1.04 mm in out_x, 100 times its jump on the rays it passes). */
     if (r->nbound > 0 && rr > 0) {
         int nin = poly_ninputs(r->sys), nout = poly_noutputs(r->sys);
         double buf[3 * 64];
@@ -254,9 +257,9 @@ int eval_report_add(eval_report *r, const double *in, const double *pred, int sy
         for (int b = 0; b < r->nbound; b++) {
             moved[ix] = in[ix] * r->rbound[b] / rr;
             moved[iy] = in[iy] * r->rbound[b] / rr;
-            poly_eval_part(r->sys, r->below[b], moved, pa);
-            poly_eval_part(r->sys, r->above[b], moved, pb);
-            for (int o = 0; o < nout; o++) {
+            const int pass_a = poly_eval_part(r->sys, r->below[b], moved, pa);
+            const int pass_b = poly_eval_part(r->sys, r->above[b], moved, pb);
+            for (int o = 0; o < nout && pass_a && pass_b; o++) {
                 double d = fabs(pa[o] - pb[o]);
                 if (d > r->jump[(size_t)b * (size_t)nout + (size_t)o])
                     r->jump[(size_t)b * (size_t)nout + (size_t)o] = d;
@@ -361,7 +364,8 @@ static void write_part_jumps(table_out *t, const eval_report *r)
     static const char *const cols[] = {"key", "radius_mm", "jump", "unit"};
     table_out_table(t, "part_jumps",
                     "part boundaries: the largest jump between the neighbouring parts' values,\n"
-                    "over the passing rays moved radially onto the boundary", cols, 4);
+                    "over the passing rays moved radially onto the boundary (where both\n"
+                    "parts pass them)", cols, 4);
     for (int o = 0; o < nout; o++) {
         char c = last_letter(poly_output_name(r->sys, o));
         const char *unit = c == 'x' || c == 'y' ? "mm" : "1";

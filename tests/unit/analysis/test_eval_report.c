@@ -242,6 +242,50 @@ static void test_part_jump(void **st)
     poly_free(s);
 }
 
+/* A jump counts only where both parts pass the moved ray. Parts meet at r = 5; a pass
+ * circle of radius 4 on (out_x, out_y); out_x = 1 inside, 1 + 0.5 x + 2 y outside,
+ * out_y = 0. A ray at (3, 0) moves to (5, 0): 1 against 3.5, both pass, a jump of 2.5.
+ * One at (0, 3) moves to (0, 5): 1 against 11, which the outer part blocks (11 > 4):
+ * no jump, where counting it gave 10. */
+static void test_part_jump_where_both_pass(void **st)
+{
+    (void)st;
+    const char *in[2] = {"x", "y"}, *out[2] = {"out_x", "out_y"};
+    poly_system *s = poly_new("l", 2, in, 2, out);
+    int e0[2] = {0, 0}, ex[2] = {1, 0}, ey[2] = {0, 1};
+    assert_int_equal(poly_add_part(s, 0, 5), 0);
+    assert_int_equal(poly_add_part(s, 5, INFINITY), 1);
+    poly_add_term(s, 0, 0, e0, 1);
+    poly_add_term(s, 1, 0, e0, 1);
+    poly_add_term(s, 1, 0, ex, 0.5);
+    poly_add_term(s, 1, 0, ey, 2);
+    assert_int_equal(poly_add_pass_circle(s, 0, 1, 4), 0);
+    eval_report *r = eval_report_new(s, NULL);
+    double rays[2][2] = {{3, 0}, {0, 3}};
+    for (int k = 0; k < 2; k++) {
+        double pred[2], ref[2];
+        int ps = poly_eval(s, rays[k], pred);
+        assert_int_equal(ps, 1);
+        memcpy(ref, pred, sizeof ref);
+        eval_report_add(r, rays[k], pred, ps, ref, 1);
+    }
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    eval_report_write(f, r);
+    fclose(f);
+    double v[3];
+    char *line = strstr(buf, "# columns: key radius_mm jump unit\n");
+    assert_non_null(line);
+    assert_int_equal(sscanf(line + strlen("# columns: key radius_mm jump unit\n"),
+                            "out_x_mm %lf %lf mm", &v[0], &v[1]),
+                     2);
+    near(v[0], 5);
+    near(v[1], 2.5);
+    free(buf);
+    eval_report_free(r);
+    poly_free(s);
+}
 
 /* The value of key in a report (NAN if absent). */
 static double report_value(const eval_report *r, const char *key)
@@ -310,6 +354,7 @@ int main(void)
         cmocka_unit_test(test_slope_directions),
         cmocka_unit_test(test_p99_rank),
         cmocka_unit_test(test_part_jump),
+        cmocka_unit_test(test_part_jump_where_both_pass),
         cmocka_unit_test(test_light_share),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
