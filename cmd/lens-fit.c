@@ -1,6 +1,7 @@
 /* lens-fit: fits an adaptive sparse polynomial system to a sample file (see
  * man lens-fit). The work is fit_run (src/app/fit_run.c); here the files are opened,
  * the system written (or its C code), and the figures printed. */
+#include <errno.h>
 #include <stdio.h>
 
 #include "sparselens/cli.h"
@@ -18,6 +19,12 @@ int main(int argc, char **argv)
         o.samples_path = operand[0];
     cli_check_output(prog, o.out_path);
     lens_err err;
+    if (o.emit_c && !poly_c_name_ok(o.name)) { /* before the fit, not after it */
+        lens_errf(&err, NULL, 0, "--name: '%s' is not a C identifier, or is a C keyword",
+                  o.name);
+        diag_print(prog, &err);
+        return 2;
+    }
     fit_run_stats st;
     poly_system *sys = NULL;
     samples_reader *in = samples_open(o.samples_path, &err);
@@ -46,9 +53,7 @@ int main(int argc, char **argv)
         rc = 1;
     } else if ((o.emit_c ? poly_emit_c(outfile_stream(of), sys, o.name)
                          : poly_write(outfile_stream(of), sys)) != 0) {
-        outfile_abort(of);
-        lens_errf(&err, o.out_path, 0, "cannot write the system%s",
-                  o.emit_c ? " (is --name a C identifier?)" : "");
+        outfile_abort_write_error(of, errno, &err);
         rc = 1;
     } else if (outfile_commit(of, &err) != 0) {
         rc = 1;

@@ -23,6 +23,9 @@ FILE *outfile_stream(outfile *of);
 int outfile_commit(outfile *of, lens_err *err);
 /* Discards the output. */
 void outfile_abort(outfile *of);
+/* Discards the output after a write that failed with errno code (0: unknown), with err
+ * "PATH: write error: why" (for stdout said once: not again at exit). */
+void outfile_abort_write_error(outfile *of, int code, lens_err *err);
 /* Temporary name for a file that another library writes (OpenCV, OpenEXR): the caller
  * writes tmp, then calls outfile_commit_path. Registered for signal cleanup. */
 int outfile_tmp_path(const char *path, char *tmp, size_t tmplen);

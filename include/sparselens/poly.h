@@ -194,4 +194,7 @@ int poly_read_stream(FILE *f, const char *name, poly_system **sys, lens_err *err
  * error. */
 int poly_emit_c(FILE *f, const poly_system *sys, const char *func_name);
 
+/* 1 when name can name poly_emit_c's function: a C identifier, not a C keyword. */
+int poly_c_name_ok(const char *name);
+
 #endif

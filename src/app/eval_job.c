@@ -3,6 +3,7 @@
  * complete. */
 #include "sparselens/eval_cli.h"
 
+#include <errno.h>
 #include <string.h>
 
 #include "sparselens/outfile.h"
@@ -10,9 +11,7 @@
 static int emit(const eval_cli *o, const poly_system *sys, outfile *of, lens_err *err)
 {
     if (poly_emit_c(outfile_stream(of), sys, o->name) != 0) {
-        outfile_abort(of);
-        lens_errf(err, NULL, 0, "--name: '%s' is not a C identifier, or writing failed",
-                  o->name);
+        outfile_abort_write_error(of, errno, err);
         return -1;
     }
     return outfile_commit(of, err);
@@ -49,6 +48,10 @@ int eval_cli_run(const eval_cli *o, FILE *log, eval_run_stats *st, lens_err *err
     eval_run_options opt = o->run;
     opt.json = o->out.json, opt.precision = (int)o->out.precision;
     poly_system *sys;
+    if (o->emit_c && !poly_c_name_ok(o->name)) {
+        lens_errf(err, NULL, 0, "--name: '%s' is not a C identifier, or is a C keyword", o->name);
+        return -1;
+    }
     if (poly_read(o->system, &sys, err) != 0)
         return -1;
     outfile *of = outfile_open(o->output, err);
@@ -59,6 +62,8 @@ int eval_cli_run(const eval_cli *o, FILE *log, eval_run_stats *st, lens_err *err
     else if (of && (rd = samples_open(o->input, err)) &&
              eval_run(sys, rd, outfile_stream(of), &opt, st, err) == 0)
         rc = outfile_commit(of, err);
+    else if (of && rd && ferror(outfile_stream(of)))
+        outfile_abort_write_error(of, errno, err); /* eval_run's report, with the file */
     else if (of)
         outfile_abort(of);
     if (rd)

@@ -70,7 +70,7 @@ static const opt_spec eval_table[] = {
      ".I <math.h>\n"
      "and\n"
      ".IR <stddef.h> .\n"},
-    {0, "name", "NAME", OPT_STRING, OPT_AT(eval_cli, name), .help = "the C function's name",
+    {0, "name", "NAME", OPT_STRING, OPT_AT(eval_cli, name), .help = "the C function's name (a C identifier, not a C keyword)",
      .def = "lens_poly_eval"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(eval_cli, output),
      .help = "output file, never left half-written", .def = "standard output"},

@@ -4,6 +4,7 @@
  * carried through as text, after the predictions. */
 #include "sparselens/eval_run.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -229,7 +230,11 @@ int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_r
     if (rep)
         table_out_begin(&t, out, opt->json, opt->precision, 6);
     if (rep && (eval_report_print(&t, rep) != 0 || (table_out_end(&t, NULL, 0), ferror(out)))) {
-        lens_errf(err, NULL, 0, "out of memory writing the report");
+        const int saved = errno;
+        if (ferror(out)) /* a full disk, a closed pipe: not memory */
+            lens_errf(err, NULL, 0, "write error: %s", strerror(saved ? saved : EIO));
+        else
+            lens_errf(err, NULL, 0, "out of memory writing the report");
         goto done;
     }
     rc = 0;

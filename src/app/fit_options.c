@@ -128,7 +128,7 @@ static const opt_spec fit_table[] = {
      ".BR lens-eval (1)),\n"
      "which runs blocks of 8 rays that compilers vectorise, the meridional frame and the\n"
      "transforms (the defaults) included.\n"},
-    {0, "name", "NAME", OPT_STRING, OPT_AT(fit_cli, name), .help = "function name for --emit c",
+    {0, "name", "NAME", OPT_STRING, OPT_AT(fit_cli, name), .help = "function name for --emit c (a C identifier, not a C keyword)",
      .def = "lens_poly"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(fit_cli, out_path),
      .help = "output file (written whole or not at all)", .def = "standard output"},

@@ -360,6 +360,15 @@ int outfile_commit(outfile *of, lens_err *err)
     return rc;
 }
 
+void outfile_abort_write_error(outfile *of, int code, lens_err *err)
+{
+    lens_errf(err, of->is_stdout ? "<stdout>" : of->path, 0, "write error: %s",
+              strerror(code ? code : EIO));
+    if (of->is_stdout)
+        diag_stdout_error_reported();
+    outfile_abort(of);
+}
+
 void outfile_abort(outfile *of)
 {
     if (!of)

@@ -194,6 +194,21 @@ if [ -w /dev/full ]; then
   full stdout_full_trace "$BIN/lens-trace" "$LENS" -n 5
   full stdout_full_fit "$BIN/lens-fit" --terms 3 --degree 2 "$T/s.txt"
   full stdout_full_eval "$BIN/lens-eval" "$T/s.poly" "$T/s.txt"
+  full stdout_full_eval_report "$BIN/lens-eval" "$T/s.poly" "$T/s.txt" --report
+  full stdout_full_eval_emit "$BIN/lens-eval" "$T/s.poly" --emit c
+  full stdout_full_fit_emit "$BIN/lens-fit" --terms 3 --degree 2 "$T/s.txt" --emit c
+  # -o onto a full device: the same one line, naming it (these had said "out of memory
+  # writing the report", "--name ... is not a C identifier, or writing failed" and
+  # "cannot write the system", no reason)
+  for spec in "eval_report:lens-eval $T/s.poly $T/s.txt --report" "eval_emit:lens-eval $T/s.poly --emit c" \
+              "fit:lens-fit -q --terms 3 --degree 2 $T/s.txt" "fit_emit:lens-fit -q --terms 3 --degree 2 $T/s.txt --emit c"; do
+    n=${spec%%:*} cmd=${spec#*:}
+    # shellcheck disable=SC2086
+    err=$(run "$BIN"/$cmd -o /dev/full 2>&1 >/dev/null); rc=$?
+    if [ $rc -ne 0 ] && [ "$(grep -c '' <<<"$err")" = 1 ] &&
+       grep -q ': /dev/full: write error: No space left on device$' <<<"$err"
+    then ok "file_full_$n"; else fail "file_full_$n" "status $rc: $err"; fi
+  done
 fi
 
 # ---- scenes: the command line's bounds, no overflow, no inf image, a BOM read ----------

@@ -232,7 +232,12 @@ static void test_emit_bad_name(void **st)
     FILE *f = open_memstream(&buf, &len);
     assert_int_equal(poly_emit_c(f, s, "2bad"), -1);
     assert_int_equal(poly_emit_c(f, s, "a-b"), -1);
+    assert_int_equal(poly_emit_c(f, s, "int"), -1); /* a keyword: would not compile */
+    assert_int_equal(poly_emit_c(f, s, "_Bool"), -1);
+    assert_true(poly_c_name_ok("int_"));
+    assert_true(poly_c_name_ok("_lens2"));
     fclose(f);
+    assert_int_equal(len, 0); /* nothing written for any of them */
     free(buf);
     poly_free(s);
 }
