@@ -65,6 +65,12 @@ void imaging_setup_print(table_out *t, const imaging_setup *s, const imaging_mod
 /* The input's file name without its directories, for picture titles. */
 const char *imaging_cli_basename(const imaging_cli *a);
 
+/* A warning (into *w, returns 1; else 0) when the system shown or compared was fitted to
+ * another lens than the one loaded: neither its recorded lens name nor its lens file's
+ * base name is the lens's name or file's base name (a system fitted with no name known,
+ * "unknown", is not questioned). */
+int imaging_cli_model_warning(const imaging_models *m, report_warning *w);
+
 /* Ends a spot, distortion or designer table: each warning (a field a model cannot image) goes to
  * `log` as "prog: warning: ..." and into the table's end (JSON carries them too). */
 void imaging_cli_end_table(table_out *t, FILE *log, const char *prog,

@@ -168,8 +168,11 @@ int design_run_end(const char *prog, design_run *r, int rc, const lens_err *err)
     if (rc == 0) {
         imaging_setup_print(&r->t, &r->setup, &r->models);
         /* a field a model cannot image: the table is whole (nan rows), the status says so */
-        imaging_cli_end_table(&r->t, stderr, prog, r->set->warning, r->set->nwarnings);
-        status = r->set->nwarnings ? 2 : 0;
+        report_warning w[2 * IMAGING_MAX_FIELDS + 1];
+        int nw = imaging_cli_model_warning(&r->models, w);
+        memcpy(w + nw, r->set->warning, (size_t)r->set->nwarnings * sizeof *w);
+        imaging_cli_end_table(&r->t, stderr, prog, w, nw + r->set->nwarnings);
+        status = r->set->nwarnings ? 2 : 0; /* the model's warning alone leaves it 0 */
     } else {
         table_out_end(&r->t, NULL, 0);
         diag_print(prog, err);

@@ -92,7 +92,8 @@ int distort_cli_run(distort_cli *o, FILE *out, FILE *log, const char *prog, lens
     }
     /* a field a model cannot image: the table is whole (nan rows), the status says so */
     report_warning w[2 * IMAGING_MAX_FIELDS];
-    int nw = distort_report_warnings(&rq, &rep, w, 2 * IMAGING_MAX_FIELDS);
+    int nw = imaging_cli_model_warning(&models, w);
+    nw += distort_report_warnings(&rq, &rep, w + nw, 2 * IMAGING_MAX_FIELDS - nw);
     imaging_cli_end_table(&t, log, prog, w, nw);
     if (rc == 0 && rep.not_imaged)
         rc = 2;

@@ -44,7 +44,9 @@ const opt_spec imaging_cli_table[] = {
     {0, "compare", "SYSTEM.poly", OPT_STRING, OPT_AT(imaging_cli, compare),
      .help = "also through a fitted system, shown beside the lens",
      .man =
-     "Its inputs must be x y u v lambda and its outputs include out_x out_y out_u out_v.\n"},
+     "Its inputs must be x y u v lambda and its outputs include out_x out_y out_u out_v.\n"
+     "A system fitted to another lens (neither the lens name nor the lens file it records\n"
+     "is this lens's) is shown all the same, with a warning.\n"},
     {0, "lens", "LENS", OPT_STRING, OPT_AT(imaging_cli, lens),
      .help = "the lens of a SYSTEM.poly given as the first argument",
      .man =
@@ -187,12 +189,41 @@ void imaging_setup_print(table_out *t, const imaging_setup *s, const imaging_mod
     table_out_key_str(t, "description", s->text);
 }
 
+/* The base name of path without its extension, into buf. */
+static void stem(const char *path, char *buf, size_t len)
+{
+    const char *base = strrchr(path, '/');
+    snprintf(buf, len, "%s", base ? base + 1 : path);
+    char *dot = strrchr(buf, '.');
+    if (dot && dot != buf)
+        *dot = '\0';
+}
+
+int imaging_cli_model_warning(const imaging_models *m, report_warning *w)
+{
+    const poly_system *sys = m->sys ? m->sys : m->compare;
+    if (!sys)
+        return 0;
+    const char *name = poly_lens_name(sys), *path = poly_lens_path(sys);
+    char lens_stem[256], sys_stem[256] = "";
+    stem(m->lens.path, lens_stem, sizeof lens_stem);
+    if (path[0])
+        stem(path, sys_stem, sizeof sys_stem);
+    if (!name[0] || strcmp(name, "unknown") == 0 || strcmp(name, m->lens.name) == 0 ||
+        strcmp(name, lens_stem) == 0 || (sys_stem[0] && strcmp(sys_stem, lens_stem) == 0))
+        return 0;
+    snprintf(*w, sizeof *w, "the system was fitted to '%.200s'%s%.200s%s, not to this lens "
+             "'%.200s': its figures here mean little",
+             name, path[0] ? " (" : "", path, path[0] ? ")" : "", m->lens.name);
+    return 1;
+}
+
 void imaging_cli_end_table(table_out *t, FILE *log, const char *prog,
                            report_warning *warnings, int nwarnings)
 {
-    const char *list[2 * IMAGING_MAX_FIELDS];
-    if (nwarnings > 2 * IMAGING_MAX_FIELDS)
-        nwarnings = 2 * IMAGING_MAX_FIELDS;
+    const char *list[2 * IMAGING_MAX_FIELDS + 1]; /* the fields' and the model's */
+    if (nwarnings > 2 * IMAGING_MAX_FIELDS + 1)
+        nwarnings = 2 * IMAGING_MAX_FIELDS + 1;
     for (int k = 0; k < nwarnings; k++) {
         fprintf(log, "%s: warning: %s\n", prog, warnings[k]);
         list[k] = warnings[k];

@@ -70,7 +70,8 @@ int spot_cli_run(spot_cli *o, FILE *out, FILE *log, const char *prog, lens_err *
     }
     /* a field a model cannot image: the table is whole (nan rows), the status says so */
     report_warning w[2 * IMAGING_MAX_FIELDS];
-    int nw = spot_report_warnings(&rq, &rep, w, 2 * IMAGING_MAX_FIELDS);
+    int nw = imaging_cli_model_warning(&models, w);
+    nw += spot_report_warnings(&rq, &rep, w + nw, 2 * IMAGING_MAX_FIELDS - nw);
     imaging_cli_end_table(&t, log, prog, w, nw);
     if (rc == 0 && rep.not_imaged)
         rc = 2;

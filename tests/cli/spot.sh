@@ -55,6 +55,12 @@ then ok spot_compare; else fail spot_compare "$(cat $T/err.txt $T/c.txt)"; fi
 # a system on its own finds its lens through the path it records
 if [ "$(run $S tests/data/perfect-50mm.poly --fields 10 --wavelengths d --rays 7 | awk '$1 == "poly" { print $8 }')" = 8.68240888 ]
 then ok spot_system_alone; else fail spot_system_alone; fi
+# a system fitted to another lens: said on stderr (and in the JSON); its own lens: not
+if ! grep -q "fitted to" $T/err.txt &&
+   run $S $DG --compare tests/data/perfect-50mm.poly --fields 0 --wavelengths d --rays 7 --json 2>$T/err2.txt >$T/c2.json &&
+   grep -q "^lens-spot: warning: the system was fitted to 'perfect' (tests/data/window.lens), not to this lens" $T/err2.txt &&
+   python3 -c 'import json,sys; w=json.load(open(sys.argv[1]))["warnings"]; sys.exit(not any("fitted to" in x for x in w))' $T/c2.json
+then ok spot_compare_other_lens; else fail spot_compare_other_lens "$(cat $T/err.txt $T/err2.txt)"; fi
 expect_error spot_compare_not_a_system "lens-poly|poly" run $S $DG --compare $DG
 
 # The README's comparison through the default pipeline (lens-trace | lens-fit): the
