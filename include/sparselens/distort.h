@@ -51,6 +51,13 @@ int distort_illumination_irradiance(const imaging *im, double lambda, int nf, in
  * (object at infinity); *rms_pct gets that RMS. */
 proj_kind distort_best_mapping(const distort_row *rows, int nf, double *rms_pct);
 
+/* distort_best_mapping of each of nm models (rows m * nf + f) over the fields every
+ * model images, so that they are compared on the same ones (a field one model cannot
+ * image, its why set, is left out of the others' too). Returns how many fields were
+ * left out so (0 for one model), or -1 when out of memory. */
+int distort_best_mappings(const distort_row *rows, int nm, int nf, proj_kind *best,
+                          double *rms_pct);
+
 /* The grid map: nx x ny points spread evenly over a sensor rectangle 2 half_w x 2 half_h
  * centred on the axis, taken as ideal image points of projection k (focal length or
  * magnification `scale`), traced back to their object (direction or point) and imaged

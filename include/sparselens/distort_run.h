@@ -30,6 +30,8 @@ typedef struct {
     double sensor_shift;
     proj_kind best[2];
     double best_rms[2];
+    int best_left_out;          /* fields a model does not image, left out of every model's
+                                   best mapping so that they are compared on the same ones */
     proj_kind mapping;          /* of the grid */
     double sensor_w, sensor_h;
     int grid;

@@ -2,6 +2,7 @@
 #include "sparselens/distort.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -201,6 +202,33 @@ proj_kind distort_best_mapping(const distort_row *rows, int nf, double *rms_pct)
     }
     *rms_pct = bestv;
     return best;
+}
+
+/* (fisheye-ii against its default system: 2.83% over the lens's ten fields against
+ * 1.76% over the system's nine had been compared; 1.77% for the lens over those nine) */
+int distort_best_mappings(const distort_row *rows, int nm, int nf, proj_kind *best,
+                          double *rms_pct)
+{
+    distort_row *mine = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *mine);
+    if (!mine)
+        return -1;
+    int left_out = 0;
+    for (int i = 0; i < nf; i++) {
+        int missing = 0;
+        for (int m = 0; m < nm; m++)
+            missing |= rows[m * nf + i].why[0] != 0;
+        left_out += missing && nm > 1;
+    }
+    for (int m = 0; m < nm; m++) {
+        memcpy(mine, rows + m * nf, (size_t)nf * sizeof *mine);
+        for (int i = 0; i < nf; i++)
+            for (int q = 0; q < nm; q++)
+                if (rows[q * nf + i].why[0] && !mine[i].why[0])
+                    snprintf(mine[i].why, sizeof mine[i].why, "not imaged by another model");
+        best[m] = distort_best_mapping(mine, nf, &rms_pct[m]);
+    }
+    free(mine);
+    return left_out;
 }
 
 int distort_grid(const imaging *im, double lambda, proj_kind k, double scale, double half_w,

@@ -2,6 +2,7 @@
 #include "sparselens/distort_run.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -56,9 +57,11 @@ int distort_run(const distort_request *rq, distort_report *rep, lens_err *err)
     for (int i = 0; i < nm * nf; i++)
         rep->not_imaged += rep->rows[i].why[0] != 0;
     rep->mapping = PROJ_RECTILINEAR;
-    if (!rep->finite)
-        for (int m = 0; m < nm; m++)
-            rep->best[m] = distort_best_mapping(rep->rows + m * nf, nf, &rep->best_rms[m]);
+    if (!rep->finite &&
+        (rep->best_left_out = distort_best_mappings(rep->rows, nm, nf, rep->best, rep->best_rms)) < 0) {
+        lens_errf(err, NULL, 0, "out of memory");
+        goto fail;
+    }
     if (rq->mapping >= 0)
         rep->mapping = (proj_kind)rq->mapping;
     else if (!rep->finite)
@@ -156,12 +159,13 @@ static void print_comments_json(table_out *t, const distort_request *rq, const d
     table_out_key_num(t, "lambda_um", rq->lambda);
     table_out_key_num(t, "sensor_shift_mm", rep->sensor_shift);
     if (!rep->finite) {
-        static const char *const cols[] = {"model", "mapping", "rms_pct"};
-        table_out_table(t, "best_mapping", NULL, cols, 3);
+        static const char *const cols[] = {"model", "mapping", "rms_pct", "fields_left_out"};
+        table_out_table(t, "best_mapping", NULL, cols, 4);
         for (int m = 0; m < rep->nmodels; m++) {
             table_out_str(t, rq->model_names[m]);
             table_out_str(t, proj_name(rep->best[m]));
             table_out_fmt(t, rep->best_rms[m], 0, "%.4g");
+            table_out_int(t, rep->best_left_out);
             table_out_row_end(t);
         }
     }
@@ -181,8 +185,9 @@ static void print_comments_text(FILE *f, const distort_request *rq, const distor
         fprintf(f, "# ideal heights with f = %.9g mm (paraxial focal length at %.7g um)\n", rep->scale,
                 rq->lambda);
         for (int m = 0; m < rep->nmodels; m++)
-            fprintf(f, "# best mapping (%s): %s, rms distortion %.4g %% over the fields\n",
-                    rq->model_names[m], proj_name(rep->best[m]), rep->best_rms[m]);
+            fprintf(f, "# best mapping (%s): %s, rms distortion %.4g %% over the fields%s\n",
+                    rq->model_names[m], proj_name(rep->best[m]), rep->best_rms[m],
+                    rep->best_left_out ? " every model images" : "");
     }
     if (rq->cv_width <= 0 || rep->grid <= 0)
         return;

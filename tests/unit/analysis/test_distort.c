@@ -190,6 +190,35 @@ static void fisheye_distortion_as_chief_rays_say(void **state)
     lens_free(&l);
 }
 
+/* Two models compared on the fields both image. Rows by hand: fields 10, 20, 30 with
+ * equisolid distortion 1, 2, 3 (lens) and 1, 2, - (system: it cannot image 30). Over
+ * the common fields both RMS are sqrt((1 + 4) / 2); the lens alone over its three fields
+ * would be sqrt(14 / 3). */
+static void test_best_mappings_common_fields(void **st)
+{
+    (void)st;
+    distort_row rows[6];
+    memset(rows, 0, sizeof rows);
+    for (int m = 0; m < 2; m++)
+        for (int i = 0; i < 3; i++) {
+            distort_row *r = &rows[m * 3 + i];
+            r->field = 10 * (i + 1);
+            for (int k = 0; k < PROJ_COUNT; k++)
+                r->map_pct[k] = 50; /* every other mapping worse */
+            r->map_pct[PROJ_EQUISOLID] = i + 1;
+        }
+    snprintf(rows[5].why, sizeof rows[5].why, "no chief ray");
+    proj_kind best[2];
+    double rms[2];
+    assert_int_equal(distort_best_mappings(rows, 2, 3, best, rms), 1);
+    for (int m = 0; m < 2; m++) {
+        assert_int_equal(best[m], PROJ_EQUISOLID);
+        assert_true(fabs(rms[m] - sqrt(2.5)) < 1e-12);
+    }
+    assert_int_equal(distort_best_mappings(rows, 1, 3, best, rms), 0); /* the lens alone */
+    assert_true(fabs(rms[0] - sqrt(14.0 / 3)) < 1e-12);
+}
+
 /* Forward brute force, independent of lens-distort's integral from the sensor: the
  * irradiance of a uniform sky around the chief ray's point of field th0, as the power of
  * collimated beams (directions th0 +- 3 deg, each beam a grid over its cross-section,
@@ -352,6 +381,7 @@ static void bad_fields(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_best_mappings_common_fields),
         cmocka_unit_test(thin_lens_has_no_distortion),
         cmocka_unit_test(thin_lens_illumination_is_cos4),
         cmocka_unit_test(thin_lens_finite_object),
