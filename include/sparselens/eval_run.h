@@ -31,6 +31,10 @@ typedef struct {
      * passes, whose extrapolated values reach the picture; the rest only need blocking */
     int lens_known;
     size_t outside_passing, outside_passing_input[64];
+    /* A system fitted at one wavelength (lambda not among its inputs, "meta lambda L"):
+     * the rows whose lambda column holds another one, evaluated as at L all the same */
+    double lambda;        /* L, or NAN */
+    size_t other_lambda;
 } eval_run_stats;
 
 /* 0 on success (bad rows are counted, not fatal); -1 with err set when the inputs'

@@ -43,6 +43,9 @@ const char *samples_passthrough_name(const samples_reader *r, int k);
 void samples_write_passthrough(FILE *f, const samples_reader *r);
 size_t samples_passthrough_text(const samples_reader *r, char *buf, size_t cap);
 long samples_line(const samples_reader *r); /* line number of the last row read */
+/* The last row's field in column col as a number (a pass-through column's too), NAN when
+ * the row lacks it or it is not a number. */
+double samples_field_number(const samples_reader *r, int col);
 const char *samples_path(const samples_reader *r);
 void samples_close(samples_reader *r);
 

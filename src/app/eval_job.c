@@ -70,6 +70,10 @@ int eval_cli_run(const eval_cli *o, FILE *log, eval_run_stats *st, lens_err *err
         samples_close(rd);
     if (rc == 0 && st->outside && log)
         print_outside(log, sys, st);
+    if (rc == 0 && st->other_lambda && log)
+        fprintf(log, "lens-eval: %zu of %zu rays at another wavelength than the system's "
+                "%.6g um (lambda is not among its inputs: evaluated as at %.6g um)\n",
+                st->other_lambda, st->rows, st->lambda, st->lambda);
     poly_free(sys);
     return rc;
 }

@@ -85,7 +85,7 @@ const opt_command eval_command = {
     "writes a row of nan, is reported as FILE:LINE on stderr, and makes the exit status 1 at "
     "the end. Rays outside the training domain are evaluated (extrapolated) and counted on "
     "stderr; with --report also how many of them the lens passes (the others need only be "
-    "blocked).",
+    "blocked). So are rays at another wavelength than a single-wavelength system's.",
     eval_table};
 
 void eval_cli_default(eval_cli *o)

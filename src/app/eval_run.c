@@ -21,6 +21,8 @@ typedef struct {
     const poly_system *sys;
     const char **names;  /* the system's inputs, then its outputs */
     int nin, nout, ncols, eta;
+    int lam_col;          /* the rows' lambda column when the system is at one wavelength */
+    double lam;           /* that wavelength (its meta lambda) */
     int *map_in, *map_ref;
     double *row, *in, *pred, *ref, *outrow;
     unsigned char *pass, *bad;
@@ -176,7 +178,11 @@ static void take_row(ctx_t *c, size_t n, int got, lens_err *rowerr, const sample
             in[i] = 0;
         if (opt->on_bad_row)
             opt->on_bad_row(opt->ctx, rowerr);
-    } else if (!poly_in_domain(c->sys, in)) {
+    } else if (c->lam_col >= 0) { /* a pass-through column: vals has nan, the text the number */
+        const double lam = samples_field_number(rd, c->lam_col);
+        st->other_lambda += !(fabs(lam - c->lam) <= 1e-12 * c->lam);
+    }
+    if (!c->bad[n] && !poly_in_domain(c->sys, in)) {
         const int lens_passes =
             opt->report && eval_reference_passes(c->sys, c->ref + n * (size_t)c->nout);
         st->outside++;
@@ -204,6 +210,16 @@ int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_r
     if (ctx_init(&c, sys, rd, err) != 0 || samples_map(rd, c.names, c.nin, c.map_in, err) != 0 ||
         start_output(&c, rd, out, opt, &rep, err) != 0)
         goto done;
+    /* one wavelength (lens-fit's meta lambda, lambda not an input): rays at others */
+    const char *lam = poly_get_meta(sys, "lambda");
+    char *end = NULL;
+    c.lam_col = -1;
+    st->lambda = NAN;
+    if (lam && poly_input_index(sys, "lambda") < 0 && (c.lam = strtod(lam, &end)) > 0 &&
+        end != lam && isfinite(c.lam)) {
+        st->lambda = c.lam;
+        c.lam_col = samples_find(rd, "lambda");
+    }
     size_t n = 0;
     for (;;) {
         lens_err rowerr;

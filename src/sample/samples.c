@@ -229,6 +229,14 @@ static int parse_field(const samples_reader *r, int k, double *v)
     return end != tok + r->field_len[k] || r->field_len[k] == 0 ? -1 : 0;
 }
 
+double samples_field_number(const samples_reader *r, int col)
+{
+    double v;
+    if (col < 0 || col >= r->nfields || parse_field(r, col, &v) != 0)
+        return NAN;
+    return v;
+}
+
 int samples_next(samples_reader *r, double *vals, lens_err *err)
 {
     for (;;) {
