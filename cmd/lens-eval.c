@@ -36,8 +36,8 @@ int main(int argc, char **argv)
         return 1;
     }
     if (st.bad_rows) {
-        fprintf(stderr, "%s: %zu of %zu rows malformed (written as nan)\n", prog, st.bad_rows,
-                st.rows);
+        fprintf(stderr, "%s: %zu of %zu rows malformed (%s)\n", prog, st.bad_rows, st.rows,
+                o.run.report ? "left out of the report" : "written as nan");
         return 1;
     }
     return 0;

@@ -77,7 +77,12 @@ void eval_passage_write(table_out *t, const eval_passage *p)
         table_out_str(t, "passage_measured");
         table_out_int(t, 0);
         table_out_row_end(t);
-        if (!t->json)
+        size_t rays = 0;
+        for (size_t k = 0; k < p->nring; k++)
+            rays += p->ring[k].rays;
+        if (!t->json && rays == 0)
+            fputs("# passage not measured: the test set holds no ray\n", t->f);
+        else if (!t->json)
             fputs("# passage not measured: the test set holds no ray the lens blocks (trace "
                   "it without --passing-only, best with --sampling full)\n", t->f);
         return;

@@ -245,7 +245,14 @@ int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_r
     table_out t;
     if (rep)
         table_out_begin(&t, out, opt->json, opt->precision, 6);
-    if (rep && (eval_report_print(&t, rep) != 0 || (table_out_end(&t, NULL, 0), ferror(out)))) {
+    /* malformed rows: said on stderr row by row (on_bad_row); the report says how many it
+     * left out, the JSON's warnings too */
+    char bad[160];
+    const char *warn[1] = {bad};
+    snprintf(bad, sizeof bad, "%zu of %zu rows malformed, left out of the report", st->bad_rows,
+             st->rows);
+    if (rep && (eval_report_print(&t, rep) != 0 ||
+                (table_out_end(&t, warn, st->bad_rows ? 1 : 0), ferror(out)))) {
         const int saved = errno;
         if (ferror(out)) /* a full disk, a closed pipe: not memory */
             lens_errf(err, NULL, 0, "write error: %s", strerror(saved ? saved : EIO));

@@ -43,6 +43,18 @@ then ok eval_report; else fail eval_report "$(head -3 $T/rep.txt)"; fi
 run $E $tiny tests/data/eval_tiny.txt --report >/dev/null 2>$T/err.txt
 if grep -q '^lens-eval: 2 of 6 rays outside the training domain (extrapolated): x 2; the lens passes 1 of them: x 1$' $T/err.txt
 then ok eval_extrapolation_lens_passes; else fail eval_extrapolation_lens_passes "$(cat $T/err.txt)"; fi
+# a malformed row in a report: left out (rays 5 of 6 rows), said so, exit 1
+{ cat tests/data/eval_tiny.txt; printf 'zz 0 1 0 1\n'; } >$T/bad-report.txt
+run $E $tiny $T/bad-report.txt --report >$T/rep2.txt 2>$T/err.txt; rc=$?
+if [ $rc -ne 0 ] && [ "$(awk '$1 == "rays" && NF == 2 { print $2 }' $T/rep2.txt)" = 6 ] &&
+   grep -q "1 of 7 rows malformed (left out of the report)" $T/err.txt &&
+   run $E $tiny $T/bad-report.txt --report --json 2>/dev/null |
+     python3 -c 'import json,sys; sys.exit(json.load(sys.stdin)["warnings"] != ["1 of 7 rows malformed, left out of the report"])'
+then ok eval_report_bad_row; else fail eval_report_bad_row "rc=$rc $(cat $T/err.txt)"; fi
+# no rays at all: the report says so, not that none is blocked
+head -3 tests/data/eval_tiny.txt | grep '^#' >$T/header-only.txt
+if run $E $tiny $T/header-only.txt --report 2>/dev/null | grep -q '^# passage not measured: the test set holds no ray$'
+then ok eval_report_no_rays; else fail eval_report_no_rays; fi
 expect_error eval_report_needs_reference "no reference column 'out_x'" \
   $E $tiny $T/bad.txt --report
 
