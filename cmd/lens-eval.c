@@ -27,6 +27,21 @@ int main(int argc, char **argv)
     if (o.out.json && !o.run.report)
         diag_die(prog, "--json: only the report (--report) is written as JSON; predictions are "
                        "a sample file");
+    /* an option of the other mode would be silently ignored: said instead (a value equal
+     * to its default cannot be told from none, and changes nothing) */
+    eval_report_options d;
+    eval_report_options_default(&d);
+    const char *report_only = o.run.ropt.nbins != d.nbins  ? "--bins"
+                              : o.run.ropt.rmax != d.rmax   ? "--rmax"
+                              : o.run.ropt.dirs != d.dirs   ? "--directions"
+                                                            : NULL;
+    if (report_only && (!o.run.report || o.emit_c))
+        diag_die(prog, "%s: only for the report (--report)%s", report_only,
+                 o.emit_c ? ", not with --emit" : "");
+    if (o.run.raw && (o.run.report || o.emit_c))
+        diag_die(prog, "--raw: only for predictions, not with %s", o.emit_c ? "--emit" : "--report");
+    if (o.run.report && o.emit_c)
+        diag_die(prog, "--report and --emit: one or the other");
     if (strcmp(o.system, "-") == 0 && strcmp(o.input, "-") == 0 && !o.emit_c)
         diag_die(prog, "the system and the rays cannot both come from stdin");
     lens_err err;

@@ -413,11 +413,13 @@ int eval_report_print(table_out *t, const eval_report *r)
                    "passes (see man lens-eval)");
     count(t, "rays", r->total);
     count(t, "both_pass", r->both);
-    if (eval_passage_measured(&r->passage)) {
+    /* false blocks are measured on any ray the lens passes; false passes need rays it
+     * blocks (a --passing-only test set has none) */
+    if (eval_passage_measured(&r->passage))
         count(t, "false_pass", r->false_pass);
-        count(t, "false_block", r->false_block);
+    count(t, "false_block", r->false_block);
+    if (eval_passage_measured(&r->passage))
         count(t, "both_block", r->neither);
-    }
     count(t, "outside_domain", r->outside);
     count(t, "outside_domain_lens_passes", r->outside_lens_pass);
     eval_passage_write(t, &r->passage);

@@ -51,6 +51,16 @@ if [ $rc -ne 0 ] && [ "$(awk '$1 == "rays" && NF == 2 { print $2 }' $T/rep2.txt)
    run $E $tiny $T/bad-report.txt --report --json 2>/dev/null |
      python3 -c 'import json,sys; sys.exit(json.load(sys.stdin)["warnings"] != ["1 of 7 rows malformed, left out of the report"])'
 then ok eval_report_bad_row; else fail eval_report_bad_row "rc=$rc $(cat $T/err.txt)"; fi
+# a test set of passing rays alone: false blocks are counted (x = 20 passes the lens,
+# not the system), false passes cannot be
+awk '/^#/ || $5 > 0' tests/data/eval_tiny.txt >$T/passing.txt
+run $E $tiny $T/passing.txt --report >$T/rep3.txt 2>/dev/null
+if [ "$(awk '$1 == "false_block" { print $2 }' $T/rep3.txt)" = 1 ] && ! grep -q '^false_pass ' $T/rep3.txt
+then ok eval_report_passing_only; else fail eval_report_passing_only "$(grep -A8 'table: passage' $T/rep3.txt)"; fi
+# an option of the other mode is an error, not ignored
+expect_error eval_bins_without_report "--bins: only for the report" $E $tiny tests/data/eval_tiny.txt --bins 3
+expect_error eval_raw_with_report "--raw: only for predictions" $E $tiny tests/data/eval_tiny.txt --raw --report
+expect_error eval_report_with_emit "--report and --emit" $E $tiny --emit c --report
 # no rays at all: the report says so, not that none is blocked
 head -3 tests/data/eval_tiny.txt | grep '^#' >$T/header-only.txt
 if run $E $tiny $T/header-only.txt --report 2>/dev/null | grep -q '^# passage not measured: the test set holds no ray$'
