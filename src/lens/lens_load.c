@@ -62,7 +62,10 @@ static const char *next_line(const char *p, const char *end, char *out, size_t c
     return p;
 }
 
-/* By content: a UTF-16 byte-order mark or a VERS/SURF line means Zemax, an RDM/LEN/SO
+/* sniff's answer for a polynomial system (a .poly), which no reader takes */
+#define SNIFF_SYSTEM ((size_t)-1)
+
+/* By content: a "lens-poly" first line is a polynomial system, not a lens; a UTF-16 byte-order mark or a VERS/SURF line means Zemax, an RDM/LEN/SO
  * line CODE V, an "iris" or "abbe" line .fx; rows of exactly four numbers mean pbrt;
  * anything else is read as the native format, whose messages then explain. */
 static size_t sniff(const char *data, size_t len)
@@ -76,6 +79,8 @@ static size_t sniff(const char *data, size_t len)
         p = next_line(p, end, line, sizeof line);
         if (!line[0] || line[0] == '#')
             continue;
+        if (!strncmp(line, "lens-poly", 9) && (!line[9] || line[9] == ' ' || line[9] == '\t'))
+            return SNIFF_SYSTEM;
         if (strstr(line, "iris") || strstr(line, "abbe"))
             return 1;
         if (!strncmp(line, "vers ", 5) || !strncmp(line, "surf ", 5))
@@ -108,6 +113,12 @@ static int load_by_content(const char *path, int is_stdin, const char *format,
             k++;
     } else {
         k = sniff(data, len);
+    }
+    if (k == SNIFF_SYSTEM) {
+        free(data);
+        lens_errf(err, path, 0, "a polynomial system (man 5 lens-poly), not a lens: lens-spot "
+                  "and lens-distort show it, with the lens it records");
+        return -1;
     }
     /* fmemopen refuses an empty buffer: an empty input is read from /dev/null instead. */
     FILE *f = len ? fmemopen(data, len, "r") : fopen("/dev/null", "r");

@@ -71,6 +71,11 @@ if paste <(grep -v '^#' "$T/a.txt") <(grep -v '^#' "$T/c.txt") | awk '{ n = NF /
 # Bad input: one-line errors naming file and line, non-zero exit, no partial file.
 expect_error "n 0" '^lens-trace: -n: 0 is out of range' "$trc" lenses/dgauss.50mm.lens -n 0
 expect_error "n 1e12" '^lens-trace: -n: 1e12 is out of range' "$trc" lenses/dgauss.50mm.lens -n 1e12
+# a polynomial system given where a lens is wanted: said so (it had been read as CODE V,
+# "no lens surfaces (S lines)")
+expect_error "system as lens" "^lens-info: tests/data/eval_tiny.poly: a polynomial system \(man 5 lens-poly\), not a lens" \
+  "$BIN/lens-info" tests/data/eval_tiny.poly
+expect_error "system as lens, trace" "a polynomial system" "$trc" tests/data/perfect-50mm.poly -n 3
 expect_error "bad frame" "^lens-trace: --to: 'film' is not outer or stop" "$trc" lenses/dgauss.50mm.lens --to film
 expect_error "missing lens" '^lens-trace: nope.lens: ' "$trc" nope.lens
 expect_error "lambda out of range" '^lens-trace: .*(range|wavelength)' "$trc" lenses/fisheye-ii.lens -n 10 --lambda 2.5 -o "$T/never.txt"
