@@ -99,8 +99,9 @@ void lens_add_note(lens_t *lens, const char *fmt, ...)
     va_start(ap, fmt);
     int w = vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
-    if (w < 0)
-        return;
+    if (w <= 0)
+        return; /* an empty note is no note: joined by '\n' it could not be written back
+                   (a trailing empty one vanished, so written text was no fixed point) */
     char *notes = lens->notes;
     size_t cap = sizeof lens->notes, n = strlen(notes), sep = n ? 1 : 0;
     size_t len = (size_t)w < sizeof line ? (size_t)w : sizeof line - 1;
