@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "sparselens/cli.h"
 #include "sparselens/eval_cli.h"
 
 static const char *prog = "lens-eval";
@@ -44,6 +45,8 @@ int main(int argc, char **argv)
         diag_die(prog, "--report and --emit: one or the other");
     if (strcmp(o.system, "-") == 0 && strcmp(o.input, "-") == 0 && !o.emit_c)
         diag_die(prog, "the system and the rays cannot both come from stdin");
+    cli_check_not_input(prog, o.output, o.input);
+    cli_check_not_input(prog, o.output, o.system);
     lens_err err;
     eval_run_stats st;
     if (eval_cli_run(&o, stderr, &st, &err) != 0) {

@@ -18,6 +18,7 @@ int main(int argc, char **argv)
     if (opt_parse(&fit_command, argc, argv, &o, operand, 1) == 1)
         o.samples_path = operand[0];
     cli_check_output(prog, o.out_path);
+    cli_check_not_input(prog, o.out_path, o.samples_path);
     lens_err err;
     if (o.emit_c && !poly_c_name_ok(o.name)) { /* before the fit, not after it */
         lens_errf(&err, NULL, 0, "--name: '%s' is not a C identifier, or is a C keyword",

@@ -27,6 +27,12 @@ void cli_load_lens(const char *prog, const char *path, const lens_load_options *
  * not lost to a typo in a directory name (outfile_check). */
 void cli_check_output(const char *prog, const char *path);
 
+/* Exits with "prog: PATH: is also the input FILE: ..." when the output path (an -o FILE)
+ * names the same file as the input (symlinks followed): the output replaces its file
+ * only when complete, so the run would succeed and the input be lost. NULL or "-" on
+ * either side: nothing to check. */
+void cli_check_not_input(const char *prog, const char *path, const char *input);
+
 /* True when stderr is a terminal (progress lines are shown only then). */
 int cli_progress_wanted(void);
 

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 void cli_pair(const char *prog, const opt_spec *spec, const char *s, char sep, double *a,
@@ -46,6 +47,19 @@ void cli_load_lens(const char *prog, const char *path, const lens_load_options *
 int cli_progress_wanted(void)
 {
     return isatty(STDERR_FILENO);
+}
+
+void cli_check_not_input(const char *prog, const char *path, const char *input)
+{
+    struct stat a, b;
+    if (!path || !input || !strcmp(path, "-") || !strcmp(input, "-") || stat(path, &a) != 0 ||
+        stat(input, &b) != 0 || a.st_dev != b.st_dev || a.st_ino != b.st_ino || !S_ISREG(a.st_mode))
+        return;
+    lens_err err;
+    lens_errf(&err, path, 0, "is also the input %s: writing there would replace it (-o another "
+              "file)", input);
+    diag_print(prog, &err);
+    exit(1);
 }
 
 void cli_check_output(const char *prog, const char *path)

@@ -73,7 +73,7 @@ static const opt_spec eval_table[] = {
     {0, "name", "NAME", OPT_STRING, OPT_AT(eval_cli, name), .help = "the C function's name (a C identifier, not a C keyword)",
      .def = "lens_poly_eval"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(eval_cli, output),
-     .help = "output file, never left half-written", .def = "standard output"},
+     .help = "output file, never left half-written (not the input or the system)", .def = "standard output"},
     {.type = OPT_GROUP, OPT_AT(eval_cli, out), .group = output_cli_table},
     {0}};
 

@@ -131,7 +131,7 @@ static const opt_spec fit_table[] = {
     {0, "name", "NAME", OPT_STRING, OPT_AT(fit_cli, name), .help = "function name for --emit c (a C identifier, not a C keyword)",
      .def = "lens_poly"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(fit_cli, out_path),
-     .help = "output file (written whole or not at all)", .def = "standard output"},
+     .help = "output file (written whole or not at all; not the samples file)", .def = "standard output"},
     {'q', "quiet", NULL, OPT_FLAG, OPT_AT(fit_cli, quiet),
      .help = "no progress and summary on stderr"},
     {0}};

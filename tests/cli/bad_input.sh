@@ -316,6 +316,21 @@ for spec in "${dir_cmds[@]}"; do
   clean_error "output_is_directory_${verb}_$k" "$D" "$BIN/lens-$verb" $args -o "$D"
 done
 
+# ---- -o naming the input: refused, the input kept (the run had replaced it) -----------
+cp "$S/ref.txt" "$D/in.txt"; cp "$P/good.poly" "$D/sys.poly"
+ln -sf in.txt "$D/link.txt"
+for spec in "eval:$D/sys.poly $D/in.txt -o $D/in.txt" "eval:$D/sys.poly $D/link.txt -o $D/in.txt" \
+            "eval:$D/sys.poly --emit c -o $D/sys.poly" "fit:-q $D/in.txt -o $D/in.txt"; do
+  verb=${spec%%:*} args=${spec#*:} k=$((k + 1))
+  if ! have "$verb"; then skip "output_is_input_$verb" "$verb"; continue; fi
+  # shellcheck disable=SC2086
+  err=$(run "$BIN/lens-$verb" $args 2>&1 >/dev/null); rc=$?
+  if [ $rc -ne 0 ] && grep -q "is also the input" <<<"$err" && cmp -s "$S/ref.txt" "$D/in.txt" &&
+     cmp -s "$P/good.poly" "$D/sys.poly"
+  then ok "output_is_input_${verb}_$k"; else fail "output_is_input_${verb}_$k" "status $rc: $err ($args)"; fi
+done
+rm -f "$D/in.txt" "$D/sys.poly" "$D/link.txt"
+
 # ---- constant memory on long streams -------------------------------------------------
 # A header, then the same ray again and again: MB of stream -> max RSS (kB).
 stream_rss() { # MB CMD...
