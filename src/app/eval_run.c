@@ -210,6 +210,15 @@ int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_r
     if (ctx_init(&c, sys, rd, err) != 0 || samples_map(rd, c.names, c.nin, c.map_in, err) != 0 ||
         start_output(&c, rd, out, opt, &rep, err) != 0)
         goto done;
+    /* the report compares outputs traced to the same place (lens-trace --to) */
+    const char *sys_frame = poly_get_meta(sys, "trace_frame"), *set_frame = samples_meta(rd, "frame");
+    if (opt->report && sys_frame && set_frame && strcmp(sys_frame, set_frame) != 0) {
+        lens_errf(err, samples_path(rd), 0, "'# frame: %s': the test set was traced to the %s, "
+                  "the system's samples to the %s (lens-trace --to %s)", set_frame,
+                  strcmp(set_frame, "stop") ? "outer pupil" : "stop",
+                  strcmp(sys_frame, "stop") ? "outer pupil" : "stop", sys_frame);
+        goto done;
+    }
     /* one wavelength (lens-fit's meta lambda, lambda not an input): rays at others */
     const char *lam = poly_get_meta(sys, "lambda");
     char *end = NULL;

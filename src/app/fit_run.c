@@ -27,6 +27,7 @@ typedef struct {
     int ceta, clam, lam_is_input;
     double lam0;
     char fnumber[64]; /* the samples' "# fnumber:" (lens-trace --fnumber), or "" */
+    char frame[16];   /* the samples' "# frame:" (lens-trace --to: outer or stop), or "" */
     unsigned char *plain;
     fit_options opt;
     fit_input_check usable; /* the usable rows' spreads, checked before the fit */
@@ -298,6 +299,12 @@ static int setup_columns(fit_job *j, const fit_cli *o, samples_reader *r, lens_e
     }
     if (samples_fnumber(r, j->fnumber, sizeof j->fnumber, err) != 0 || parse_tolerance(j, o->tolerance, err) != 0)
         return -1;
+    const char *frame = samples_meta(r, "frame");
+    if (frame && strcmp(frame, "outer") != 0 && strcmp(frame, "stop") != 0) {
+        lens_errf(err, samples_path(r), 0, "'# frame: %s': expected outer or stop", frame);
+        return -1;
+    }
+    snprintf(j->frame, sizeof j->frame, "%s", frame ? frame : "");
     j->inmap = malloc((size_t)j->nin * sizeof *j->inmap);
     j->outmap = malloc((size_t)j->nout * sizeof *j->outmap);
     if (!j->inmap || !j->outmap) {
@@ -464,6 +471,8 @@ static void record(poly_system *sys, const fit_job *j, const char *lens_path,
     st->no_lens_path = !lens_path[0];
     if (j->fnumber[0])
         poly_set_meta(sys, "fnumber", j->fnumber);
+    if (j->frame[0])
+        poly_set_meta(sys, "trace_frame", j->frame);
     if (j->clam >= 0 && !isnan(j->lam0)) {
         char buf[64];
         snprintf(buf, sizeof buf, "%.17g", j->lam0);

@@ -163,6 +163,13 @@ static int load_camera(const render_options *o, render_setup *s, lens_err *err)
     snprintf(s->lens_path, sizeof s->lens_path, "%s", sc->camera);
     if (sc->camera_is_poly) {
         if (poly_read(sc->camera, &s->sys, err)) return -1;
+        const char *frame = poly_get_meta(s->sys, "trace_frame");
+        if (frame && strcmp(frame, "outer") != 0) {
+            lens_errf(err, sc->camera, 0, "the system was fitted to samples traced to the %s "
+                      "(meta trace_frame %s): a camera needs one to the outer pupil "
+                      "(lens-trace --to outer, the default)", frame, frame);
+            return -1;
+        }
         if (poly_find_lens_file(s->sys, sc->camera, lens_find_file, s->lens_path,
                                 sizeof s->lens_path, err))
             return -1;

@@ -59,6 +59,9 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
     fprintf(f, "# lens: %s\n", lens->name[0] ? lens->name : "-");
     if (strcmp(a->lens_path, "-") != 0 && !strchr(a->lens_path, '\n'))
         fprintf(f, "# lens-path: %s\n", a->lens_path);
+    /* where out_x .. out_v are (--to): lens-fit records it, lens-eval --report and the
+     * commands that show a system check it */
+    fprintf(f, "# frame: %s\n", a->target == TRACE_TO_STOP ? "stop" : "outer");
     if (!isnan(a->fnumber))
         fprintf(f, "# fnumber: %.10g (the stop stopped down by --fnumber)\n", a->fnumber);
     /* lens-fit reads this line: a system's passage is complete only from a pilot */

@@ -30,6 +30,13 @@ int poly_solve_check(const poly_system *sys, lens_err *err)
                   poly_ninputs(sys));
         return -1;
     }
+    const char *frame = poly_get_meta(sys, "trace_frame");
+    if (frame && strcmp(frame, "outer") != 0) {
+        lens_errf(err, NULL, 0, "the system was fitted to samples traced to the %s (meta "
+                  "trace_frame %s): lens-spot and lens-distort need one to the outer pupil "
+                  "(lens-trace --to outer, the default)", frame, frame);
+        return -1;
+    }
     for (int i = 0; i < 4; i++)
         if (poly_output_index(sys, out_names[i]) < 0) {
             lens_errf(err, NULL, 0,

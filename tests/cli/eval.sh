@@ -61,6 +61,14 @@ then ok eval_report_passing_only; else fail eval_report_passing_only "$(grep -A8
 expect_error eval_bins_without_report "--bins: only for the report" $E $tiny tests/data/eval_tiny.txt --bins 3
 expect_error eval_raw_with_report "--raw: only for predictions" $E $tiny tests/data/eval_tiny.txt --raw --report
 expect_error eval_report_with_emit "--report and --emit" $E $tiny --emit c --report
+# a report compares outputs traced to the same place: a test set to the stop against a
+# system of outer-pupil samples is refused (it had given errors of 11 mm without a word)
+sed '/^pass /a meta trace_frame outer' $tiny >$T/outer.poly
+{ echo '# frame: stop'; cat tests/data/eval_tiny.txt; } >$T/stop.txt
+expect_error eval_report_frame "stop.txt: '# frame: stop': the test set was traced to the stop, the system's samples to the outer pupil" \
+  $E $T/outer.poly $T/stop.txt --report
+{ echo '# frame: outer'; cat tests/data/eval_tiny.txt; } >$T/outer.txt
+if run $E $T/outer.poly $T/outer.txt --report >/dev/null 2>&1; then ok eval_report_same_frame; else fail eval_report_same_frame; fi
 # no rays at all: the report says so, not that none is blocked
 head -3 tests/data/eval_tiny.txt | grep '^#' >$T/header-only.txt
 if run $E $tiny $T/header-only.txt --report 2>/dev/null | grep -q '^# passage not measured: the test set holds no ray$'

@@ -20,6 +20,9 @@ else fail fit_fisheye_runs "$(cat $T/fit.err)"; fi
 if [ "$(grep -c 'holdout_rms' $T/fit.err)" -gt 5 ] && grep -q 'ap_x .*holdout_rms' $T/fit.err &&
    grep -q 'fit time' $T/fit.err
 then ok fit_summary; else fail fit_summary "$(cat $T/fit.err)"; fi
+# where the samples were traced to (lens-trace's '# frame:') is recorded in the system
+if grep -q '^# frame: outer$' $T/train.txt && grep -q '^meta trace_frame outer$' $T/fe.poly
+then ok fit_records_frame; else fail fit_records_frame "$(grep frame $T/train.txt $T/fe.poly)"; fi
 
 # --passage-tolerance F: each passage hit is fitted until its held-out error is F times
 # its pass circle's radius (the radius read from the system's pass line, the tolerance

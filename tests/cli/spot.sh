@@ -61,6 +61,9 @@ if ! grep -q "fitted to" $T/err.txt &&
    grep -q "^lens-spot: warning: the system was fitted to 'perfect' (tests/data/window.lens), not to this lens" $T/err2.txt &&
    python3 -c 'import json,sys; w=json.load(open(sys.argv[1]))["warnings"]; sys.exit(not any("fitted to" in x for x in w))' $T/c2.json
 then ok spot_compare_other_lens; else fail spot_compare_other_lens "$(cat $T/err.txt $T/err2.txt)"; fi
+# a system of samples traced to the stop cannot be shown
+sed '/^pass /a meta trace_frame stop' tests/data/perfect-50mm.poly >$T/stop.poly
+expect_error spot_system_to_stop "fitted to samples traced to the stop" $S lenses/dgauss.50mm.lens --compare $T/stop.poly --fields 0
 expect_error spot_compare_not_a_system "lens-poly|poly" run $S $DG --compare $DG
 
 # The README's comparison through the default pipeline (lens-trace | lens-fit): the
