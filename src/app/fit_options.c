@@ -106,8 +106,8 @@ static const opt_spec fit_table[] = {
     {0, "threads", "N", OPT_INT, OPT_AT(fit_cli, fit.threads), .lo = 1, .hi = 1024,
      .help = "threads; the result does not depend on it", .def = "all"},
     {0, "lens", "NAME|FILE", OPT_STRING, OPT_AT(fit_cli, lens),
-     .help = "the lens recorded in the system: a name, or a lens file (recorded as the "
-             "lens-path too, relative to the directory of -o FILE)",
+     .help = "the lens recorded in the system: a name, or a lens file (its name header "
+             "recorded, and the file as the lens-path, relative to the directory of -o FILE)",
      .def = "the samples' '# lens:' and '# lens-path:' lines, which lens-trace writes; else "
             "the sample file's base name",
      .man = "Without a lens path (samples without\n"

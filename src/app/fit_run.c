@@ -13,6 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "sparselens/lens.h"
 #include "sparselens/numparse.h"
 #include "app/fit_input.h"
 
@@ -124,7 +125,16 @@ static void lens_of_samples(const samples_reader *r, const char *given, const ch
     if (probe) {
         fclose(probe);
         snprintf(lpath, plen, "%s", given);
-        lens_name_from(given, name, nlen);
+        /* the lens's own name, as lens-trace writes it (the file's base name if it has
+         * none or does not read: lens-spot reports that when it loads it) */
+        lens_t lens;
+        lens_err lerr;
+        lens_init(&lens);
+        if (lens_load(given, NULL, &lens, &lerr) == 0 && lens.name[0])
+            snprintf(name, nlen, "%s", lens.name);
+        else
+            lens_name_from(given, name, nlen);
+        lens_free(&lens);
     } else if (given) {
         snprintf(name, nlen, "%s", given);
     } else if (meta_name && strcmp(meta_name, "-") != 0) {

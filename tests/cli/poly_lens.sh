@@ -32,9 +32,11 @@ run $BIN/lens-spot $T/d.poly --lens $L --fields 0,10 >$T/spot_given.txt
 if [ $rc -eq 0 ] && [ -s $T/spot_auto.txt ] && cmp -s $T/spot_auto.txt $T/spot_given.txt
 then ok spot_finds_lens_of_poly; else fail spot_finds_lens_of_poly "rc=$rc $(cat $T/err.txt)"; fi
 
-# --lens FILE on lens-fit records that file; the path is gone: a message naming lens and path
+# --lens FILE on lens-fit records that file and the lens's own name (as lens-trace
+# writes it; it had recorded the file's base name); the path is gone: a message naming
+# lens and path
 grep -v '^# lens' $T/train.txt | run $BIN/lens-fit -q --terms 15 --lens $L >$T/given.poly
-if grep -qx 'lens dgauss.50mm' $T/given.poly && grep -qx "lens-path $L" $T/given.poly
+if grep -qx 'lens Double Gauss 50mm f/2 (Tronnier)' $T/given.poly && grep -qx "lens-path $L" $T/given.poly
 then ok fit_lens_file_recorded; else fail fit_lens_file_recorded "$(sed -n 3,4p $T/given.poly)"; fi
 sed "s#^lens-path .*#lens-path $T/gone/dgauss.lens#" $T/d.poly >$T/moved.poly
 expect_error spot_names_missing_lens \
