@@ -202,6 +202,32 @@ static void test_p99_rank(void **st)
     poly_free(s);
 }
 
+/* The two rays through system s (each passed, its own reference) into a report, and
+ * that report's out_x part jump: its radius and size. */
+static void out_x_jump(const poly_system *s, const double rays[2][2], double *radius, double *jump)
+{
+    const int nout = poly_noutputs(s);
+    eval_report *r = eval_report_new(s, NULL);
+    for (int k = 0; k < 2; k++) {
+        double pred[2], ref[2];
+        int ps = poly_eval(s, rays[k], pred);
+        assert_int_equal(ps, 1);
+        memcpy(ref, pred, (size_t)nout * sizeof *ref);
+        eval_report_add(r, rays[k], pred, ps, ref, 1);
+    }
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    eval_report_write(f, r);
+    fclose(f);
+    const char *head = "# columns: key radius_mm jump unit\n";
+    char *line = strstr(buf, head);
+    assert_non_null(line);
+    assert_int_equal(sscanf(line + strlen(head), "out_x_mm %lf %lf mm", radius, jump), 2);
+    free(buf);
+    eval_report_free(r);
+}
+
 /* Two parts meeting at r = 5: out_x = 1 inside, 1 + 0.5 x outside. A ray at (3, 0)
  * moves onto the boundary at (5, 0), where the parts differ by 0.5 * 5 = 2.5; one at
  * (0, 7) moves to (0, 5), where they agree. The largest jump is 2.5. */
@@ -216,29 +242,11 @@ static void test_part_jump(void **st)
     poly_add_term(s, 0, 0, e0, 1);
     poly_add_term(s, 1, 0, e0, 1);
     poly_add_term(s, 1, 0, e1, 0.5);
-    eval_report *r = eval_report_new(s, NULL);
-    double rays[2][2] = {{3, 0}, {0, 7}};
-    for (int k = 0; k < 2; k++) {
-        double pred, ref;
-        int ps = poly_eval(s, rays[k], &pred);
-        ref = pred;
-        eval_report_add(r, rays[k], &pred, ps, &ref, 1);
-    }
-    char *buf = NULL;
-    size_t len = 0;
-    FILE *f = open_memstream(&buf, &len);
-    eval_report_write(f, r);
-    fclose(f);
-    double v[3];
-    char *line = strstr(buf, "# columns: key radius_mm jump unit\n");
-    assert_non_null(line);
-    assert_int_equal(sscanf(line + strlen("# columns: key radius_mm jump unit\n"),
-                            "out_x_mm %lf %lf mm", &v[0], &v[1]),
-                     2);
-    near(v[0], 5);
-    near(v[1], 2.5);
-    free(buf);
-    eval_report_free(r);
+    const double rays[2][2] = {{3, 0}, {0, 7}};
+    double radius, jump;
+    out_x_jump(s, rays, &radius, &jump);
+    near(radius, 5);
+    near(jump, 2.5);
     poly_free(s);
 }
 
@@ -260,30 +268,11 @@ static void test_part_jump_where_both_pass(void **st)
     poly_add_term(s, 1, 0, ex, 0.5);
     poly_add_term(s, 1, 0, ey, 2);
     assert_int_equal(poly_add_pass_circle(s, 0, 1, 4), 0);
-    eval_report *r = eval_report_new(s, NULL);
-    double rays[2][2] = {{3, 0}, {0, 3}};
-    for (int k = 0; k < 2; k++) {
-        double pred[2], ref[2];
-        int ps = poly_eval(s, rays[k], pred);
-        assert_int_equal(ps, 1);
-        memcpy(ref, pred, sizeof ref);
-        eval_report_add(r, rays[k], pred, ps, ref, 1);
-    }
-    char *buf = NULL;
-    size_t len = 0;
-    FILE *f = open_memstream(&buf, &len);
-    eval_report_write(f, r);
-    fclose(f);
-    double v[3];
-    char *line = strstr(buf, "# columns: key radius_mm jump unit\n");
-    assert_non_null(line);
-    assert_int_equal(sscanf(line + strlen("# columns: key radius_mm jump unit\n"),
-                            "out_x_mm %lf %lf mm", &v[0], &v[1]),
-                     2);
-    near(v[0], 5);
-    near(v[1], 2.5);
-    free(buf);
-    eval_report_free(r);
+    const double rays[2][2] = {{3, 0}, {0, 3}};
+    double radius, jump;
+    out_x_jump(s, rays, &radius, &jump);
+    near(radius, 5);
+    near(jump, 2.5);
     poly_free(s);
 }
 
