@@ -34,6 +34,12 @@ int main(int argc, char **argv)
     o.scene = operand[0];
     if (!o.exr && !o.emit_camera) diag_die(prog, "no output image: give -o IMAGE.exr");
     cli_check_output(prog, o.exr);
+    /* the image must not be written over what it is compared with (the run would then
+     * compare it with itself: rms 0) */
+    cli_check_not_input(prog, o.exr, o.reference);
+    cli_check_not_input(prog, o.exr, o.noise_against);
+    if (o.exr && o.png && strcmp(o.exr, o.png) == 0)
+        diag_die(prog, "--png: '%s' is also the EXR (-o): give the picture its own name", o.png);
     progress_state ps = {-1};
     if (!quiet) o.log = stderr;
     if (!quiet && cli_progress_wanted()) {

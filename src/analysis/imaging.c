@@ -332,6 +332,8 @@ int imaging_models_load(const char *path, const char *compare, const char *lens_
         char found[4096];
         if (!lens_path &&
             poly_find_lens_file(m->sys, path, lens_find_file, found, sizeof found, err) != 0) {
+            lens_err e = *err; /* what these commands can do about it */
+            lens_errf(err, NULL, 0, "%s; give it with --lens", e.msg);
             imaging_models_free(m);
             return -1;
         }

@@ -111,7 +111,8 @@ static const opt_spec layout_table[] = {
              "(drawn up to the surface that stops them)"},
     {0, "svg", "FILE", OPT_STRING, OPT_AT(layout_cli, svg), .help = "the picture as SVG",
      .man =
-     "Exact coordinates in mm (one SVG unit per micrometre); readable and editable as text.\n"},
+     "Exact coordinates in mm (one SVG unit per millimetre, the page at 1:1); readable and "
+     "editable as text.\n"},
     {0, "width", "PX", OPT_INT, OPT_AT(layout_cli, width), .lo = 200, .hi = 10000,
      .help = "PNG width in pixels", .def = "1200"},
     {.type = OPT_GROUP, OPT_AT(layout_cli, im), .group = design_cli_table},

@@ -171,8 +171,12 @@ static int load_camera(const render_options *o, render_setup *s, lens_err *err)
             return -1;
         }
         if (poly_find_lens_file(s->sys, sc->camera, lens_find_file, s->lens_path,
-                                sizeof s->lens_path, err))
+                                sizeof s->lens_path, err)) {
+            lens_err e = *err; /* a scene has no --lens: the .poly must lead to it */
+            lens_errf(err, NULL, 0, "%s; put the lens beside the .poly or correct its "
+                      "lens-path line", e.msg);
             return -1;
+        }
     }
     if (lens_load(s->lens_path, o->load, &s->lens, err)) return -1;
     if (o->log) lens_cli_warn_notes("lens-render", &s->lens); /* what an importer skipped */
@@ -366,13 +370,27 @@ static void setup_free(render_setup *s)
     scene_free(&s->sc);
 }
 
+/* What the outputs need, checked before the render rather than after it: the pictures
+ * to compare with (readable, of the scene's size) and the PNG's path. */
+static int check_outputs(const render_options *o, const scene_t *sc, lens_err *err)
+{
+    const char *refs[2] = {o->reference, o->noise_against};
+    for (int k = 0; k < 2; k++) {
+        float *r = NULL;
+        if (refs[k] && render_read_rgb(refs[k], sc->width, sc->height, &r, err)) return -1;
+        free(r);
+    }
+    return o->png && !o->emit_camera ? outfile_check(o->png, err) : 0;
+}
+
 int render_run(const render_options *o, render_stats *st, lens_err *err)
 {
     render_setup s = {0};
     float *img = NULL;
     int rc = -1;
     lens_init(&s.lens);
-    if (load_camera(o, &s, err) || choose_lens_map(o, &s, err)) goto done;
+    if (load_camera(o, &s, err) || check_outputs(o, &s.sc, err) || choose_lens_map(o, &s, err))
+        goto done;
     if (o->emit_camera) {
         rc = emit_camera(o, &s, err);
         goto done;

@@ -17,7 +17,7 @@ int poly_find_lens_file(const poly_system *sys, const char *poly_path,
     const char *lp = poly_lens_path(sys), *name = poly_lens_name(sys);
     if (!lp || !*lp) {
         lens_errf(err, poly_path, 0, "the system records no lens file (lens '%s'; systems "
-                  "fitted to lens-trace's samples do); give the lens with --lens", name);
+                  "fitted to lens-trace's samples do)", name);
         return -1;
     }
     snprintf(buf, len, "%s", lp);
@@ -33,6 +33,6 @@ int poly_find_lens_file(const poly_system *sys, const char *poly_path,
     if (find && find(lp, buf, len) == 0 && readable(buf))
         return 0;
     lens_errf(err, poly_path, 0, "the lens file the system was fitted to (lens '%s', "
-              "lens-path %s) is not found; give it with --lens", name, lp);
+              "lens-path %s) is not found", name, lp);
     return -1;
 }

@@ -77,6 +77,25 @@ for v in "exact-transmittance-off:$T/white-off.scene --exact" "poly-without-eta:
 done
 grep -q 'no out_eta' <<<"$err" && ok poly-without-eta-noted || fail poly-without-eta-noted "$err"
 
+# what the outputs need is checked before the render: the image never written over its
+# reference (that had printed rms 0 and lost the reference), nor the PNG over the EXR;
+# a reference that is missing or of another size, a PNG path that cannot be written:
+# refused at once, no EXR written
+cp "$T/white.exr" "$T/same.exr"
+expect_error render-output-is-reference "is also the input" $R "$T/white.scene" --exact -o "$T/same.exr" --reference "$T/same.exr"
+cmp -s "$T/white.exr" "$T/same.exr" && ok render-reference-kept || fail render-reference-kept "the reference changed"
+expect_error render-png-is-exr "--png: .* is also the EXR" $R "$T/white.scene" --exact -o "$T/a.exr" --png "$T/a.exr"
+expect_error render-reference-missing "nope.exr" $R "$T/white.scene" --exact -o "$T/n.exr" --reference "$T/nope.exr"
+sed 's/^resolution 12 8$/resolution 6 4/' "$T/white.scene" >"$T/small.scene"
+expect_error render-reference-size "the image is 12x8, the render 6x4" $R "$T/small.scene" --exact -o "$T/n.exr" --reference "$T/white.exr"
+expect_error render-png-unwritable "no/such/dir/x.png" $R "$T/white.scene" --exact -o "$T/n.exr" --png "$T/no/such/dir/x.png"
+[ ! -e "$T/n.exr" ] && [ ! -e "$T/a.exr" ] && ok render-checks-before-writing || fail render-checks-before-writing "$(ls "$T"/*.exr)"
+# a .poly camera whose lens is not found: the advice fits lens-render (it has no --lens)
+sed 's#^lens-path .*#lens-path /nonexistent/d.lens#' "$poly" >"$T/lost.poly"
+sed "s|^camera .*|camera $T/lost.poly|" "$T/white.scene" >"$T/lost.scene"
+expect_error render-lens-not-found "is not found; put the lens beside the .poly or correct its lens-path line" \
+  $R "$T/lost.scene" -o "$T/n.exr"
+
 # the glass flags every command has: an imported lens whose glasses are in a catalog of
 # the user's, and a glass missing from every catalog read by its n_d/V_d
 D=$PWD/tests/data/import
