@@ -42,6 +42,7 @@ int main(int argc, char **argv)
         diag_die(prog, "--png: '%s' is also the EXR (-o): give the picture its own name", o.png);
     progress_state ps = {-1};
     if (!quiet) o.log = stderr;
+    o.figures = stderr; /* asked for by name: shown with -q too */
     if (!quiet && cli_progress_wanted()) {
         o.progress = progress;
         o.progress_ctx = &ps;

@@ -25,6 +25,8 @@ typedef struct {
     unsigned long seed;     /* 0: the scene's */
     const char *emit_camera; /* write the camera module (camera.h) here instead of rendering */
     FILE *log;              /* decisions and figures (stderr in lens-render); may be NULL */
+    FILE *figures;          /* the figures asked for (--reference, --noise-against), also
+                               with -q; NULL: log */
     void (*progress)(void *ctx, double done);
     void *progress_ctx;
 } render_options;

@@ -57,7 +57,8 @@ static const opt_spec render_table[] = {
      ".RB ( lens-scene (5)).\n"
      "It compiles on its own as C99; -o is not needed.\n"},
     {'q', "quiet", NULL, OPT_FLAG, OPT_AT(render_cli, quiet),
-     .help = "no decisions, progress or figures on stderr"},
+     .help = "no decisions, progress or timings on stderr (the figures of --reference and "
+             "--noise-against still)"},
     {.type = OPT_GROUP, OPT_AT(render_cli, lens), .group = lens_cli_table},
     {0}};
 

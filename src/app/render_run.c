@@ -323,16 +323,18 @@ static int write_outputs(const render_options *o, const scene_t *sc, const float
     if (o->reference) {
         double rms, rel;
         if (render_compare(o->reference, sc->width, sc->height, img, &rms, &rel, err)) return -1;
-        if (o->log) fprintf(o->log, "error vs %s: rms %.4g (%.2f%% of its mean)\n", o->reference,
-                            rms, 100 * rel);
+        FILE *fig = o->figures ? o->figures : o->log;
+        if (fig) fprintf(fig, "error vs %s: rms %.4g (%.2f%% of its mean)\n", o->reference,
+                         rms, 100 * rel);
     }
     if (o->noise_against) {
         float *other = NULL;
         if (render_read_rgb(o->noise_against, sc->width, sc->height, &other, err)) return -1;
         double nz = render_noise(sc->width, sc->height, img, other);
         free(other);
-        if (o->log)
-            fprintf(o->log, "noise: median per-pixel relative variance %.4g against %s "
+        FILE *fig = o->figures ? o->figures : o->log;
+        if (fig)
+            fprintf(fig, "noise: median per-pixel relative variance %.4g against %s "
                     "(times this render's processor time: %.4g s)\n", nz, o->noise_against,
                     st ? nz * st->cpu_seconds : NAN);
     }

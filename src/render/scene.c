@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <unistd.h>
 
 #include "render/render_math.h"
@@ -83,8 +84,14 @@ static int read_colour(line_ctx *c, int *i, const char *what, double rgb[3], int
         (*i)++;
     }
     if (k != 1 && k != 3) {
-        lens_errf(c->err, c->path, c->line, "'%s' takes one value or three (r g b), got %d",
-                  what, k);
+        /* a token that stopped the numbers and is no keyword: name it, not the count */
+        const char *t = *i < c->n ? c->tok[*i] : "";
+        if ((k == 0 || k == 2) && (strspn(t, "0123456789+-.") > 0 || !strncasecmp(t, "nan", 3) ||
+                                   !strncasecmp(t, "inf", 3)))
+            lens_errf(c->err, c->path, c->line, "'%s': '%s' is not a finite number", what, t);
+        else
+            lens_errf(c->err, c->path, c->line, "'%s' takes one value or three (r g b), got %d",
+                      what, k);
         return -1;
     }
     for (int j = 0; j < 3; j++) {
@@ -310,6 +317,10 @@ static int statement(scene_t *s, line_ctx *c, int *have_camera)
     const char *k = c->tok[0];
     double a, b;
     if (!strcmp(k, "camera")) {
+        if (*have_camera) {
+            lens_errf(c->err, c->path, c->line, "a second 'camera' statement (a scene has one)");
+            return -1;
+        }
         if (c->n != 2) {
             lens_errf(c->err, c->path, c->line, "camera takes one file (a lens or a .poly)");
             return -1;

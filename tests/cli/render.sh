@@ -22,6 +22,14 @@ printf 'camera dgauss.50mm.lens\nresolution 12 8\nsphere 0 0 100 5 glow 3\n' >"$
 
 expect_error no-output 'give -o' $R "$T/s.scene"
 expect_error bad-scene "bad.scene:3: unknown modifier 'glow'" $R "$T/bad.scene" -o "$T/x.exr"
+# a value that is not a number is named (it had said "takes one value or three, got 0");
+# a second camera is an error (the last one had won)
+printf 'camera dgauss.50mm.lens\nplane 0 0 1000 0 0 -1 emit 1abc\n' >"$T/badnum.scene"
+expect_error bad-scene-number "badnum.scene:2: 'emit': '1abc' is not a finite number" $R "$T/badnum.scene" -o "$T/x.exr"
+printf 'camera dgauss.50mm.lens\nplane 0 0 1000 0 0 -1 albedo nan\n' >"$T/badnan.scene"
+expect_error bad-scene-nan "badnan.scene:2: 'albedo': 'nan' is not a finite number" $R "$T/badnan.scene" -o "$T/x.exr"
+printf 'camera dgauss.50mm.lens\ncamera dgauss.50mm.lens\n' >"$T/twocams.scene"
+expect_error bad-scene-two-cameras "twocams.scene:2: a second 'camera' statement" $R "$T/twocams.scene" -o "$T/x.exr"
 expect_error no-scene 'cannot open' $R "$T/none.scene" -o "$T/x.exr"
 [ ! -e "$T/x.exr" ] && ok no-partial-output || fail no-partial-output "x.exr left behind"
 expect_error bad-spp 'spp' $R "$T/s.scene" -o "$T/x.exr" --spp 0
@@ -89,6 +97,9 @@ expect_error render-reference-missing "nope.exr" $R "$T/white.scene" --exact -o 
 sed 's/^resolution 12 8$/resolution 6 4/' "$T/white.scene" >"$T/small.scene"
 expect_error render-reference-size "the image is 12x8, the render 6x4" $R "$T/small.scene" --exact -o "$T/n.exr" --reference "$T/white.exr"
 expect_error render-png-unwritable "no/such/dir/x.png" $R "$T/white.scene" --exact -o "$T/n.exr" --png "$T/no/such/dir/x.png"
+# -q silences progress, not the figures asked for by name
+err=$($R "$T/white.scene" --exact -q -o "$T/q2.exr" --reference "$T/white.exr" 2>&1)
+grep -q '^error vs .*white.exr: rms 0 ' <<<"$err" && ok render-quiet-keeps-figures || fail render-quiet-keeps-figures "$err"
 [ ! -e "$T/n.exr" ] && [ ! -e "$T/a.exr" ] && ok render-checks-before-writing || fail render-checks-before-writing "$(ls "$T"/*.exr)"
 # a .poly camera whose lens is not found: the advice fits lens-render (it has no --lens)
 sed 's#^lens-path .*#lens-path /nonexistent/d.lens#' "$poly" >"$T/lost.poly"
