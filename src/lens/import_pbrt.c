@@ -15,6 +15,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "base/line_reader.h"
 #include "sparselens/import_table.h"
@@ -36,6 +37,19 @@ int lens_read_pbrt(FILE *f, const char *path, const lens_load_options *opt, lens
         line = lr.line;
         char *buf = lr.buf;
         char *hash = strchr(buf, '#');
+        if (hash && !lens->name[0] && lens->nsurf == 0) {
+            /* the first comment with words, before the surfaces, names the lens (pbrt's
+             * files open with it: "# D-GAUSS F/2 22deg HFOV") */
+            const char *c = hash + 1 + strspn(hash + 1, "# \t");
+            size_t n = strcspn(c, "\r\n");
+            while (n > 0 && (c[n - 1] == ' ' || c[n - 1] == '\t'))
+                n--;
+            int words = 0;
+            for (size_t i = 0; i < n; i++)
+                words |= isalpha((unsigned char)c[i]) != 0;
+            if (words && strncasecmp(c, "radius", 6) != 0) /* not the columns' header */
+                snprintf(lens->name, sizeof lens->name, "%.*s", (int)n, c);
+        }
         if (hash)
             *hash = '\0';
         char *tok[8];

@@ -242,9 +242,11 @@ static void test_load_dispatch(void **state)
     lens_t l;
     lens_err err;
     /* Unknown extension: content decides. */
-    const char *p = write_file("x.txt", "# pbrt-like\n50 5 1.5 20\n0 2 0 10\n-50 40 1 20\n");
+    const char *p = write_file("x.txt", "# pbrt-like\n#  radius axpos N aperture\n"
+                                        "50 5 1.5 20\n0 2 0 10\n-50 40 1 20\n");
     assert_int_equal(lens_load(p, NULL, &l, &err), 0);
     near(l.surf[0].semi_diameter, 10, 0); /* read as pbrt: a diameter */
+    assert_string_equal(l.name, "pbrt-like"); /* its first comment names it, as pbrt's do */
     lens_free(&l);
     p = write_file("y.txt", "50 5 abbe 1.5 50 10\n1e5 2 iris 8\n-50 40 air 10\n");
     assert_int_equal(lens_load(p, NULL, &l, &err), 0);
