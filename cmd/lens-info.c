@@ -20,6 +20,11 @@ int main(int argc, char **argv)
     cli_load_lens(prog, path, lens_cli_options_get(&o.lens), &lens);
     lens_cli_options_free(&o.lens);
     int as_lens = info_prepare(&o, &lens, &err);
+    if (as_lens == 1 && o.out.json) { /* it would be ignored: the lens is not a table */
+        lens_free(&lens);
+        diag_die(prog, "--json: only the key values are written as JSON; the lens (--format "
+                       "lens, --focus) is written in the project's format");
+    }
     if (as_lens == 1) {
         lens_write(stdout, &lens);
         lens_free(&lens);

@@ -76,6 +76,7 @@ expect_error "n 1e12" '^lens-trace: -n: 1e12 is out of range' "$trc" lenses/dgau
 expect_error "system as lens" "^lens-info: tests/data/eval_tiny.poly: a polynomial system \(man 5 lens-poly\), not a lens" \
   "$BIN/lens-info" tests/data/eval_tiny.poly
 expect_error "system as lens, trace" "a polynomial system" "$trc" tests/data/perfect-50mm.poly -n 3
+expect_error "info json with lens" "^lens-info: --json: only the key values" "$BIN/lens-info" lenses/dgauss.50mm.lens --format lens --json
 expect_error "bad frame" "^lens-trace: --to: 'film' is not outer or stop" "$trc" lenses/dgauss.50mm.lens --to film
 expect_error "missing lens" '^lens-trace: nope.lens: ' "$trc" nope.lens
 expect_error "lambda out of range" '^lens-trace: .*(range|wavelength)' "$trc" lenses/fisheye-ii.lens -n 10 --lambda 2.5 -o "$T/never.txt"
