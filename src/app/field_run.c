@@ -89,8 +89,11 @@ static void print_rows(table_out *t, const design_set *ds, const field_row *rows
                 table_out_fmt(t, ds->field[f], 0, "%.10g");
                 table_out_fmt(t, ds->lambda[l], 0, "%.7g");
                 table_out_fmt(t, r->focus.chief[1], 1, "%.9g");
+                /* the foci are differences of distances of tens of mm: round-off about
+                 * 1e-14 mm, shown as 0 below 1e-12 mm (it had printed an on-axis
+                 * astigmatism of -1.1e-14) */
                 for (int k = 0; k < 6; k++)
-                    table_out_fmt(t, v[k], k < 4 ? 1e-3 : k == 4 ? 1e-3 : 1, "%.6g");
+                    table_out_fmt(t, v[k], k < 4 ? 1 : k == 4 ? 1e-3 : 1, "%.6g");
                 table_out_row_end(t);
             }
 }

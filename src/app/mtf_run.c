@@ -267,17 +267,31 @@ int mtf_run(mtf_request *rq, table_out *out, mtf_row **rows_out, size_t *nrows_o
             goto out;
     print_rows(out, rq, list.rows, list.n);
     print_summaries(out, rq, sum, nsum);
+    /* each model's wavefront method: a system's is always by ray errors (run_model) */
+    int has_lens = 0, has_sys = 0;
+    for (int m = 0; m < ds->nmodels; m++) {
+        has_lens |= !ds->im[m].sys;
+        has_sys |= ds->im[m].sys != NULL;
+    }
     if (!out->json) {
-        fprintf(out->f, "# pixel %g um: Nyquist %g cycles/mm; pupil grid %d x %d; lens wavefront by %s\n",
-                rq->pixel_um, 1000 / (2 * rq->pixel_um), rq->grid, rq->grid,
-                rq->lens_method == WAVEFRONT_PATH ? "path lengths" : "ray errors");
+        fprintf(out->f, "# pixel %g um: Nyquist %g cycles/mm; pupil grid %d x %d", rq->pixel_um,
+                1000 / (2 * rq->pixel_um), rq->grid, rq->grid);
+        if (has_lens)
+            fprintf(out->f, "; lens wavefront by %s",
+                    rq->lens_method == WAVEFRONT_PATH ? "path lengths" : "ray errors");
+        if (has_sys)
+            fprintf(out->f, "; system wavefront by ray errors");
+        fputc('\n', out->f);
     } else {
         table_out_keys(out, "sampling", NULL);
         table_out_key_num(out, "pixel_um", rq->pixel_um);
         table_out_key_num(out, "nyquist_cyc_mm", 1000 / (2 * rq->pixel_um));
         table_out_key_int(out, "pupil_grid", rq->grid);
-        table_out_key_str(out, "lens_wavefront",
-                          rq->lens_method == WAVEFRONT_PATH ? "path" : "rays");
+        if (has_lens)
+            table_out_key_str(out, "lens_wavefront",
+                              rq->lens_method == WAVEFRONT_PATH ? "path" : "rays");
+        if (has_sys)
+            table_out_key_str(out, "system_wavefront", "rays");
     }
     design_set_print_footer(out, ds, "the wavefronts");
     if (ds->nmodels > 1)

@@ -89,4 +89,10 @@ if [ -z "${SANITIZE:-}" ]; then
   run $BIN/lens-mtf $DG --compare $T/readme.poly --fields 0 --wavelengths d --steps 4 >$T/rm.txt 2>&1
   if awk '$1 == "poly" && $4 == 50 { n++ } END { exit n != 1 }' $T/rm.txt
   then ok mtf_readme_compare_axis; else fail mtf_readme_compare_axis "$(tail -2 $T/rm.txt)"; fi
+  # each model's wavefront method is named (a system alone had been said to have the
+  # lens's "by path lengths")
+  if grep -q '^# pixel .*; lens wavefront by path lengths; system wavefront by ray errors$' $T/rm.txt &&
+     run $BIN/lens-mtf $T/readme.poly --fields 0 --wavelengths d --steps 4 2>/dev/null |
+       grep -q '^# pixel .*64; system wavefront by ray errors$'
+  then ok mtf_wavefront_methods; else fail mtf_wavefront_methods "$(grep '^# pixel' $T/rm.txt)"; fi
 fi
