@@ -245,12 +245,13 @@ static void bad_row(const trace_args *a, const lens_err *err)
 /* Filter: one output row per input row; a bad row becomes a row of nan, is reported
  * with its line, and makes the exit status non-zero at the end. Input columns that the
  * trace does not write (an id, say) follow the traced ones, as they were. */
+static const char *const stream_columns[] = {"x", "y", "u", "v", "lambda"};
+
 static int filter(const lens_t *lens, const trace_args *a, samples_reader *r, FILE *f,
                   long *bad_rows, lens_err *err)
 {
-    static const char *const want[] = {"x", "y", "u", "v", "lambda"};
     int map[5];
-    if (samples_map(r, want, 5, map, err) != 0)
+    if (samples_map(r, stream_columns, 5, map, err) != 0)
         return -1;
     samples_passthrough(r, (const char *const *)a->names, ncols(a));
     samples_write_filter_header(f, (const char *const *)a->names, ncols(a), r);
@@ -347,7 +348,9 @@ int trace_run(const trace_cli *o, const lens_t *lens, samples_reader *in, FILE *
     a.sel[0] = lens->stop;
     a.clip = a.sel + 1;
     int rc = -1;
-    if ((!a.clip_columns || choose_clip(lens, &a, err) == 0) && make_names(&a, err) == 0) {
+    int map[5]; /* a stream's columns before anything is written (stdout has no undo) */
+    if ((!a.from_stdin || samples_map(in, stream_columns, 5, map, err) == 0) &&
+        (!a.clip_columns || choose_clip(lens, &a, err) == 0) && make_names(&a, err) == 0) {
         write_preamble(out, lens, &a);
         rc = a.from_stdin ? filter(lens, &a, in, out, bad_rows, err)
                           : generate(lens, &a, out, err);

@@ -77,6 +77,10 @@ expect_error "system as lens" "^lens-info: tests/data/eval_tiny.poly: a polynomi
   "$BIN/lens-info" tests/data/eval_tiny.poly
 expect_error "system as lens, trace" "a polynomial system" "$trc" tests/data/perfect-50mm.poly -n 3
 expect_error "info json with lens" "^lens-info: --json: only the key values" "$BIN/lens-info" lenses/dgauss.50mm.lens --format lens --json
+# a stream without a needed column: the error alone, nothing on stdout (the header
+# comments had been written first)
+out=$(printf '# columns: x y u v\n0 0 0 0\n' | "$trc" lenses/dgauss.50mm.lens - 2>/dev/null); rc=$?
+[ $rc -ne 0 ] && [ -z "$out" ] && ok "stream missing column writes nothing" || fail "stream missing column writes nothing" "rc=$rc: $out"
 expect_error "bad frame" "^lens-trace: --to: 'film' is not outer or stop" "$trc" lenses/dgauss.50mm.lens --to film
 expect_error "missing lens" '^lens-trace: nope.lens: ' "$trc" nope.lens
 expect_error "lambda out of range" '^lens-trace: .*(range|wavelength)' "$trc" lenses/fisheye-ii.lens -n 10 --lambda 2.5 -o "$T/never.txt"
