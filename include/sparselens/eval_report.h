@@ -35,6 +35,10 @@ eval_report *eval_report_new(const poly_system *sys, const eval_report_options *
  * reference ref[noutputs] with the lens's. */
 int eval_report_add(eval_report *r, const double *in, const double *pred, int sys_pass,
                     const double *ref, int lens_pass);
+/* The rays outside the training domain and those of them the lens passes, as the caller
+ * counted them (eval_run, which counts them for its stderr line): the passage keys
+ * outside_domain and outside_domain_lens_passes; 0 unless set. */
+void eval_report_set_outside(eval_report *r, size_t outside, size_t lens_passes);
 /* The report as tables (table_out.h; man lens-eval, THE REPORT): "error" (a row per
  * output and unit, keyed out_x_mm, out_u, out_u_arcmin, ...), "error_by_radius",
  * "part_jumps" (systems with parts), "passage" (key-value) and "passage_by_ring". */

@@ -32,6 +32,11 @@ typedef struct {
 /* 1 when some medium of the lens has different indices at RENDER_LAMBDA_MIN and _MAX. */
 int render_lens_disperses(const lens_t *lens);
 
+/* The lens's mean transmittance on the axis at the d line (render_effects' eta_centre),
+ * alone: the weight of every ray where the transmittance is not traced ray by ray.
+ * 0, or -1 with err set. */
+int render_effects_eta_centre(const lens_t *lens, double *eta, lens_err *err);
+
 /* Decides from the scene and a quick exact probe of the lens (at the d line). */
 int render_effects_decide(const scene_t *s, const lens_t *lens, double sensor_w,
                           double sensor_h, render_effects *e, lens_err *err);

@@ -260,6 +260,8 @@ int eval_run(const poly_system *sys, samples_reader *rd, FILE *out, const eval_r
     const char *warn[1] = {bad};
     snprintf(bad, sizeof bad, "%zu of %zu rows malformed, left out of the report", st->bad_rows,
              st->rows);
+    if (rep)
+        eval_report_set_outside(rep, st->outside, st->outside_passing);
     if (rep && (eval_report_print(&t, rep) != 0 ||
                 (table_out_end(&t, warn, st->bad_rows ? 1 : 0), ferror(out)))) {
         const int saved = errno;

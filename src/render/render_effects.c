@@ -119,6 +119,14 @@ int render_lens_disperses(const lens_t *lens)
     return 0;
 }
 
+int render_effects_eta_centre(const lens_t *lens, double *eta, lens_err *err)
+{
+    double n[lens->nsurf], loss;
+    if (lens_indices(lens, GLASS_D_LINE, n, err)) return -1;
+    probe_field(lens, n, 0, &loss, eta);
+    return 0;
+}
+
 int render_effects_decide(const scene_t *s, const lens_t *lens, double sw, double sh,
                           render_effects *e, lens_err *err)
 {
