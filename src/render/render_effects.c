@@ -222,8 +222,8 @@ static uint64_t lens_hash(const lens_t *lens)
     return h;
 }
 
-/* The version in the key changes whenever render_fit's systems do (v3: the passage
- * helper's faithful passage; v4: the outer frame that turns with the ray and training
+/* The version in the key changes whenever render_fit's systems do (v3: the faithful
+ * passage; v4: the outer frame that turns with the ray and training
  * rays in the sensor's corners), so that a cache never serves a system of older code. */
 void render_effects_key(const lens_t *lens, const render_effects *e, char key[17])
 {

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Hostile input (issue 16): what an adversarial user tries, each answered by a clean
+# Hostile input: what an adversarial user tries, each answered by a clean
 # one-line error or by the right result, never by a crash, a silent cut or lost data.
 # Kept fast: small files, except where a size is the point (then a few MB at most).
 source "$(dirname "$0")/lib.sh"
