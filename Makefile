@@ -71,7 +71,7 @@ TESTS    := $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(TEST_SRC)))
 BENCHES  := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/bench_*.c))
 LIB      := $(BUILD)/liblens.a
 
-.PHONY: all deps test check demo bench bench-compare reports install fuzz clean man
+.PHONY: all deps test check demo bench bench-compare reports figures install fuzz clean man
 all: $(CMDS) $(TESTS) $(BENCHES) man
 
 # The SYNOPSIS and OPTIONS sections of each command's man page are generated from its
@@ -148,6 +148,11 @@ bench-compare: deps
 reports: deps
 	@$(MAKE) --no-print-directory -j$(shell nproc 2>/dev/null || echo 2) all
 	@$(MAKE) --no-print-directory -f tools/reports.mk BIN=$(BIN) BUILD=$(BUILD)
+
+# The accuracy report and its pictures from the committed sweeps (reports/cache), no sweep.
+figures:
+	@python3 tools/report_accuracy.py reports/cache reports/accuracy-vs-time.md reports/accuracy
+	@echo "figures: wrote reports/accuracy-vs-time.md and reports/accuracy/" >&2
 
 fuzz: deps
 	@tools/fuzz.sh $(or $(FUZZ_SECONDS),60)
