@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# A misspelt long option is answered with the nearest real one; a name far from every
+# option gets no guess.
+. "$(dirname "$0")/lib.sh"
+L=lenses/dgauss.50mm.lens
+expect_error hint_prefix "^lens-spot: unknown option '--field': did you mean --fields\? \(see --help\)$" \
+  "$BIN/lens-spot" "$L" --field 3
+expect_error hint_typo "^lens-trace: unknown option '--sede': did you mean --seed\? \(see --help\)$" \
+  "$BIN/lens-trace" "$L" --sede 3
+expect_error hint_swap "did you mean --terms\?" "$BIN/lens-fit" --tersm 3
+expect_error hint_builtin "did you mean --version\?" "$BIN/lens-info" --verison
+expect_error hint_none "^lens-trace: unknown option '--zzzzz' \(see --help\)$" "$BIN/lens-trace" "$L" --zzzzz
+expect_error hint_value_form "did you mean --seed\?" "$BIN/lens-trace" "$L" --sed=3
