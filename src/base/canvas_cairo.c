@@ -296,6 +296,15 @@ static cairo_status_t render(const img_canvas *c, const char *path, FILE *f)
 
 int img_write_png(const img_canvas *c, const char *path, lens_err *err)
 {
+    /* the kind follows the name: PNG data in a file called .jpg is a file no viewer
+     * opens as what its name says */
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    if (dot && (!slash || dot > slash) && !ends_with(path, ".png") && !ends_with(path, ".svg") &&
+        !ends_with(path, ".pdf")) {
+        lens_errf(err, path, 0, "a picture is written as PNG, SVG or PDF, by the name's ending "
+                                "(.png, .svg, .pdf), and '%s' is none of them", dot);
+        return -1;
+    }
     char tmp[4096];
     if (outfile_tmp_path(path, tmp, sizeof tmp) != 0) {
         lens_errf(err, path, 0, "cannot make a temporary file name");

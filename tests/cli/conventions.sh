@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# A misspelt long option is answered with the nearest real one; a name far from every
-# option gets no guess.
+# Conventions every command keeps: a misspelt long option is answered with the nearest
+# real one (a name far from every option gets no guess); a picture's kind follows its name.
 . "$(dirname "$0")/lib.sh"
 L=lenses/dgauss.50mm.lens
 expect_error hint_prefix "^lens-spot: unknown option '--field': did you mean --fields\? \(see --help\)$" \
@@ -11,3 +11,8 @@ expect_error hint_swap "did you mean --terms\?" "$BIN/lens-fit" --tersm 3
 expect_error hint_builtin "did you mean --version\?" "$BIN/lens-info" --verison
 expect_error hint_none "^lens-trace: unknown option '--zzzzz' \(see --help\)$" "$BIN/lens-trace" "$L" --zzzzz
 expect_error hint_value_form "did you mean --seed\?" "$BIN/lens-trace" "$L" --sed=3
+# A picture's kind follows its name: a .jpg is refused before anything is written.
+rm -f "$T/fan.jpg"
+expect_error picture_kind "fan.jpg: a picture is written as PNG, SVG or PDF.*'\.jpg' is none of them" \
+  "$BIN/lens-fan" "$L" --png "$T/fan.jpg"
+if [ -e "$T/fan.jpg" ]; then fail picture_kind_no_file "a .jpg was left behind"; else ok picture_kind_no_file; fi
