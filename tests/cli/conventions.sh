@@ -27,3 +27,19 @@ if near "$d" "$last" 1e-6 && ! near "$(v exit_pupil_z)" "$(v exit_pupil_from_las
 else
   fail exit_pupil_from_first_surface "exit_pupil_z - exit_pupil_from_last_surface = $d, last surface at $last"
 fi
+# lens-info --seidel: the Lagrange invariant of a ray entering parallel at the pupil's
+# rim and a chief ray at slope tan(field) through its centre is -(D/2) tan(field), D the
+# entrance pupil diameter lens-info prints; the sums row is the last of the table, in JSON too.
+D=$(v entrance_pupil_diameter)
+H=$("$BIN/lens-info" "$L" --seidel --field 10 | awk '$1 == "lagrange_invariant_mm" { print $2 }')
+Hw=$(awk -v d="$D" 'BEGIN { print -d / 2 * sin(10 * atan2(0, -1) / 180) / cos(10 * atan2(0, -1) / 180) }')
+if near "$H" "$Hw" 1e-5; then ok seidel_lagrange; else fail seidel_lagrange "H $H, expected $Hw"; fi
+if "$BIN/lens-info" "$L" --seidel --json | python3 -c '
+import json, sys
+d = json.load(sys.stdin)
+rows = d["seidel"]
+assert rows[-1]["surface"] == "sum"
+for k in ("S_I", "S_II", "S_III", "S_IV", "S_V"):
+    assert abs(sum(r[k] for r in rows[:-1]) - rows[-1][k]) < 1e-7, k
+'; then ok seidel_json; else fail seidel_json "the JSON does not parse or its sums do not add up"; fi
+expect_error seidel_field_alone "^lens-info: --field: the chief ray's angle of --seidel" "$BIN/lens-info" "$L" --field 3
