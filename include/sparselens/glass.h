@@ -90,7 +90,7 @@ const char *glass_catalog_vendor(const glass_catalog *cat, size_t i);
  * for one not in cat. */
 size_t glass_catalog_index(const glass_catalog *cat, const glass_t *g);
 /* An old name ("alias BK7 N-BK7"): the name of the glass it is read as, else NULL.
- * glass_catalog_find prefers a glass of the name itself to an alias. */
+ * glass_catalog_find returns the first of a name in catalog order, alias or not. */
 const char *glass_catalog_alias_of(const glass_catalog *cat, size_t i);
 /* Why the glass cannot be used (its formula contradicts its own n_d: "in F, formula 2
  * (Sellmeier 1) gives n_d ... where the entry says ..."), else NULL. Such a glass stays

@@ -293,16 +293,12 @@ const glass_t *glass_catalog_find(const glass_catalog *cat, const char *name)
 {
     if (!cat)
         return NULL;
-    /* A glass of that name before an old name standing for another glass. */
-    const glass_t *alias = NULL;
+    /* The first in catalog order: the user's catalogs, then the shipped vendor order
+     * (whose old names stand for that vendor's successors). */
     for (size_t i = 0; i < cat->n; i++)
-        if (strcasecmp(cat->g[i].name, name) == 0) {
-            if (cat->e[i].alias_of < 0)
-                return &cat->g[i];
-            if (!alias)
-                alias = &cat->g[i];
-        }
-    return alias;
+        if (strcasecmp(cat->g[i].name, name) == 0)
+            return &cat->g[i];
+    return NULL;
 }
 
 size_t glass_catalog_size(const glass_catalog *cat)

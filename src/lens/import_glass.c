@@ -53,14 +53,13 @@ typedef struct {
     char others[120]; /* other vendors of a glass of that name, "HOYA, CDGM" */
 } glass_match;
 
-/* How well catalog glass i answers `want`: a glass before an old name standing for
- * another (the glass of that very name is a better fact than a successor's), then the
- * name as written before one matched without punctuation, then catalog order (the
- * user's catalogs first, then the shipped one's vendor order). Lower is better. */
+/* How well catalog glass i answers `want`: the name as written before one matched
+ * without punctuation, a glass before an old name standing for another, then catalog
+ * order (the user's catalogs first, then the shipped vendor order). Lower is better. */
 static int rank(const glass_catalog *cat, size_t i, const char *name)
 {
-    return (glass_catalog_alias_of(cat, i) ? 2 : 0) +
-           (strcasecmp(glass_catalog_at(cat, i)->name, name) == 0 ? 0 : 1);
+    return (strcasecmp(glass_catalog_at(cat, i)->name, name) == 0 ? 0 : 2) +
+           (glass_catalog_alias_of(cat, i) ? 1 : 0);
 }
 
 /* The best glass of `vendor` (NULL: any) whose name matches `name` loosely. -1: two
