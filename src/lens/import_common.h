@@ -173,6 +173,7 @@ typedef struct {
     const lens_load_options *opt;
     material_ctx m;      /* the catalogs, in lens_load's order, read on first use */
     char fallbacks[200]; /* glasses that fell back to nd/Vd, for the note */
+    char choices[400];   /* old names and vendor choices made, for the note */
     char maker_catalogs[100]; /* catalogs the file names (Zemax GCAT), for the message */
 } import_glass_ctx;
 
@@ -180,9 +181,13 @@ void import_glass_init(import_glass_ctx *g, const lens_load_options *opt, const 
 void import_glass_free(import_glass_ctx *g);
 
 /* Resolves a named glass into s->medium and s->material. nd, vd: the values the file
- * gives beside the name (NAN when none), used only for the nd/Vd fallback. Tries the
- * name as given, then case-insensitively and without hyphens (CODE V writes NBK7 for
- * N-BK7), then with a trailing "_MAKER" or ".MAKER" removed. */
+ * gives beside the name (NAN when none), used only for the nd/Vd fallback, and never
+ * when they are a catalog glass's round placeholders (1.5/40). Tries the name as given,
+ * then case-insensitively without '-', '_' and blanks (CODE V writes NBK7 for N-BK7); a
+ * trailing "_VENDOR" or ".VENDOR" selects that vendor's glass. A name several vendors
+ * sell is the first vendor's in catalog order (the user's catalogs, then SCHOTT OHARA
+ * HOYA HIKARI CDGM SUMITA PLASTIC), an old name is its successor (BK7: N-BK7), each
+ * with a note; a glass whose formula contradicts its n_d is an error naming it. */
 int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double vd,
                         const char *file, long line, lens_surface *s, lens_err *err);
 
