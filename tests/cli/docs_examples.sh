@@ -49,7 +49,9 @@ else fail "installed man pages' examples are man/'s" "differ:$differ"; fi
 for c in "$prefix"/bin/lens-*; do
   [ "$(PATH="$prefix/bin:$PATH" command -v "${c##*/}")" = "$c" ] || { fail "docs man pages" "${c##*/} is not the installed one"; exit 0; }
 done
-# (reported by their names in man/: the installed pages' lines are man/'s)
-PATH="$prefix/bin:$PATH" tools/doc-examples.sh --run "$T/docs" "${pages[@]}" |
+# (reported by their names in man/: the installed pages' lines are man/'s; the section-3
+# pages' programs build with the installed sparselens.pc and run with its library)
+PATH="$prefix/bin:$PATH" PKG_CONFIG_PATH=$prefix/lib/pkgconfig LD_LIBRARY_PATH=$prefix/lib \
+  tools/doc-examples.sh --run "$T/docs" "${pages[@]}" |
   sed "s#$prefix/share/man/man[1-8]/#man/#"
 exit 0
