@@ -6,6 +6,10 @@
  * return non-zero. Commands print it as "lens-x: <msg>" and exit non-zero. */
 #include <stddef.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
     char msg[512];
 } lens_err;
@@ -29,5 +33,9 @@ void diag_guard_stdout(const char *prog);
 /* Tells the guard that a write error on stdout was already reported (outfile_commit),
  * so that the exit prints no second line. */
 void diag_stdout_error_reported(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -5,6 +5,10 @@
  * outside a glass's valid range is an error, never an extrapolation. */
 #include "sparselens/diag.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define GLASS_D_LINE 0.5875618 /* helium d line, um */
 #define GLASS_F_LINE 0.4861327 /* hydrogen F line, um */
 #define GLASS_C_LINE 0.6562725 /* hydrogen C line, um */
@@ -101,5 +105,9 @@ const char *glass_catalog_problem(const glass_catalog *cat, size_t i);
 /* The shipped default catalog: $SPARSELENS_GLASS_CATALOG, else glass.catalog in the
  * shipped lens directories (data_path.h). NULL if not found. */
 const char *glass_default_catalog_path(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -16,6 +16,10 @@
 #include "sparselens/diag.h"
 #include "sparselens/glass.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define LENS_ASPHERE_TERMS 5 /* a4, a6, a8, a10, a12 */
 
 typedef struct {
@@ -106,5 +110,9 @@ int lens_set_fnumber(lens_t *lens, double fnumber, lens_err *err);
 /* Refractive index after each surface (n[i], i < nsurf) at lambda; object space is air.
  * 0 on success, -1 (err set) for a wavelength outside some glass's range. */
 int lens_indices(const lens_t *lens, double lambda_um, double *n, lens_err *err);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -8,6 +8,10 @@
 
 #include "sparselens/diag.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct poly_system poly_system;
 
 int poly_read(const char *path, poly_system **sys, lens_err *err);
@@ -24,6 +28,13 @@ const char *poly_lens_path(const poly_system *sys); /* as recorded, may be "" */
 int poly_find_lens_file(const poly_system *sys, const char *poly_path,
                         int (*find)(const char *name, char *buf, size_t n), char *buf,
                         size_t len, lens_err *err);
+/* Whether sys belongs to the lens named lens_name, read from lens_path (may be NULL): it
+ * does when the lens name it records is that name or the lens file's base name, or the
+ * lens file it records has the lens file's base name, or it records no lens ("" or
+ * "unknown"). NULL if so; else the reason ("the system was fitted to 'X' (path), not to
+ * this lens 'Y'") in buf. The commands warn with it, lens_camera_new refuses. */
+const char *poly_lens_mismatch(const poly_system *sys, const char *lens_name,
+                               const char *lens_path, char *buf, size_t len);
 int poly_ninputs(const poly_system *sys);
 int poly_noutputs(const poly_system *sys);
 const char *poly_input_name(const poly_system *sys, int i);
@@ -196,5 +207,9 @@ int poly_emit_c(FILE *f, const poly_system *sys, const char *func_name);
 
 /* 1 when name can name poly_emit_c's function: a C identifier, not a C keyword. */
 int poly_c_name_ok(const char *name);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

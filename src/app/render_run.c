@@ -8,6 +8,7 @@
 #include "sparselens/camera.h"
 #include "sparselens/exr_io.h"
 #include "sparselens/outfile.h"
+#include "sparselens/paraxial.h"
 #include "sparselens/glass.h"
 #include "sparselens/image.h"
 #include "sparselens/lens.h"
@@ -160,6 +161,9 @@ static int load_camera(const render_options *o, render_setup *s, lens_err *err)
     if (scene_load(o->scene, sc, err)) return -1;
     if (o->spp > 0) sc->spp = o->spp;
     if (o->seed) sc->seed = o->seed;
+    if (o->focus > 0) sc->focus = o->focus;
+    if (o->fstop > 0) sc->fstop = o->fstop;
+    if (o->blades) sc->blades = o->blades == RENDER_BLADES_ROUND ? 0 : o->blades;
     snprintf(s->lens_path, sizeof s->lens_path, "%s", sc->camera);
     if (sc->camera_is_poly) {
         if (poly_read(sc->camera, &s->sys, err)) return -1;
@@ -183,12 +187,19 @@ static int load_camera(const render_options *o, render_setup *s, lens_err *err)
     if (s->sys) {
         /* a fitted system has its focus and aperture baked in */
         if (!isnan(sc->focus) || !isnan(sc->fstop)) {
-            lens_errf(err, sc->path, 0, "focus and fstop cannot change a fitted .poly camera; "
-                      "give the lens file instead");
+            lens_errf(err, sc->path, 0, "focus and fstop (the scene's, --focus, --fstop) "
+                      "cannot change a fitted .poly camera; give the lens file instead");
             return -1;
         }
     } else if (render_lens_setup(&s->lens, sc->focus, sc->fstop, err)) {
         return -1;
+    } else if (o->log) {
+        /* where the scene's (or --focus's) focus put the sensor, and its f-stop */
+        paraxial_data p;
+        if (paraxial_compute(&s->lens, GLASS_D_LINE, &p, err)) return -1;
+        fprintf(o->log, "camera: focus %.6g%s, the sensor %.6f mm behind the last surface, "
+                "f/%.4g (paraxial)\n", p.focus_distance, isinf(p.focus_distance) ? "" : " mm",
+                p.sensor_distance, p.fnumber);
     }
     s->sw = isnan(sc->sensor_w) ? s->lens.sensor_w : sc->sensor_w;
     s->sh = isnan(sc->sensor_h) ? s->lens.sensor_h : sc->sensor_h;
