@@ -24,6 +24,7 @@ typedef struct {
                                 * figure (render_noise) printed to log, or NULL */
     unsigned long seed;     /* 0: the scene's */
     const char *emit_camera; /* write the camera module (camera.h) here instead of rendering */
+    const char *camera_name; /* the prefix of the module's symbols; NULL: lens_camera */
     FILE *log;              /* decisions and figures (stderr in lens-render); may be NULL */
     FILE *figures;          /* the figures asked for (--reference, --noise-against), also
                                with -q; NULL: log */
