@@ -70,11 +70,15 @@ int lens_camera_set_blades(lens_camera *c, int blades, double rotation, lens_err
  *   size_t NAME_rays(size_t n, const double *samples, double *rays)
  * with the rows and the return value of lens_camera_rays, the system evaluated in
  * blocks by its vectorised batch function. Its line pupil is coarser than the
- * library's (fewer rays pass), the estimate the same. 0, or -1 with err (a NAME that is
- * no C identifier, a system without the camera's inputs, blades without ap_x ap_y). */
+ * library's (fewer rays pass), the estimate the same. 0, or -1 with err (a NAME
+ * that cannot prefix the module's symbols (text_c_prefix_ok, escape.h), a system
+ * without the camera's inputs, blades without ap_x ap_y). Every external symbol begins
+ * with NAME; the file compiles as C11 or C++, its functions with C linkage. */
 int lens_camera_emit(FILE *f, const lens_t *lens, const poly_system *sys, double sensor_w,
                      double sensor_h, int blades, double rotation, const char *name,
                      lens_err *err);
+/* The module's header: NAME_ray and NAME_rays declared, extern "C" in C++. */
+int lens_camera_emit_header(FILE *f, const lens_t *lens, const char *name, lens_err *err);
 
 #ifdef __cplusplus
 }

@@ -200,13 +200,18 @@ int poly_read_stream(FILE *f, const char *name, poly_system **sys, lens_err *err
  * and summation order) and returns the same pass flag, and
  *   void func_name_batch(size_t n, const double *in, double *out, unsigned char *pass)
  * with the same values for n rays (rows), written as loops over blocks of 8 rays that
- * compilers vectorise (one-part systems; several parts go ray by ray). Compiles as C99
- * on its own (includes <math.h>, <stddef.h>). Returns 0, or -1 on a bad name or write
- * error. */
+ * compilers vectorise (one-part systems; several parts go ray by ray). Compiles as C11
+ * or C++ on its own (includes <math.h>, <stddef.h>), the functions with C linkage; every
+ * external symbol begins with func_name. Names from the system reach only its comments,
+ * through text_c_comment (escape.h). Returns 0, or -1 on a bad name or write error. */
 int poly_emit_c(FILE *f, const poly_system *sys, const char *func_name);
+/* The header of poly_emit_c's file: its two declarations, extern "C" for C++. */
+int poly_emit_c_header(FILE *f, const poly_system *sys, const char *func_name);
 
-/* 1 when name can name poly_emit_c's function: a C identifier, not a C keyword. */
+/* 1 when name can name poly_emit_c's function (text_c_prefix_ok, escape.h). */
 int poly_c_name_ok(const char *name);
+/* 0 when it can; else -1 and "--name: ... " with the reason in err. */
+int poly_c_name_check(const char *name, lens_err *err);
 
 #ifdef __cplusplus
 }

@@ -29,6 +29,7 @@ typedef struct {
     int blades;             /* 0: the scene's; RENDER_BLADES_ROUND: the stop's circle;
                                3 .. 16: that polygon (the scene's rotation) */
     const char *emit_camera; /* write the camera module (camera.h) here instead of rendering */
+    const char *camera_name; /* the prefix of the module's symbols; NULL: lens_camera */
     FILE *log;              /* decisions and figures (stderr in lens-render); may be NULL */
     FILE *figures;          /* the figures asked for (--reference, --noise-against), also
                                with -q; NULL: log */

@@ -70,8 +70,10 @@ static const opt_spec eval_table[] = {
      ".I <math.h>\n"
      "and\n"
      ".IR <stddef.h> .\n"},
-    {0, "name", "NAME", OPT_STRING, OPT_AT(eval_cli, name), .help = "the C function's name (a C identifier, not a C keyword)",
-     .def = "lens_poly_eval"},
+    {0, "name", "NAME", OPT_STRING, OPT_AT(eval_cli, name),
+     .help = "the prefix of every symbol of the C file (a C identifier, not a keyword, not "
+             "reserved, not a name of <math.h>)",
+     .def = "lens_poly"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(eval_cli, output),
      .help = "output file, never left half-written (not the input or the system)", .def = "standard output"},
     {.type = OPT_GROUP, OPT_AT(eval_cli, out), .group = output_cli_table},
@@ -94,7 +96,7 @@ void eval_cli_default(eval_cli *o)
     o->input = "-";
     o->output = "-";
     o->emit_c = 0;
-    o->name = "lens_poly_eval";
+    o->name = "lens_poly";
     o->out = (output_cli){0, 0};
     eval_run_options_default(&o->run);
 }

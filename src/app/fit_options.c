@@ -128,7 +128,9 @@ static const opt_spec fit_table[] = {
      ".BR lens-eval (1)),\n"
      "which runs blocks of 8 rays that compilers vectorise, the meridional frame and the\n"
      "transforms (the defaults) included.\n"},
-    {0, "name", "NAME", OPT_STRING, OPT_AT(fit_cli, name), .help = "function name for --emit c (a C identifier, not a C keyword)",
+    {0, "name", "NAME", OPT_STRING, OPT_AT(fit_cli, name),
+     .help = "for --emit c: the prefix of every symbol of the C file (a C identifier, not a "
+             "keyword, not reserved, not a name of <math.h>)",
      .def = "lens_poly"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(fit_cli, out_path),
      .help = "output file (written whole or not at all; not the samples file)", .def = "standard output"},

@@ -99,11 +99,19 @@ static const opt_spec render_table[] = {
              "weight) instead of rendering",
      .man =
      "The module defines\n"
-     ".I double lens_camera_ray(sx, sy, lambda, r1, r2, org[3], dir[3]):\n"
+     ".I double NAME_ray(sx, sy, lambda, r1, r2, org[3], dir[3]):\n"
      "the weight of the camera ray from sensor point (sx, sy) (fractions of the sensor, the\n"
      "top-left at 0, 0), with its origin and direction in the scene frame\n"
      ".RB ( lens-scene (5)).\n"
-     "It compiles on its own as C99; -o is not needed.\n"},
+     "It compiles on its own as C11 or C++, its functions with C linkage, and\n"
+     ".I FILE.h\n"
+     "(for\n"
+     ".IR FILE .c)\n"
+     "declares them; -o is not needed.\n"},
+    {0, "name", "NAME", OPT_STRING, OPT_AT(render_cli, run.camera_name),
+     .help = "for --emit-camera: the prefix of every symbol of the module (NAME_ray, "
+             "NAME_rays, ...), so that cameras of several lenses link into one program",
+     .def = "lens_camera"},
     {'q', "quiet", NULL, OPT_FLAG, OPT_AT(render_cli, quiet),
      .help = "no decisions, progress or timings on stderr (the figures of --reference and "
              "--noise-against still)"},

@@ -6,6 +6,8 @@
 #include <string.h>
 
 #include "sparselens/camera.h"
+#include "sparselens/emit_files.h"
+#include "sparselens/escape.h"
 #include "sparselens/exr_io.h"
 #include "sparselens/outfile.h"
 #include "sparselens/paraxial.h"
@@ -343,25 +345,43 @@ static int write_outputs(const render_options *o, const scene_t *sc, const float
     return 0;
 }
 
-/* --emit-camera: the scene's camera as one C file (camera.h), instead of the render. */
+typedef struct {
+    const render_options *o;
+    const render_setup *s;
+    const char *name;
+} camera_job;
+
+static int camera_body(FILE *f, void *ctx, lens_err *err)
+{
+    const camera_job *j = ctx;
+    return lens_camera_emit(f, &j->s->lens, j->s->sys, j->s->sw, j->s->sh, j->s->sc.blades,
+                            j->s->sc.blade_rotation * M_PI / 180, j->name, err);
+}
+
+static int camera_header(FILE *f, void *ctx, lens_err *err)
+{
+    const camera_job *j = ctx;
+    return lens_camera_emit_header(f, &j->s->lens, j->name, err);
+}
+
+static const char *camera_name(const render_options *o)
+{
+    return o->camera_name ? o->camera_name : "lens_camera";
+}
+
+/* --emit-camera: the scene's camera as one C file (camera.h) and its header, instead of
+ * the render. */
 static int emit_camera(const render_options *o, const render_setup *s, lens_err *err)
 {
-    const poly_system *sys = s->sys;
-    if (!sys) {
+    if (!s->sys) {
         lens_errf(err, o->scene, 0, "--emit-camera needs a polynomial system (not --exact)");
         return -1;
     }
-    outfile *of = outfile_open(o->emit_camera, err);
-    if (!of) return -1;
-    if (lens_camera_emit(outfile_stream(of), &s->lens, sys, s->sw, s->sh, s->sc.blades,
-                         s->sc.blade_rotation * M_PI / 180, "lens_camera", err)) {
-        outfile_abort(of);
-        return -1;
-    }
-    if (outfile_commit(of, err)) return -1;
+    camera_job j = {o, s, camera_name(o)};
+    if (emit_c_files(o->emit_camera, camera_body, camera_header, &j, err)) return -1;
     if (o->log)
-        fprintf(o->log, "camera module: wrote %s (lens_camera_ray, lens_camera_rays)\n",
-                o->emit_camera);
+        fprintf(o->log, "camera module: wrote %s (%s_ray, %s_rays)\n", o->emit_camera, j.name,
+                j.name);
     return 0;
 }
 
@@ -393,6 +413,11 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
     float *img = NULL;
     int rc = -1;
     lens_init(&s.lens);
+    const char *why;
+    if (o->emit_camera && !text_c_prefix_ok(camera_name(o), &why)) { /* before any fit */
+        lens_errf(err, NULL, 0, "--name: %s", why);
+        return -1;
+    }
     if (load_camera(o, &s, err) || check_outputs(o, &s.sc, err) || choose_lens_map(o, &s, err))
         goto done;
     if (o->emit_camera) {
