@@ -10,6 +10,7 @@
  *   z(h) = c h^2 / (1 + sqrt(1 - (1 + k) c^2 h^2)) + a4 h^4 + a6 h^6 + ... + a12 h^12
  * with c = 1/radius (0 for a flat surface). radius > 0: centre of curvature behind the
  * vertex (towards the sensor). */
+#include <limits.h>
 #include <stddef.h>
 #include <stdio.h>
 
@@ -37,7 +38,7 @@ typedef struct {
 typedef struct {
     char name[128];
     char source[512];
-    char path[512];        /* file it was read from */
+    char path[PATH_MAX];   /* file it was read from (any path open() takes fits) */
     char format[8];        /* the reader lens_load used ("lens", "zmx", ...); "" if none */
     double focal;          /* nominal focal length from the header, mm; NAN if unknown */
     double fnumber;        /* nominal f-number from the header; NAN if unknown */

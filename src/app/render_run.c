@@ -143,16 +143,25 @@ typedef struct {
     render_lens_ctx *lc;
     render_sampler smp;
     render_camera cam;
-    char lens_path[1024];  /* the lens file, named in the log */
+    char lens_path[PATH_MAX + 64]; /* the lens file, named in the log */
     double sw, sh;         /* sensor, mm */
     int use_eta, achromatic, stop_only; /* stop_only: vignetting off, the stop's line pupil */
     double eta_const;
 } render_setup;
 
-static void cache_dir(const render_options *o, char *dir, size_t len)
+static int cache_dir(const render_options *o, char *dir, size_t len, lens_err *err)
 {
-    if (o->cache_dir) snprintf(dir, len, "%s", o->cache_dir);
-    else render_default_cache_dir(dir, len);
+    if (!o->cache_dir) {
+        render_default_cache_dir(dir, len);
+        return 0;
+    }
+    if (strlen(o->cache_dir) >= len) {
+        lens_errf(err, NULL, 0, "--cache-dir: a path of %zu characters, more than the %zu a "
+                  "path may have", strlen(o->cache_dir), len - 1);
+        return -1;
+    }
+    snprintf(dir, len, "%s", o->cache_dir);
+    return 0;
 }
 
 /* Step 1: the scene, its lens (or the lens a given system was fitted to), focus and
@@ -166,7 +175,7 @@ static int load_camera(const render_options *o, render_setup *s, lens_err *err)
     if (o->focus > 0) sc->focus = o->focus;
     if (o->fstop > 0) sc->fstop = o->fstop;
     if (o->blades) sc->blades = o->blades == RENDER_BLADES_ROUND ? 0 : o->blades;
-    snprintf(s->lens_path, sizeof s->lens_path, "%s", sc->camera);
+    memcpy(s->lens_path, sc->camera, strlen(sc->camera) + 1); /* both hold PATH_MAX */
     if (sc->camera_is_poly) {
         if (poly_read(sc->camera, &s->sys, err)) return -1;
         const char *frame = poly_get_meta(s->sys, "trace_frame");
@@ -238,10 +247,10 @@ static int choose_lens_map(const render_options *o, render_setup *s, lens_err *e
         if (!s->use_eta && render_effects_eta_centre(&s->lens, &s->eta_const, err)) return -1;
     } else if (!s->sys) {
         render_effects e;
-        char dir[1024];
+        char dir[PATH_MAX];
         if (render_effects_decide(sc, &s->lens, s->sw, s->sh, &e, err)) return -1;
         render_effects_print(o->log, &e);
-        cache_dir(o, dir, sizeof dir);
+        if (cache_dir(o, dir, sizeof dir, err)) return -1;
         s->sys = render_effects_system(&s->lens, &e, dir, o->threads, o->log, err);
         if (!s->sys) return -1;
         s->use_eta = e.transmittance;
@@ -286,8 +295,8 @@ static int build_sampler(const render_options *o, render_setup *s, lens_err *err
     }
     int grey = s->sc.mode == SCENE_GREY;
     double l0 = grey ? GLASS_D_LINE : RENDER_LAMBDA_MIN, l1 = grey ? GLASS_D_LINE : RENDER_LAMBDA_MAX;
-    char dir[1024];
-    cache_dir(o, dir, sizeof dir);
+    char dir[PATH_MAX];
+    if (cache_dir(o, dir, sizeof dir, err)) return -1;
     return render_effects_sampler(&s->lens, l0, l1, 0.5 * hypot(s->sw, s->sh), s->stop_only, dir,
                                   o->threads, o->log, &s->smp, err);
 }

@@ -22,6 +22,7 @@
 #include "base/index_hash.h"
 #include "base/line_reader.h"
 #include "sparselens/glass.h"
+#include "sparselens/input_file.h"
 
 #include <ctype.h>
 #include <limits.h>
@@ -571,9 +572,10 @@ static int agf_add(void *cat, const glass_t *g, lens_err *err)
 
 int glass_catalog_load(glass_catalog **catp, const char *path, lens_err *err)
 {
-    FILE *f = fopen(path, "r");
+    lens_err why;
+    FILE *f = input_open(path, &why);
     if (!f) {
-        lens_errf(err, path, 0, "cannot open the glass catalog");
+        lens_errf(err, NULL, 0, "glass catalog %s", why.msg);
         return -1;
     }
     int created = 0;

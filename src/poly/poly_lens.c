@@ -48,14 +48,14 @@ int poly_find_lens_file(const poly_system *sys, const char *poly_path,
                   "fitted to lens-trace's samples do)", name);
         return -1;
     }
-    snprintf(buf, len, "%s", lp);
-    if (readable(buf))
+    /* a path buf cannot hold whole is no candidate: never a cut name */
+    if (strlen(lp) < len && snprintf(buf, len, "%s", lp) >= 0 && readable(buf))
         return 0;
     /* a relative path may be relative to the .poly file, moved together with it */
     const char *slash = strrchr(poly_path, '/');
     if (lp[0] != '/' && slash) {
-        snprintf(buf, len, "%.*s/%s", (int)(slash - poly_path), poly_path, lp);
-        if (readable(buf))
+        int n = snprintf(buf, len, "%.*s/%s", (int)(slash - poly_path), poly_path, lp);
+        if (n >= 0 && (size_t)n < len && readable(buf))
             return 0;
     }
     if (find && find(lp, buf, len) == 0 && readable(buf))

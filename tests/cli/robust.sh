@@ -28,7 +28,7 @@ err_has() {
 }
 # A read error (here: a directory where a file is expected) is an error, never an end.
 mkdir -p "$T/dir.lens"
-err_has read_error_lens 'dir.lens: read error' "$BIN/lens-info" "$T/dir.lens"
+err_has read_error_lens 'dir.lens: a directory, not a file to read' "$BIN/lens-info" "$T/dir.lens"
 err_has read_error_fit '<stdin>: read error' "$BIN/lens-fit" --terms 3 <"$T/dir.lens"
 err_has read_error_trace '<stdin>: read error' "$BIN/lens-trace" "$LENS" - <"$T/dir.lens"
 "$BIN/lens-trace" "$LENS" -n 200 --seed 1 >"$T/s.txt" 2>/dev/null
@@ -229,10 +229,12 @@ run "$BIN/lens-render" "$S/n1.scene" --exact --cache "$S/c" -o "$S/n1.exr" 2>/de
   run "$BIN/lens-render" "$S/nhuge.scene" --exact --cache "$S/c" -o "$S/nhuge.exr" 2>/dev/null &&
   cmp -s "$S/n1.exr" "$S/nhuge.exr" && ok scene_normal_no_overflow || fail scene_normal_no_overflow "images differ"
 # A checker square of 1e-300 mm: cell indices far past LONG_MAX (was a float-to-long
-# overflow, undefined behaviour that clang's UBSan reports): renders, and not black.
+# overflow, undefined behaviour that clang's UBSan reports): refused, with its line
+# (sizes run from 1e-6 to 1e9 mm, lens-scene(5)).
 scene 'plane 0 0 1000  0 0 -1  checker 0.2 0.8 1e-300
 sphere 0 0 900 300 emit 1' tiny
-run "$BIN/lens-render" "$S/tiny.scene" --exact --cache "$S/c" -o "$S/tiny.exr" 2>"$S/tiny.err" &&
+! "$BIN/lens-render" "$S/tiny.scene" --exact --cache "$S/c" -o "$S/tiny.exr" 2>"$S/tiny.err" &&
+  grep -q 'tiny.scene:1: checker square 1e-300 mm is outside' "$S/tiny.err" && [ ! -e "$S/tiny.exr" ] &&
   ! grep -q 'runtime error' "$S/tiny.err" && ok scene_tiny_checker || fail scene_tiny_checker "$(head -2 "$S/tiny.err")"
 { printf '\xef\xbb\xbf'; cat "$S/n1.scene"; } >"$S/bom.scene"
 run "$BIN/lens-render" "$S/bom.scene" --exact --cache "$S/c" -o "$S/bom.exr" 2>/dev/null && cmp -s "$S/n1.exr" "$S/bom.exr" &&
