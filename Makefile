@@ -48,6 +48,9 @@ LAPACK_CFLAGS := $(call pkg,--cflags lapacke,)
 LAPACK_LIBS   := $(call pkg,--libs lapacke,-llapacke) $(call pkg,--libs lapack,-llapack) $(call pkg,--libs blas,-lblas)
 CAIRO_CFLAGS  := $(call pkg,--cflags cairo,$(addprefix -I,$(call header_dir,c,cairo/cairo.h,cairo.h)))
 CAIRO_LIBS    := $(call pkg,--libs cairo,-lcairo)
+# Number text (src/base/numtext.cpp): double-conversion's digits, fast_float's parser
+# (header-only).
+DCONV_LIBS    := $(call pkg,--libs double-conversion,-ldouble-conversion)
 CMOCKA_CFLAGS := $(call pkg,--cflags cmocka,)
 CMOCKA_LIBS   := $(call pkg,--libs cmocka,-lcmocka)
 # x86-64-v2 (SSE4.2, POPCNT) is the baseline on x86-64, where the poly and trace kernels
@@ -60,7 +63,7 @@ CPPFLAGS += -Iinclude -Isrc $(EXR_CFLAGS) $(PROJ_CFLAGS) $(LAPACK_CFLAGS) -D_DEF
 CFLAGS   += -std=c11 $(OPT) -Wall -Wextra -fopenmp $(ARCH_FLAGS)
 CXXFLAGS += -std=c++17 $(OPT) -Wall -Wextra $(OPENCV_CFLAGS)
 LDFLAGS  += $(OPT) -fopenmp
-LDLIBS   := $(OPENCV_LIBS) $(CAIRO_LIBS) $(EXR_LIBS) $(PROJ_LIBS) $(LAPACK_LIBS) -lstdc++ -lm
+LDLIBS   := $(OPENCV_LIBS) $(DCONV_LIBS) $(CAIRO_LIBS) $(EXR_LIBS) $(PROJ_LIBS) $(LAPACK_LIBS) -lstdc++ -lm
 
 LIB_C    := $(wildcard src/*/*.c)
 LIB_CXX  := $(wildcard src/*/*.cpp)
