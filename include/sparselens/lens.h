@@ -35,6 +35,20 @@ typedef struct {
     long line;            /* source line, for messages; 0 if none */
 } lens_surface;
 
+/* What a design file's field list measures (lens_t.field_kind). */
+typedef enum {
+    LENS_FIELD_NONE = 0,      /* no fields given */
+    LENS_FIELD_ANGLE,         /* degrees, object at infinity */
+    LENS_FIELD_OBJECT_HEIGHT, /* mm */
+    LENS_FIELD_IMAGE_HEIGHT,  /* paraxial image height, mm */
+    LENS_FIELD_REAL_IMAGE_HEIGHT /* real (chief ray) image height, mm */
+} lens_field_kind;
+
+/* The most fields and wavelengths a lens records: more than Zemax (12 fields, 24
+ * wavelengths) and CODE V (25 fields, 21 wavelengths) allow; an importer refuses more. */
+#define LENS_MAX_FIELDS 32
+#define LENS_MAX_WAVES 32
+
 typedef struct {
     char name[128];
     char source[512];
@@ -43,6 +57,13 @@ typedef struct {
     double focal;          /* nominal focal length from the header, mm; NAN if unknown */
     double fnumber;        /* nominal f-number from the header; NAN if unknown */
     double sensor_w, sensor_h; /* sensor size, mm; NAN if unknown */
+    /* The design file's own fields and wavelengths: the defaults of the analyses. */
+    lens_field_kind field_kind;
+    int nfields;
+    double field_x[LENS_MAX_FIELDS], field_y[LENS_MAX_FIELDS]; /* in field_kind's unit */
+    int nwaves;
+    double wave_um[LENS_MAX_WAVES], wave_weight[LENS_MAX_WAVES];
+    int primary_wave;      /* 1-based index into wave_um; 0: none given */
     char notes[1024];      /* importer notes (skipped parts), written as "# note:" lines */
     size_t nsurf;
     lens_surface *surf;
