@@ -17,6 +17,14 @@
 #include "sparselens/diag.h"
 #include "sparselens/glass.h"
 
+/* Room for any path open() takes: PATH_MAX where the C library defines it (a strict
+ * -std=c11 build of a user's program may hide it), else Linux's 4096. */
+#ifdef PATH_MAX
+#define LENS_PATH_MAX PATH_MAX
+#else
+#define LENS_PATH_MAX 4096
+#endif
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -52,7 +60,7 @@ typedef enum {
 typedef struct {
     char name[128];
     char source[512];
-    char path[PATH_MAX];   /* file it was read from (any path open() takes fits) */
+    char path[LENS_PATH_MAX]; /* file it was read from (any path open() takes fits) */
     char format[8];        /* the reader lens_load used ("lens", "zmx", ...); "" if none */
     double focal;          /* nominal focal length from the header, mm; NAN if unknown */
     double fnumber;        /* nominal f-number from the header; NAN if unknown */

@@ -131,4 +131,5 @@ void render_cli_default(render_cli *o)
 {
     memset(o, 0, sizeof *o);
     lens_cli_options_init(&o->lens);
+    o->run.camera_name = "lens_camera";
 }
