@@ -1,4 +1,6 @@
 /* Refractive index of the media a lens is made of.
+ * Long file: the model glass and the catalog reader with its vendor, alias and
+ * unusable-entry rules share one lookup, which splitting would expose in a header.
  *
  * The (n_d, V_d) model glass. Patents give most glasses as n_d and V_d only; two numbers
  * fix an index and a slope, not the curvature of n(lambda) that sets the secondary
