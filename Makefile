@@ -48,6 +48,9 @@ LAPACK_CFLAGS := $(call pkg,--cflags lapacke,)
 LAPACK_LIBS   := $(call pkg,--libs lapacke,-llapacke) $(call pkg,--libs lapack,-llapack) $(call pkg,--libs blas,-lblas)
 CAIRO_CFLAGS  := $(call pkg,--cflags cairo,$(addprefix -I,$(call header_dir,c,cairo/cairo.h,cairo.h)))
 CAIRO_LIBS    := $(call pkg,--libs cairo,-lcairo)
+# Number text (src/base/numtext.cpp): double-conversion's digits, fast_float's parser
+# (header-only).
+DCONV_LIBS    := $(call pkg,--libs double-conversion,-ldouble-conversion)
 CMOCKA_CFLAGS := $(call pkg,--cflags cmocka,)
 CMOCKA_LIBS   := $(call pkg,--libs cmocka,-lcmocka)
 # x86-64-v2 (SSE4.2, POPCNT) is the baseline on x86-64, where the poly and trace kernels
@@ -60,7 +63,7 @@ CPPFLAGS += -Iinclude -Isrc $(EXR_CFLAGS) $(PROJ_CFLAGS) $(LAPACK_CFLAGS) -D_DEF
 CFLAGS   += -std=c11 $(OPT) -Wall -Wextra -fopenmp $(ARCH_FLAGS)
 CXXFLAGS += -std=c++17 $(OPT) -Wall -Wextra $(OPENCV_CFLAGS)
 LDFLAGS  += $(OPT) -fopenmp
-LDLIBS   := $(OPENCV_LIBS) $(CAIRO_LIBS) $(EXR_LIBS) $(PROJ_LIBS) $(LAPACK_LIBS) -lstdc++ -lm
+LDLIBS   := $(OPENCV_LIBS) $(DCONV_LIBS) $(CAIRO_LIBS) $(EXR_LIBS) $(PROJ_LIBS) $(LAPACK_LIBS) -lstdc++ -lm
 
 LIB_C    := $(wildcard src/*/*.c)
 LIB_CXX  := $(wildcard src/*/*.cpp)
@@ -71,7 +74,7 @@ TESTS    := $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(TEST_SRC)))
 BENCHES  := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/bench_*.c))
 LIB      := $(BUILD)/liblens.a
 
-.PHONY: all deps test check demo bench bench-compare reports install fuzz clean man
+.PHONY: all deps test check demo bench bench-compare reports figures install fuzz clean man
 all: $(CMDS) $(TESTS) $(BENCHES) man
 
 # The SYNOPSIS and OPTIONS sections of each command's man page are generated from its
@@ -98,6 +101,12 @@ $(BUILD)/src/%.o: src/%.c
 $(BUILD)/src/%.o: src/%.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CPPFLAGS) $(DEPFLAGS) $(CXXFLAGS) -c $< -o $@
+
+# The library objects are position-independent: one object set makes both the archive
+# the commands link and the installed libsparselens.so (`make bench` shows the kernels
+# no slower for it: their hot loops are within one file; README, "Using the library").
+$(LIB_OBJ): CFLAGS += -fPIC
+$(LIB_OBJ): CXXFLAGS += -fPIC
 
 $(LIB): $(LIB_OBJ)
 	@rm -f $@
@@ -149,10 +158,15 @@ reports: deps
 	@$(MAKE) --no-print-directory -j$(shell nproc 2>/dev/null || echo 2) all
 	@$(MAKE) --no-print-directory -f tools/reports.mk BIN=$(BIN) BUILD=$(BUILD)
 
+# The accuracy report and its pictures from the committed sweeps (reports/cache), no sweep.
+figures:
+	@python3 tools/report_accuracy.py reports/cache reports/accuracy-vs-time.md reports/accuracy
+	@echo "figures: wrote reports/accuracy-vs-time.md and reports/accuracy/" >&2
+
 fuzz: deps
 	@tools/fuzz.sh $(or $(FUZZ_SECONDS),60)
 
-# make install [PREFIX=/usr/local] [DESTDIR=]: the commands, linked again with
+# make install [PREFIX=/usr/local] [DESTDIR=]: the library (below), the commands, linked again with
 # PREFIX/share/sparselens compiled in as the data directory (data_path.h; the commands
 # also find it beside themselves, so a DESTDIR copy works before it is moved), the man
 # pages (source-tree paths in their text turned into installed ones), and the lenses
@@ -169,13 +183,55 @@ $(INST)/datadir.txt: FORCE
 	@echo '$(DATADIR)' | cmp -s - $@ || echo '$(DATADIR)' > $@
 
 $(INST)/data_path.o: src/base/data_path.c include/sparselens/data_path.h $(INST)/datadir.txt
-	$(CC) $(CPPFLAGS) -DSPARSELENS_DATADIR='"$(DATADIR)"' $(CFLAGS) -c $< -o $@
+	$(CC) $(CPPFLAGS) -DSPARSELENS_DATADIR='"$(DATADIR)"' $(CFLAGS) -fPIC -c $< -o $@
+
+# The library (man 3 sparselens): libsparselens.so.VERSION with the soname
+# libsparselens.so.MAJOR, exporting exactly what the public headers declare (the
+# umbrella include/sparselens.h and the headers it includes, the only ones installed:
+# tools/public-symbols.sh makes the version script), libsparselens.a, and sparselens.pc
+# (Libs.private: what a static link needs). Both hold the installed data directory.
+LIBDIR    = $(PREFIX)/lib
+INCDIR    = $(PREFIX)/include
+MAJOR    := $(firstword $(subst ., ,$(VERSION)))
+SONAME   := libsparselens.so.$(MAJOR)
+PUBLIC_HEADERS := $(shell sed -n 's,^\#include "\(sparselens/.*\.h\)",include/\1,p' include/sparselens.h)
+INST_LIB_OBJ := $(filter-out $(BUILD)/src/base/data_path.o,$(LIB_OBJ)) $(INST)/data_path.o
+INST_LIBS := $(INST)/libsparselens.so.$(VERSION) $(INST)/libsparselens.a $(INST)/sparselens.pc
+
+$(INST)/libsparselens.map: include/sparselens.h $(PUBLIC_HEADERS) tools/public-symbols.sh
+	@mkdir -p $(dir $@)
+	{ echo 'SPARSELENS_$(MAJOR) {'; echo 'global:'; \
+	  tools/public-symbols.sh '$(CC)' include/sparselens.h | sed 's/.*/  &;/'; \
+	  echo 'local: *;'; echo '};'; } > $@.tmp && mv $@.tmp $@
+
+$(INST)/libsparselens.so.$(VERSION): $(INST_LIB_OBJ) $(INST)/libsparselens.map
+	$(CC) -shared -Wl,-soname,$(SONAME) -Wl,--version-script=$(INST)/libsparselens.map \
+	  -Wl,--no-undefined $(INST_LIB_OBJ) $(LDFLAGS) $(LDLIBS) -o $@
+
+$(INST)/libsparselens.a: $(INST_LIB_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(INST)/sparselens.pc: Makefile VERSION $(INST)/datadir.txt
+	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$(LIBDIR)' 'includedir=$(INCDIR)' '' \
+	  'Name: sparselens' \
+	  'Description: lens prescriptions, exact ray tracing, sparse polynomial optics and a lens camera' \
+	  'Version: $(VERSION)' 'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -lsparselens' \
+	  'Libs.private: $(strip $(LDLIBS)) -lgomp' > $@
 
 $(INST)/bin/lens-%: cmd/lens-%.c $(INST)/data_path.o $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< $(INST)/data_path.o $(LIB) $(LDFLAGS) $(LDLIBS) -o $@
 
-install: $(INST_CMDS) man
+install: $(INST_CMDS) $(INST_LIBS) man
+	install -d $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCDIR)/sparselens
+	install -m 755 $(INST)/libsparselens.so.$(VERSION) $(DESTDIR)$(LIBDIR)
+	ln -sf libsparselens.so.$(VERSION) $(DESTDIR)$(LIBDIR)/$(SONAME)
+	ln -sf $(SONAME) $(DESTDIR)$(LIBDIR)/libsparselens.so
+	install -m 644 $(INST)/libsparselens.a $(DESTDIR)$(LIBDIR)
+	install -m 644 $(INST)/sparselens.pc $(DESTDIR)$(LIBDIR)/pkgconfig
+	install -m 644 include/sparselens.h $(DESTDIR)$(INCDIR)
+	install -m 644 $(PUBLIC_HEADERS) $(DESTDIR)$(INCDIR)/sparselens
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(DATADIR)/lenses/reference/fx \
 	           $(DESTDIR)$(DATADIR)/lenses/reference/pbrt $(DESTDIR)$(DATADIR)/scenes \
 	           $(addprefix $(DESTDIR)$(MANDIR)/man,$(sort $(subst .,,$(suffix $(MANPAGES)))))

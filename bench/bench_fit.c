@@ -1,4 +1,4 @@
-/* bench_fit: fit time and accuracy of lens-fit's fitter (issue 8, "Figures").
+/* bench_fit: fit time and accuracy of lens-fit's fitter.
  *   bench_fit            the suite of reports/fit.md on lenses/fisheye-ii.lens: training
  *                        rays as `lens-trace -n N --seed 1`, test rays as `--seed 2`
  *                        (100000 passing), fits from 4000 and 15000 samples, and the

@@ -5,6 +5,7 @@
 #include <stdio.h>
 
 #include "sparselens/cli.h"
+#include "sparselens/emit_files.h"
 #include "sparselens/fit_run.h"
 #include "sparselens/outfile.h"
 
@@ -20,9 +21,7 @@ int main(int argc, char **argv)
     cli_check_output(prog, o.out_path);
     cli_check_not_input(prog, o.out_path, o.samples_path);
     lens_err err;
-    if (o.emit_c && !poly_c_name_ok(o.name)) { /* before the fit, not after it */
-        lens_errf(&err, NULL, 0, "--name: '%s' is not a C identifier, or is a C keyword",
-                  o.name);
+    if (o.emit_c && poly_c_name_check(o.name, &err) != 0) { /* before the fit, not after it */
         diag_print(prog, &err);
         return 2;
     }
@@ -48,12 +47,13 @@ int main(int argc, char **argv)
                                           * summary says it */
         fprintf(stderr, "%s: note: pass circles dropped with their outputs, as deciding "
                         "nothing (--keep-circles keeps them): %s\n", prog, dropped);
-    outfile *of = outfile_open(o.out_path, &err);
     int rc = 0;
-    if (!of) {
+    outfile *of = o.emit_c ? NULL : outfile_open(o.out_path, &err);
+    if (o.emit_c) {
+        rc = emit_poly_c_files(sys, o.out_path, o.name, &err) != 0;
+    } else if (!of) {
         rc = 1;
-    } else if ((o.emit_c ? poly_emit_c(outfile_stream(of), sys, o.name)
-                         : poly_write(outfile_stream(of), sys)) != 0) {
+    } else if (poly_write(outfile_stream(of), sys) != 0) {
         outfile_abort_write_error(of, errno, &err);
         rc = 1;
     } else if (outfile_commit(of, &err) != 0) {

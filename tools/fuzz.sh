@@ -29,11 +29,14 @@ SAN="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=unde
 # baseline only on x86-64); the outer make's job server is not passed on.
 # One make run prints them all, a line each.
 { read -r ARCH_FLAGS; read -r CPPFLAGS; read -r CAIRO_CFLAGS; read -r CAIRO_LIBS; read -r EXR_LIBS
-  read -r PROJ_LIBS; read -r LAPACK_LIBS; read -r BUILD_DIR; } < <(env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL \
+  read -r PROJ_LIBS; read -r LAPACK_LIBS; read -r BUILD_DIR; read -r DCONV_LIBS; } < <(env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL \
   "${MAKE:-make}" -s --no-print-directory print-ARCH_FLAGS print-CPPFLAGS print-CAIRO_CFLAGS \
-  print-CAIRO_LIBS print-EXR_LIBS print-PROJ_LIBS print-LAPACK_LIBS print-BUILD)
+  print-CAIRO_LIBS print-EXR_LIBS print-PROJ_LIBS print-LAPACK_LIBS print-BUILD print-DCONV_LIBS)
 CFLAGS="-std=c11 -O1 -g -fno-omit-frame-pointer -fopenmp $ARCH_FLAGS -Wall -Wextra $CPPFLAGS $CAIRO_CFLAGS -Itests/fuzz -D_GNU_SOURCE"
+# The number-text shim is C++ (double-conversion, fast_float): the object `make` built
+# serves, as the OpenCV shim is not needed at all.
 LIBS="$CAIRO_LIBS $EXR_LIBS $PROJ_LIBS $LAPACK_LIBS -lm"
+[ -f "$BUILD_DIR/src/base/numtext.o" ] && LIBS="$BUILD_DIR/src/base/numtext.o $DCONV_LIBS -lstdc++ $LIBS"
 export SPARSELENS_GLASS_CATALOG=${SPARSELENS_GLASS_CATALOG:-lenses/glass.catalog}
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
@@ -92,7 +95,7 @@ lib_sources() {
          $LIBS -lstdc++ -Wl,-Map="$OUT/closure/map" -o "$OUT/closure/all" 2>/dev/null; then
       # the map's lines "ARCHIVE(MEMBER.o)  FILE (SYMBOL)", the member first
       grep -oE '^[^ ]*liblens\.a\([^)]*\.o\)' "$OUT/closure/map" | sed -E 's/.*\((.*)\.o\)$/\1/' |
-        sort -u | while read -r m; do ls src/*/"$m".c; done
+        sort -u | while read -r m; do ls src/*/"$m".c 2>/dev/null; done
       return
     fi
   fi

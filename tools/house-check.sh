@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# house-check.sh [--list] [DIR]: the house rules on size (issue 12) that a reader can check by
+# house-check.sh [--list] [DIR]: the house rules on size that a reader can check by
 # counting. A C or C++ function over 120 lines (from the first line of its signature to
 # its closing brace) and a source file over 600 lines are offenders, each printed as
 # "FILE:LINE: what", unless a reason is written down: a comment line with "Long file:"

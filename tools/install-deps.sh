@@ -11,7 +11,7 @@
 #
 # Required (the build and the unit tests): C and C++ compilers, OpenMP, OpenCV 4 (core,
 # imgproc, imgcodecs, calib3d), OpenEXR Core, PROJ (GeographicLib's geodesic C API),
-# LAPACKE, cmocka. Missing required parts make the exit status 1.
+# LAPACKE, cmocka, double-conversion, fast_float. Missing required parts make the exit status 1.
 # Optional (each test that needs one skips without it): pkg-config (the Makefile falls
 # back to asking the compiler), python3 and gnuplot (make reports), GNU parallel (the
 # scale-out test), valgrind, clang with libFuzzer (make fuzz, the short fuzz test).
@@ -46,6 +46,8 @@ openexr|required|libopenexr-dev|OpenEXR Core: HDR images and renders
 proj|required|libproj-dev|PROJ's geodesic API (GeographicLib)
 lapacke|required|liblapacke-dev|LAPACKE: QR in lens-fit
 cmocka|required|libcmocka-dev|cmocka: the unit tests
+double-conversion|required|libdouble-conversion-dev|double-conversion: the shortest digits of the numbers samples write
+fast_float|required|libfast-float-dev|fast_float: exact parsing of the numbers samples read (header-only)
 pkg-config|optional|pkg-config|library flags (the Makefile otherwise asks the compiler)
 python3|optional|python3|make reports
 gnuplot|optional|gnuplot-nox|make reports
@@ -72,6 +74,9 @@ have() {
                $(makevar LAPACK_CFLAGS) $(makevar LAPACK_LIBS) -lm ;;
     cmocka) compiles c '#include <stdarg.h>\n#include <stddef.h>\n#include <setjmp.h>\n#include <cmocka.h>\nint main(void) { return 0; }\n' \
               $(makevar CMOCKA_CFLAGS) $(makevar CMOCKA_LIBS) ;;
+    double-conversion) compiles c++ '#include <double-conversion/double-to-string.h>\nint main() { char d[18]; bool s; int n, p; double_conversion::DoubleToStringConverter::DoubleToAscii(0.5, double_conversion::DoubleToStringConverter::SHORTEST, 0, d, 18, &s, &n, &p); return n != 1; }\n' \
+                         $(makevar DCONV_LIBS) ;;
+    fast_float) compiles c++ '#include <fast_float/fast_float.h>\nint main() { const char s[] = "0.5"; double v; fast_float::from_chars(s, s + 3, v); return v != 0.5; }\n' ;;
     libfuzzer) command -v "${CLANG:-clang}" >/dev/null &&
                CC=${CLANG:-clang} compiles c 'int LLVMFuzzerTestOneInput(const char *d, long n) { (void)d; (void)n; return 0; }\n' -fsanitize=fuzzer ;;
     *) command -v "$1" >/dev/null ;;

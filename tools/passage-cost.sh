@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# What the passage costs in time and what it buys (reports/vignetting.md, issue 14): one
+# What the passage costs in time and what it buys (reports/vignetting.md): one
 # lens fitted as the README fits it, with each lens-fit --passage-tolerance in turn; per
 # setting the passage's terms, the batch evaluation (bench_poly's batch_optics: the
 # optical outputs written, every pass circle tested) beside the exact tracer per passing

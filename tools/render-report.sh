@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Writes reports/render.md: lens-render's noise at equal time on the shipped scenes
 # (polynomial and exact, against a baseline build when BASE names one, and against the
-# figures of the renderer before issue 17), where the time goes, the effects each scene
+# figures of the renderer at commit 1fedc68), where the time goes, the effects each scene
 # gets, the full estimator's checks, vignetting off, the lens map alone, the passage
 # furnace and the pictures.
 # Usage (repository root, after make):
@@ -15,7 +15,7 @@ R=$BIN/lens-render
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 
-# The renderer before issue 17 (main at 1fedc68, with --seed, --noise-against and a
+# The renderer at commit 1fedc68 (with --seed, --noise-against and a
 # processor-time reading added; measured 2026-11-24 by tools/render-noise.sh):
 # noise x processor seconds, per scene and path.
 declare -A ORIG=([dgauss poly]=0.03699 [dgauss exact]=0.06044 [fisheye poly]=0.009374
@@ -46,14 +46,14 @@ echo "simulation\", the supplemental material of their paper in *The Visual Comp
 echo "(2017); [1] and [2] of the README's References. lens-render implements Eq. 13, and"
 echo "with \`--estimator full\` Eq. 3 with Eq. 8 and 12."
 echo
-echo "## Equal-time noise (issue 17)"
+echo "## Equal-time noise"
 echo
 echo "Each shipped scene at its own resolution and spp, one thread (\`tools/render-noise.sh\`:"
 echo "a render with seed 2, three timed renders with seed 1; the noise figure is"
 echo "\`lens-render --noise-against\`, the median over lit pixels of the relative variance of"
 echo "a pixel's estimate). Variance falls as 1/spp, so noise x time is the figure of merit"
 echo "at equal time, and a gain is a ratio of two such products. \"Original\": the renderer"
-echo "before issue 17 (main at 1fedc68, figures recorded 2026-11-24 by the same script)."
+echo "at commit 1fedc68 (figures recorded 2026-11-24 by the same script)."
 if [ -n "${BASE:-}" ]; then
   echo "\"Baseline\": ${BASE_LABEL:-\`$BASE\`}, measured in this run, interleaved per scene with this build,"
   echo "each with its own cache of fitted systems."
@@ -97,7 +97,7 @@ echo "operations in its order (no fused multiply-add: the build contracts none),
 echo "standing for each branch, so the values are those of the per-sample code bit for bit"
 echo "(test_render_light compares the block functions with the per-point ones); without"
 echo "AVX-512 the per-sample code runs as before. \"Original\" (\"-\" for the two scenes"
-echo "added since) is the renderer before issue 17."
+echo "added since) is the renderer at commit 1fedc68."
 echo
 echo "Polynomial path against exact tracing at equal noise (exact noise x s over polynomial"
 echo "noise x s, this build):"

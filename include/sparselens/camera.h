@@ -19,16 +19,22 @@
  * Everything here is read-only after lens_camera_new: any number of threads may call
  * lens_camera_rays at once. */
 #include <stddef.h>
+#include <stdio.h>
 
 #include "sparselens/diag.h"
 #include "sparselens/lens.h"
 #include "sparselens/poly.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct lens_camera lens_camera;
 
 /* sys NULL: exact tracing through lens; else the system (fitted to lens: inputs x y u v
  * [lambda], outputs out_x out_y out_u out_v [out_eta]). lens and sys must outlive the
- * camera. Sensor size in mm, centred on the axis. NULL with err on failure. */
+ * camera. A system fitted to another lens (poly_lens_mismatch) is refused. Sensor size
+ * in mm, centred on the axis. NULL with err on failure. */
 lens_camera *lens_camera_new(const lens_t *lens, const poly_system *sys, double sensor_w,
                              double sensor_h, double lambda_min, double lambda_max,
                              lens_err *err);
@@ -41,6 +47,11 @@ void lens_camera_free(lens_camera *c);
  * ray has weight 0 (and org, dir NAN). Returns the number of rays with weight > 0. The
  * polynomial backend evaluates the rays in vector blocks. */
 size_t lens_camera_rays(const lens_camera *c, size_t n, const double *samples, double *rays);
+
+/* One sample to one ray, as lens_camera_rays: returns the weight (0 when the lens blocks
+ * the ray, and org, dir NAN). */
+double lens_camera_ray(const lens_camera *c, double sx, double sy, double lambda, double r1,
+                       double r2, double org[3], double dir[3]);
 
 /* An aperture of blades (0: the stop's circle; 3 .. 16): the regular polygon inscribed
  * in the stop's circle, its vertices at angles rotation + k 2 pi / blades (radians, from
@@ -59,11 +70,18 @@ int lens_camera_set_blades(lens_camera *c, int blades, double rotation, lens_err
  *   size_t NAME_rays(size_t n, const double *samples, double *rays)
  * with the rows and the return value of lens_camera_rays, the system evaluated in
  * blocks by its vectorised batch function. Its line pupil is coarser than the
- * library's (fewer rays pass), the estimate the same. 0, or -1 with err (a NAME that is
- * no C identifier, a system without the camera's inputs, blades without ap_x ap_y). */
-#include <stdio.h>
+ * library's (fewer rays pass), the estimate the same. 0, or -1 with err (a NAME
+ * that cannot prefix the module's symbols (text_c_prefix_ok, escape.h), a system
+ * without the camera's inputs, blades without ap_x ap_y). Every external symbol begins
+ * with NAME; the file compiles as C11 or C++, its functions with C linkage. */
 int lens_camera_emit(FILE *f, const lens_t *lens, const poly_system *sys, double sensor_w,
                      double sensor_h, int blades, double rotation, const char *name,
                      lens_err *err);
+/* The module's header: NAME_ray and NAME_rays declared, extern "C" in C++. */
+int lens_camera_emit_header(FILE *f, const lens_t *lens, const char *name, lens_err *err);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

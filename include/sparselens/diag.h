@@ -6,13 +6,27 @@
  * return non-zero. Commands print it as "lens-x: <msg>" and exit non-zero. */
 #include <stddef.h>
 
+/* Room for two paths of PATH_MAX and the words around them: a message is never cut
+ * (one longer still, from a pathological input, ends in "[...]"). */
+#define LENS_ERR_MAX 12288
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
-    char msg[512];
+    char msg[LENS_ERR_MAX];
 } lens_err;
 
-/* Formats "file:line: ..." into err (line <= 0 omits the line; file NULL omits both). */
+/* Formats "file:line: ..." into err (line <= 0 omits the line; file NULL omits both).
+ * Control bytes (an escape sequence in a field of a file, a tab, a CR) are written as
+ * \xNN, so that text from a file cannot drive the terminal the message reaches. */
 void lens_errf(lens_err *err, const char *file, long line, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
+
+/* Copies text into out (cap bytes) with control bytes as \xNN (what lens_errf does);
+ * the result is cut, with "[...]", only when cap cannot hold it. */
+void diag_sanitise(char *out, size_t cap, const char *text);
 
 /* Prints "prog: msg" to stderr. */
 void diag_print(const char *prog, const lens_err *err);
@@ -29,5 +43,9 @@ void diag_guard_stdout(const char *prog);
 /* Tells the guard that a write error on stdout was already reported (outfile_commit),
  * so that the exit prints no second line. */
 void diag_stdout_error_reported(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

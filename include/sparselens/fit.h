@@ -8,6 +8,10 @@
 #include "sparselens/diag.h"
 #include "sparselens/poly.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
     int max_terms;      /* per output and part (default 40) */
     int max_degree;     /* candidates: all monomials up to this total degree (default 11) */
@@ -63,5 +67,19 @@ const char *fit_passage_gap(const char *note, int nout, const char *const *outpu
 poly_system *fit_system(const char *lens_name, int ninputs, const char *const *inputs,
                         int noutputs, const char *const *outputs, size_t count, const double *in,
                         const double *out, const fit_options *opt, lens_err *err);
+
+/* fit_system on the columns named inputs and outputs of a sample file (man 5
+ * lens-samples; path "-": stdin), such as lens-trace writes: every row (a malformed row,
+ * or an input that is not finite, is an error with FILE:LINE); the system records the
+ * lens the file names ("# lens:", "# lens-path:"), "unknown" if none. lens-fit does more
+ * (the passage columns it finds, the frame and wavelength transform the samples ask
+ * for): this is the plain fit. NULL with err set. */
+poly_system *fit_system_file(const char *path, int ninputs, const char *const *inputs,
+                             int noutputs, const char *const *outputs, const fit_options *opt,
+                             lens_err *err);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

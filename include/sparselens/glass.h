@@ -5,6 +5,10 @@
  * outside a glass's valid range is an error, never an extrapolation. */
 #include "sparselens/diag.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define GLASS_D_LINE 0.5875618 /* helium d line, um */
 #define GLASS_F_LINE 0.4861327 /* hydrogen F line, um */
 #define GLASS_C_LINE 0.6562725 /* hydrogen C line, um */
@@ -80,8 +84,30 @@ int glass_catalog_add(glass_catalog *cat, const glass_t *g, lens_err *err);
 /* Records a file name for glass_catalog_sources (readers of other formats). */
 int glass_catalog_add_source(glass_catalog *cat, const char *path);
 
+/* Vendors: each glass is its vendor's (the file's "vendor NAME" line, else the file
+ * name up to its first '_', '.' or '-', upper case); glass_catalog_set_vendor sets the
+ * vendor of the glasses added next. Names repeat across vendors. */
+#define GLASS_VENDOR_MAX 24
+void glass_catalog_set_vendor(glass_catalog *cat, const char *vendor);
+const char *glass_catalog_vendor(const glass_catalog *cat, size_t i);
+/* The index of a glass glass_catalog_find or glass_catalog_at returned; (size_t)-1
+ * for one not in cat. */
+size_t glass_catalog_index(const glass_catalog *cat, const glass_t *g);
+/* An old name ("alias BK7 N-BK7"): the name of the glass it is read as, else NULL.
+ * glass_catalog_find returns the first of a name in catalog order, alias or not. */
+const char *glass_catalog_alias_of(const glass_catalog *cat, size_t i);
+/* Why the glass cannot be used (its formula contradicts its own n_d: "in F, formula 2
+ * (Sellmeier 1) gives n_d ... where the entry says ..."), else NULL. Such a glass stays
+ * in the catalog so that naming it is an error naming it, while the rest of the catalog
+ * stays usable. */
+const char *glass_catalog_problem(const glass_catalog *cat, size_t i);
+
 /* The shipped default catalog: $SPARSELENS_GLASS_CATALOG, else glass.catalog in the
  * shipped lens directories (data_path.h). NULL if not found. */
 const char *glass_default_catalog_path(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

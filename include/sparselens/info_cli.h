@@ -12,6 +12,8 @@ typedef struct {
     cli_size sensor;      /* mm; NAN: the lens header's */
     int as_lens;          /* print the lens in the project's format instead of keys */
     double focus;         /* refocus on an object this far (mm, or INFINITY); NAN: no */
+    int seidel;           /* the paraxial ray table and Seidel sums instead of the keys */
+    double seidel_field;  /* the chief ray's angle, degrees; NAN: half the field of view */
     output_cli out;       /* --json, --precision */
     lens_cli_options lens;
 } info_cli;

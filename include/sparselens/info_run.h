@@ -34,6 +34,11 @@ int info_prepare(const info_cli *o, lens_t *lens, lens_err *err);
  * size. 0, or -1 with err set. */
 int info_run(const info_cli *o, const lens_t *lens, info_report *rep, lens_err *err);
 
+/* lens-info --seidel: the paraxial ray table and the Seidel sums (seidel.h) at o->lambda
+ * for the chief ray at o->seidel_field, or half rep's field of view; as tables, or JSON.
+ * 0, or -1 with err set. */
+int info_seidel_print(FILE *f, const lens_t *lens, const info_cli *o, const info_report *rep, lens_err *err);
+
 /* The report as "key value unit" lines, or as JSON (lens-info(1)). */
 void info_report_print(FILE *f, const lens_t *lens, const info_report *rep, const output_cli *out);
 

@@ -10,11 +10,24 @@
  *   z(h) = c h^2 / (1 + sqrt(1 - (1 + k) c^2 h^2)) + a4 h^4 + a6 h^6 + ... + a12 h^12
  * with c = 1/radius (0 for a flat surface). radius > 0: centre of curvature behind the
  * vertex (towards the sensor). */
+#include <limits.h>
 #include <stddef.h>
 #include <stdio.h>
 
 #include "sparselens/diag.h"
 #include "sparselens/glass.h"
+
+/* Room for any path open() takes: PATH_MAX where the C library defines it (a strict
+ * -std=c11 build of a user's program may hide it), else Linux's 4096. */
+#ifdef PATH_MAX
+#define LENS_PATH_MAX PATH_MAX
+#else
+#define LENS_PATH_MAX 4096
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define LENS_ASPHERE_TERMS 5 /* a4, a6, a8, a10, a12 */
 
@@ -30,14 +43,35 @@ typedef struct {
     long line;            /* source line, for messages; 0 if none */
 } lens_surface;
 
+/* What a design file's field list measures (lens_t.field_kind). */
+typedef enum {
+    LENS_FIELD_NONE = 0,      /* no fields given */
+    LENS_FIELD_ANGLE,         /* degrees, object at infinity */
+    LENS_FIELD_OBJECT_HEIGHT, /* mm */
+    LENS_FIELD_IMAGE_HEIGHT,  /* paraxial image height, mm */
+    LENS_FIELD_REAL_IMAGE_HEIGHT /* real (chief ray) image height, mm */
+} lens_field_kind;
+
+/* The most fields and wavelengths a lens records: more than Zemax (12 fields, 24
+ * wavelengths) and CODE V (25 fields, 21 wavelengths) allow; an importer refuses more. */
+#define LENS_MAX_FIELDS 32
+#define LENS_MAX_WAVES 32
+
 typedef struct {
     char name[128];
     char source[512];
-    char path[512];        /* file it was read from */
+    char path[LENS_PATH_MAX]; /* file it was read from (any path open() takes fits) */
     char format[8];        /* the reader lens_load used ("lens", "zmx", ...); "" if none */
     double focal;          /* nominal focal length from the header, mm; NAN if unknown */
     double fnumber;        /* nominal f-number from the header; NAN if unknown */
     double sensor_w, sensor_h; /* sensor size, mm; NAN if unknown */
+    /* The design file's own fields and wavelengths: the defaults of the analyses. */
+    lens_field_kind field_kind;
+    int nfields;
+    double field_x[LENS_MAX_FIELDS], field_y[LENS_MAX_FIELDS]; /* in field_kind's unit */
+    int nwaves;
+    double wave_um[LENS_MAX_WAVES], wave_weight[LENS_MAX_WAVES];
+    int primary_wave;      /* 1-based index into wave_um; 0: none given */
     char notes[1024];      /* importer notes (skipped parts), written as "# note:" lines */
     size_t nsurf;
     lens_surface *surf;
@@ -106,5 +140,9 @@ int lens_set_fnumber(lens_t *lens, double fnumber, lens_err *err);
 /* Refractive index after each surface (n[i], i < nsurf) at lambda; object space is air.
  * 0 on success, -1 (err set) for a wavelength outside some glass's range. */
 int lens_indices(const lens_t *lens, double lambda_um, double *n, lens_err *err);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -4,6 +4,10 @@
  * lens-info(1): z positions are measured along +z (towards the sensor). */
 #include "sparselens/lens.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
     double lambda;                 /* um */
     int afocal;                    /* no power: efl, bfl, ffl, fnumber are +inf */
@@ -32,5 +36,9 @@ void paraxial_trace_forward(const lens_t *lens, const double *n, double y0, doub
  * surface; INFINITY for infinity) on the sensor. */
 int paraxial_focus_thickness(const lens_t *lens, double lambda_um, double distance,
                              double *thickness, lens_err *err);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -8,6 +8,10 @@
 
 #include "sparselens/diag.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct poly_system poly_system;
 
 int poly_read(const char *path, poly_system **sys, lens_err *err);
@@ -24,6 +28,13 @@ const char *poly_lens_path(const poly_system *sys); /* as recorded, may be "" */
 int poly_find_lens_file(const poly_system *sys, const char *poly_path,
                         int (*find)(const char *name, char *buf, size_t n), char *buf,
                         size_t len, lens_err *err);
+/* Whether sys belongs to the lens named lens_name, read from lens_path (may be NULL): it
+ * does when the lens name it records is that name or the lens file's base name, or the
+ * lens file it records has the lens file's base name, or it records no lens ("" or
+ * "unknown"). NULL if so; else the reason ("the system was fitted to 'X' (path), not to
+ * this lens 'Y'") in buf. The commands warn with it, lens_camera_new refuses. */
+const char *poly_lens_mismatch(const poly_system *sys, const char *lens_name,
+                               const char *lens_path, char *buf, size_t len);
 int poly_ninputs(const poly_system *sys);
 int poly_noutputs(const poly_system *sys);
 const char *poly_input_name(const poly_system *sys, int i);
@@ -189,12 +200,21 @@ int poly_read_stream(FILE *f, const char *name, poly_system **sys, lens_err *err
  * and summation order) and returns the same pass flag, and
  *   void func_name_batch(size_t n, const double *in, double *out, unsigned char *pass)
  * with the same values for n rays (rows), written as loops over blocks of 8 rays that
- * compilers vectorise (one-part systems; several parts go ray by ray). Compiles as C99
- * on its own (includes <math.h>, <stddef.h>). Returns 0, or -1 on a bad name or write
- * error. */
+ * compilers vectorise (one-part systems; several parts go ray by ray). Compiles as C11
+ * or C++ on its own (includes <math.h>, <stddef.h>), the functions with C linkage; every
+ * external symbol begins with func_name. Names from the system reach only its comments,
+ * through text_c_comment (escape.h). Returns 0, or -1 on a bad name or write error. */
 int poly_emit_c(FILE *f, const poly_system *sys, const char *func_name);
+/* The header of poly_emit_c's file: its two declarations, extern "C" for C++. */
+int poly_emit_c_header(FILE *f, const poly_system *sys, const char *func_name);
 
-/* 1 when name can name poly_emit_c's function: a C identifier, not a C keyword. */
+/* 1 when name can name poly_emit_c's function (text_c_prefix_ok, escape.h). */
 int poly_c_name_ok(const char *name);
+/* 0 when it can; else -1 and "--name: ... " with the reason in err. */
+int poly_c_name_check(const char *name, lens_err *err);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -21,6 +21,10 @@
  *  - eta:     product over all surfaces of the unpolarised Fresnel transmittance. */
 #include "sparselens/lens.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
     double o[3]; /* origin, mm, lens frame */
     double d[3]; /* unit direction */
@@ -59,5 +63,9 @@ void ray_to_stop(const lens_t *lens, const lens_ray *r, double xyuv[4]);
 /* Outer-pupil coordinates of an object-space ray travelling into the lens: its hit on
  * the front surface and the reversed direction there. -1 if it misses. */
 int outer_of_object_ray(const lens_t *lens, const lens_ray *r, double outer[4]);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

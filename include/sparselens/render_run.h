@@ -23,13 +23,21 @@ typedef struct {
     const char *noise_against; /* a render of the same scene with another seed: the noise
                                 * figure (render_noise) printed to log, or NULL */
     unsigned long seed;     /* 0: the scene's */
+    /* The scene's camera overridden (lens-render --focus, --fstop, --blades): */
+    double focus;           /* mm in front of the front vertex, INFINITY; 0: the scene's */
+    double fstop;           /* 0: the scene's */
+    int blades;             /* 0: the scene's; RENDER_BLADES_ROUND: the stop's circle;
+                               3 .. 16: that polygon (the scene's rotation) */
     const char *emit_camera; /* write the camera module (camera.h) here instead of rendering */
+    const char *camera_name; /* the prefix of the module's symbols; NULL: lens_camera */
     FILE *log;              /* decisions and figures (stderr in lens-render); may be NULL */
     FILE *figures;          /* the figures asked for (--reference, --noise-against), also
                                with -q; NULL: log */
     void (*progress)(void *ctx, double done);
     void *progress_ctx;
 } render_options;
+
+#define RENDER_BLADES_ROUND (-1)
 
 int render_run(const render_options *opt, render_stats *st, lens_err *err);
 

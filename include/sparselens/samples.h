@@ -51,8 +51,13 @@ void samples_close(samples_reader *r);
 
 /* Writes "# columns: a b c". */
 void samples_write_header(FILE *f, const char *const *names, int n);
-/* One row, %.17g, non-finite values as nan/inf. */
+/* One row: each number the shortest of %.15g and %.17g that reads back to it (the same
+ * bytes as printf's, from a library's digits), non-finite values as nan/inf. */
 void samples_write_row(FILE *f, const double *vals, int n);
+/* The same numbers, space-separated, into buf (room for n * SAMPLES_NUMBER_MAX bytes; no
+ * newline, no NUL): the length. For writers that format blocks of rows at once. */
+#define SAMPLES_NUMBER_MAX 33
+size_t samples_format_values(char *buf, const double *vals, int n);
 /* A filter's header and rows: its own columns, then the pass-through columns of its
  * input r (samples_passthrough). */
 void samples_write_filter_header(FILE *f, const char *const *names, int n, const samples_reader *r);

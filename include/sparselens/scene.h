@@ -8,6 +8,7 @@
  * (z towards the sensor) is this frame turned half a turn about y:
  *   scene (x, y, z) = lens (-x, y, -z).
  * The image is upright: pixel (0, 0) is the top-left corner of the picture. */
+#include <limits.h>
 #include <stddef.h>
 
 #include "sparselens/diag.h"
@@ -42,8 +43,9 @@ typedef struct {
 } scene_object;
 
 typedef struct {
-    char path[512];        /* the scene file */
-    char camera[512];      /* lens file or .poly, resolved against the scene's directory */
+    /* PATH_MAX holds any path open() takes; a longer one is refused, never cut */
+    char path[PATH_MAX];   /* the scene file */
+    char camera[PATH_MAX]; /* lens file or .poly, resolved against the scene's directory */
     int camera_is_poly;
     double sensor_w, sensor_h; /* mm; NAN: from the lens file's header */
     int width, height;     /* pixels */
@@ -142,5 +144,13 @@ void scene_direct_mis(const scene_t *s, const scene_hit *h, const double u[5],
  * must hold after summing. */
 #define SCENE_MAX_SPP 1073741824L
 #define SCENE_MAX_VALUE 1e30
+/* Positions within +-SCENE_MAX_MM, sizes (radii, texture widths, checker squares) from
+ * SCENE_MIN_MM to SCENE_MAX_MM: 1 nm to 1000 km, far past any scene and well inside
+ * what the intersections resolve in double precision. */
+#define SCENE_MAX_MM 1e9
+#define SCENE_MIN_MM 1e-6
+/* Each ray is tested against every object (no acceleration structure): the time of a
+ * sample grows with the count, about 0.25 ms per 1000 objects. */
+#define SCENE_MAX_OBJECTS 10000
 
 #endif

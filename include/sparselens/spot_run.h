@@ -50,6 +50,7 @@ void run_error_model(lens_err *err, int m, const char *name);
 void spot_report_free(spot_report *rep);
 /* "MODEL: why; its rows are nan" for each field not imaged, at most max of them, into
  * w[]; returns how many. */
+/* a warning quotes at most 480 bytes of a field's failure (which names no path) */
 typedef char report_warning[640];
 int spot_report_warnings(const spot_request *rq, const spot_report *rep, report_warning *w, int max);
 /* The table "spots" (text: header line, then a row per model, field and wavelength, and a

@@ -10,6 +10,10 @@
 #include "sparselens/lens.h"
 #include "sparselens/ray_frames.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum {
     TRACE_PASSED = 0,
     TRACE_MISSED,  /* no intersection with a surface */
@@ -50,5 +54,9 @@ trace_result trace_sample(const lens_t *lens, const double *n, trace_target targ
  * wavelength out of range (its row is nan; the others are traced). */
 int trace_batch(const lens_t *lens, trace_target target, size_t count, const double *in,
                 double *out, trace_result *res, int threads, lens_err *err);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -24,8 +24,9 @@
  * wavelength, so lateral colour is a tilt of the other wavelengths' wavefronts).
  *
  * The pupil is taken as linear in direction cosines: L ~ Lc + a px, M ~ Mc + b py
- * (a, b by least squares over the grid); diffraction needs this scale
- * (frequency = shift in pupil x a / lambda). */
+ * (a, b the secants between the outermost passing cells of the central rows and
+ * columns, the marginal rays' slope); diffraction needs this scale (frequency = shift
+ * in pupil x a n' / lambda, the wavelength inside the image space's medium). */
 #include "sparselens/imaging.h"
 
 #define WAVEFRONT_DEGREE 10

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "sparselens/escape.h"
 #include "sparselens/image.h"
 #include "sparselens/layout.h"
 #include "sparselens/outfile.h"
@@ -38,9 +39,10 @@ int layout_write_svg(const layout_drawing *d, const char *path, lens_err *err)
                "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"%.6f %.6f %.6f %.6f\" "
                "width=\"%.0fmm\" height=\"%.0fmm\">\n",
             x0, y0, W, H, W, H);
-    fprintf(f, "<title>%s</title>\n<desc>Meridional section, lens frame in mm: x = z (towards the "
-               "sensor), y = -y (the picture's y grows down)</desc>\n",
-            d->title ? d->title : "layout");
+    fputs("<title>", f);
+    text_xml(f, d->title ? d->title : "layout");
+    fputs("</title>\n<desc>Meridional section, lens frame in mm: x = z (towards the sensor), "
+          "y = -y (the picture's y grows down)</desc>\n", f);
     fprintf(f, "<rect x=\"%.6f\" y=\"%.6f\" width=\"%.6f\" height=\"%.6f\" fill=\"white\"/>\n", x0, y0, W, H);
     char c[8];
     for (int i = 0; i < d->nlines; i++) {
@@ -65,16 +67,19 @@ int layout_write_svg(const layout_drawing *d, const char *path, lens_err *err)
         fprintf(f, "\"/>\n");
     }
     double fs = 0.03 * span, tx = d->zmin, ty = y0 + 1.2 * fs;
-    fprintf(f, "<text x=\"%.6f\" y=\"%.6f\" font-family=\"sans-serif\" font-size=\"%.6f\">%s</text>\n", tx, ty,
-            fs, d->title ? d->title : "");
+    fprintf(f, "<text x=\"%.6f\" y=\"%.6f\" font-family=\"sans-serif\" font-size=\"%.6f\">", tx, ty, fs);
+    text_xml(f, d->title ? d->title : "");
+    fputs("</text>\n", f);
     for (int k = 0; k < d->nfields; k++) {
         double rgb[3];
         char s[64];
         layout_field_rgb(k, rgb);
         hex(rgb, c);
         field_label(d, k, s, sizeof s);
-        fprintf(f, "<text x=\"%.6f\" y=\"%.6f\" font-family=\"sans-serif\" font-size=\"%.6f\" fill=\"%s\">%s</text>\n",
-                tx + k * 8 * fs, ty + 1.4 * fs, 0.8 * fs, c, s);
+        fprintf(f, "<text x=\"%.6f\" y=\"%.6f\" font-family=\"sans-serif\" font-size=\"%.6f\" fill=\"%s\">",
+                tx + k * 8 * fs, ty + 1.4 * fs, 0.8 * fs, c);
+        text_xml(f, s);
+        fputs("</text>\n", f);
     }
     fprintf(f, "</svg>\n");
     return outfile_commit(of, err);

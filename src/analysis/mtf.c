@@ -51,8 +51,9 @@ double *mtf_otf(const wavefront *wf, int *m_out)
 
 void mtf_otf_at(const wavefront *wf, const double *otf, int m, int dir, double nu, double z[2])
 {
-    /* shift in cells for this frequency */
-    double s = fabs(nu) * wf->lambda * 1e-3 * wf->n / (2 * fabs(wf->scale[dir]));
+    /* shift in cells for this frequency: a shift dL in direction cosine is the
+     * frequency dL / (lambda / n'), the wavelength inside the image space's medium */
+    double s = fabs(nu) * wf->lambda * 1e-3 * wf->n / (2 * fabs(wf->scale[dir]) * wf->n_image);
     z[0] = z[1] = 0;
     /* tested before the cast: a shift of nan (no pupil scale) must not reach (int) */
     if (!(s < m / 2 - 1))
@@ -60,11 +61,17 @@ void mtf_otf_at(const wavefront *wf, const double *otf, int m, int dir, double n
     int k = (int)floor(s);
     double f = s - k;
     /* modulus and phase interpolated apart: a wavefront tilted by lateral colour turns
-     * the OTF's phase quickly, and a chord between complex values would cut the modulus */
+     * the OTF's phase quickly, and a chord between complex values would cut the modulus;
+     * but where the phase jumps by more than a quarter turn between two cells the OTF
+     * passes near a zero, which the chord follows and the moduli overshoot */
     size_t a = dir == 0 ? (size_t)k : (size_t)k * (size_t)m, b = dir == 0 ? a + 1 : a + (size_t)m;
     double ma = hypot(otf[2 * a], otf[2 * a + 1]), mb = hypot(otf[2 * b], otf[2 * b + 1]);
     double pa = atan2(otf[2 * a + 1], otf[2 * a]), pb = atan2(otf[2 * b + 1], otf[2 * b]);
     pb = pa + remainder(pb - pa, 2 * M_PI);
+    if (fabs(pb - pa) > M_PI / 2) {
+        z[0] = (1 - f) * otf[2 * a] + f * otf[2 * b], z[1] = (1 - f) * otf[2 * a + 1] + f * otf[2 * b + 1];
+        return;
+    }
     double mod = (1 - f) * ma + f * mb, ph = (1 - f) * pa + f * pb;
     z[0] = mod * cos(ph), z[1] = mod * sin(ph);
 }

@@ -1,6 +1,8 @@
 /* Line plots for the designer analyses (plot.h). */
 #include "sparselens/plot.h"
 
+#include "sparselens/escape.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -64,9 +66,11 @@ static void tick_label(double v, double step, char *s, size_t n)
     snprintf(s, n, "%.4g", v);
 }
 
-void plot_title(img_canvas *c, double x, double y, double width, const char *text, double height,
+void plot_title(img_canvas *c, double x, double y, double width, const char *raw, double height,
                 const double rgb[3])
 {
+    char text[1024]; /* as drawn (escape.h), so that a cut falls between its characters */
+    text_utf8(text, sizeof text, raw);
     double w = img_text_width(text, height);
     if (w <= width) {
         img_text(c, x, y, text, height, rgb);

@@ -112,7 +112,7 @@ int design_set_imaged(design_set *ds, int m, int f, int all_lambda, const char *
         }
         if (rc > 0) { /* the first wavelength that fails says why */
             if (ds->nwarnings < 2 * IMAGING_MAX_FIELDS)
-                snprintf(ds->warning[ds->nwarnings++], sizeof ds->warning[0], "%s: %s; %s", ds->names[m],
+                snprintf(ds->warning[ds->nwarnings++], sizeof ds->warning[0], "%s: %.480s; %s", ds->names[m],
                          why.msg, tail);
             return 1;
         }

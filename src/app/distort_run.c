@@ -120,7 +120,7 @@ int distort_report_warnings(const distort_request *rq, const distort_report *rep
     int n = 0;
     for (int i = 0; i < rep->nmodels * rep->nfields; i++)
         if (rep->rows[i].why[0] && n < max)
-            snprintf(w[n++], sizeof w[0], "%s: %s; its row is nan", rq->model_names[i / rep->nfields],
+            snprintf(w[n++], sizeof w[0], "%s: %.480s; its row is nan", rq->model_names[i / rep->nfields],
                      rep->rows[i].why);
     return n;
 }

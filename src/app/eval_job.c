@@ -6,16 +6,8 @@
 #include <errno.h>
 #include <string.h>
 
+#include "sparselens/emit_files.h"
 #include "sparselens/outfile.h"
-
-static int emit(const eval_cli *o, const poly_system *sys, outfile *of, lens_err *err)
-{
-    if (poly_emit_c(outfile_stream(of), sys, o->name) != 0) {
-        outfile_abort_write_error(of, errno, err);
-        return -1;
-    }
-    return outfile_commit(of, err);
-}
 
 /* " NAME COUNT" per input with a count. */
 static void print_per_input(FILE *log, const poly_system *sys, const size_t *count)
@@ -48,18 +40,19 @@ int eval_cli_run(const eval_cli *o, FILE *log, eval_run_stats *st, lens_err *err
     eval_run_options opt = o->run;
     opt.json = o->out.json, opt.precision = (int)o->out.precision;
     poly_system *sys;
-    if (o->emit_c && !poly_c_name_ok(o->name)) {
-        lens_errf(err, NULL, 0, "--name: '%s' is not a C identifier, or is a C keyword", o->name);
+    if (o->emit_c && poly_c_name_check(o->name, err) != 0)
         return -1;
-    }
     if (poly_read(o->system, &sys, err) != 0)
         return -1;
+    if (o->emit_c) {
+        int rc = emit_poly_c_files(sys, o->output, o->name, err);
+        poly_free(sys);
+        return rc;
+    }
     outfile *of = outfile_open(o->output, err);
     samples_reader *rd = NULL;
     int rc = -1;
-    if (of && o->emit_c)
-        rc = emit(o, sys, of, err);
-    else if (of && (rd = samples_open(o->input, err)) &&
+    if (of && (rd = samples_open(o->input, err)) &&
              eval_run(sys, rd, outfile_stream(of), &opt, st, err) == 0)
         rc = outfile_commit(of, err);
     else if (of && rd && ferror(outfile_stream(of)))

@@ -69,9 +69,27 @@ static const opt_spec eval_table[] = {
      "needs only\n"
      ".I <math.h>\n"
      "and\n"
-     ".IR <stddef.h> .\n"},
-    {0, "name", "NAME", OPT_STRING, OPT_AT(eval_cli, name), .help = "the C function's name (a C identifier, not a C keyword)",
-     .def = "lens_poly_eval"},
+     ".IR <stddef.h> ,\n"
+     "compiles as C11 (also with\n"
+     ".BR \"\\-Wall \\-Wextra \\-Werror \\-pedantic\" )\n"
+     "and as C++, its functions with C linkage either way. With\n"
+     ".BI \\-o \" FILE\" .c\n"
+     "the header\n"
+     ".IB FILE .h\n"
+     "is written beside it (both whole or neither; a path without .c gets .h added;\n"
+     "standard output gets the C file alone): the two declarations inside\n"
+     ".BR \"extern \\(dqC\\(dq\" .\n"
+     "Every external symbol begins with\n"
+     ".IR NAME ,\n"
+     "so systems of several lenses link into one program. The names of the system (its lens,\n"
+     "inputs and outputs) appear only in comments, every byte outside printable ASCII and\n"
+     "every '*', '\\e' and \"??\" written as\n"
+     ".BR \\exNN ;\n"
+     "the lens file appears by its base name only.\n"},
+    {0, "name", "NAME", OPT_STRING, OPT_AT(eval_cli, name),
+     .help = "the prefix of every symbol of the C file (a C identifier, not a keyword, not "
+             "reserved, not a name of <math.h>)",
+     .def = "lens_poly"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(eval_cli, output),
      .help = "output file, never left half-written (not the input or the system)", .def = "standard output"},
     {.type = OPT_GROUP, OPT_AT(eval_cli, out), .group = output_cli_table},
@@ -94,7 +112,7 @@ void eval_cli_default(eval_cli *o)
     o->input = "-";
     o->output = "-";
     o->emit_c = 0;
-    o->name = "lens_poly_eval";
+    o->name = "lens_poly";
     o->out = (output_cli){0, 0};
     eval_run_options_default(&o->run);
 }

@@ -127,8 +127,17 @@ static const opt_spec fit_table[] = {
      "(see\n"
      ".BR lens-eval (1)),\n"
      "which runs blocks of 8 rays that compilers vectorise, the meridional frame and the\n"
-     "transforms (the defaults) included.\n"},
-    {0, "name", "NAME", OPT_STRING, OPT_AT(fit_cli, name), .help = "function name for --emit c (a C identifier, not a C keyword)",
+     "transforms (the defaults) included. With\n"
+     ".BI \\-o \" FILE\" .c\n"
+     "also the header\n"
+     ".IB FILE .h\n"
+     "(extern \\(dqC\\(dq for C++); every external symbol begins with\n"
+     ".IR NAME ;\n"
+     "names from the samples reach only comments, escaped (see\n"
+     ".BR lens-eval (1)).\n"},
+    {0, "name", "NAME", OPT_STRING, OPT_AT(fit_cli, name),
+     .help = "for --emit c: the prefix of every symbol of the C file (a C identifier, not a "
+             "keyword, not reserved, not a name of <math.h>)",
      .def = "lens_poly"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(fit_cli, out_path),
      .help = "output file (written whole or not at all; not the samples file)", .def = "standard output"},

@@ -189,32 +189,13 @@ void imaging_setup_print(table_out *t, const imaging_setup *s, const imaging_mod
     table_out_key_str(t, "description", s->text);
 }
 
-/* The base name of path without its extension, into buf. */
-static void stem(const char *path, char *buf, size_t len)
-{
-    const char *base = strrchr(path, '/');
-    snprintf(buf, len, "%s", base ? base + 1 : path);
-    char *dot = strrchr(buf, '.');
-    if (dot && dot != buf)
-        *dot = '\0';
-}
-
 int imaging_cli_model_warning(const imaging_models *m, report_warning *w)
 {
     const poly_system *sys = m->sys ? m->sys : m->compare;
-    if (!sys)
+    char why[sizeof *w - 40];
+    if (!sys || !poly_lens_mismatch(sys, m->lens.name, m->lens.path, why, sizeof why))
         return 0;
-    const char *name = poly_lens_name(sys), *path = poly_lens_path(sys);
-    char lens_stem[256], sys_stem[256] = "";
-    stem(m->lens.path, lens_stem, sizeof lens_stem);
-    if (path[0])
-        stem(path, sys_stem, sizeof sys_stem);
-    if (!name[0] || strcmp(name, "unknown") == 0 || strcmp(name, m->lens.name) == 0 ||
-        strcmp(name, lens_stem) == 0 || (sys_stem[0] && strcmp(sys_stem, lens_stem) == 0))
-        return 0;
-    snprintf(*w, sizeof *w, "the system was fitted to '%.200s'%s%.200s%s, not to this lens "
-             "'%.200s': its figures here mean little",
-             name, path[0] ? " (" : "", path, path[0] ? ")" : "", m->lens.name);
+    snprintf(*w, sizeof *w, "%s: its figures here mean little", why);
     return 1;
 }
 

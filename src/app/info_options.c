@@ -33,6 +33,11 @@ static const opt_spec info_table[] = {
     {0, "focus", "MM", OPT_CALL, OPT_AT(info_cli, focus), .set = set_focus,
      .help = "print the lens refocused on an object MM in front of its first surface ('inf' for "
              "infinity): the last thickness changes"},
+    {0, "seidel", NULL, OPT_FLAG, OPT_AT(info_cli, seidel),
+     .help = "print the paraxial marginal and chief rays surface by surface and the Seidel sums "
+             "S_I..S_V each surface contributes (object at infinity) instead of the keys"},
+    {0, "field", "DEG", OPT_DOUBLE, OPT_AT(info_cli, seidel_field), .lo = -89.9, .hi = 89.9,
+     .help = "with --seidel: the chief ray's angle in object space", .def = "half the field of view"},
     {.type = OPT_GROUP, OPT_AT(info_cli, out), .group = output_cli_table},
     {.type = OPT_GROUP, OPT_AT(info_cli, lens), .group = lens_cli_table},
     {0}};
@@ -49,6 +54,8 @@ void info_cli_default(info_cli *o)
     o->sensor = (cli_size){NAN, NAN};
     o->as_lens = 0;
     o->focus = NAN;
+    o->seidel = 0;
+    o->seidel_field = NAN;
     o->out = (output_cli){0, 0};
     lens_cli_options_init(&o->lens);
 }

@@ -134,7 +134,7 @@ static const struct {
     const char *name, *unit;
 } info_keys[] = {{"wavelength", "um"}, {"efl", "mm"}, {"bfl", "mm"}, {"ffl", "mm"},
                  {"fnumber", "1"}, {"entrance_pupil_z", "mm"}, {"entrance_pupil_diameter", "mm"},
-                 {"exit_pupil_z", "mm"}, {"exit_pupil_diameter", "mm"}, {"stop_surface", "-"},
+                 {"exit_pupil_z", "mm"}, {"exit_pupil_from_last_surface", "mm"}, {"exit_pupil_diameter", "mm"}, {"stop_surface", "-"},
                  {"total_track", "mm"}, {"sensor", "mm"}, {"field_of_view_deg", "deg"},
                  {"image_circle_radius", "mm"}, {"sensor_distance", "mm"},
                  {"focus_distance", "mm"}, {"focal_header", "mm"}, {"fnumber_header", "1"}};
@@ -155,7 +155,10 @@ void info_report_print(FILE *f, const lens_t *lens, const info_report *rep, cons
     key(&t, "fnumber", p->fnumber, 0, "1");
     key(&t, "entrance_pupil_z", p->entrance_pupil_z, L, "mm");
     key(&t, "entrance_pupil_diameter", p->entrance_pupil_diameter, L, "mm");
-    key(&t, "exit_pupil_z", p->exit_pupil_z, L, "mm");
+    /* z from the first surface, as every z of the project (the paraxial calculation
+     * measures the exit pupil from the last surface, as CODE V and Zemax print it) */
+    key(&t, "exit_pupil_z", p->exit_pupil_z + lens->vertex_z[lens->nsurf - 1], L, "mm");
+    key(&t, "exit_pupil_from_last_surface", p->exit_pupil_z, L, "mm");
     key(&t, "exit_pupil_diameter", p->exit_pupil_diameter, L, "mm");
     table_out_str(&t, "stop_surface");
     table_out_int(&t, p->stop_surface);

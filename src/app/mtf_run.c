@@ -136,7 +136,8 @@ static int run_model(mtf_request *rq, int m, row_list *list, wf_summary *sum, le
             s->model = m, s->field = f, s->lambda = nwf, s->passed = wf[nwf].passed;
             s->rms_waves = wavefront_rms(&wf[nwf]) / (ds->lambda[nwf] * 1e-3);
             s->strehl = mtf_strehl(&wf[nwf]);
-            s->na[0] = wf[nwf].scale[1], s->na[1] = wf[nwf].scale[0];
+            /* the numerical aperture n' sin U' of the exit beam */
+            s->na[0] = wf[nwf].n_image * wf[nwf].scale[1], s->na[1] = wf[nwf].n_image * wf[nwf].scale[0];
         }
         if (rq->focus_freq > 0) {
             for (int k = 0; k < rq->focus_steps; k++) {
@@ -209,16 +210,19 @@ static void print_rows(table_out *t, const mtf_request *rq, const mtf_row *rows,
 static void print_summaries(table_out *t, const mtf_request *rq, const wf_summary *s, size_t n)
 {
     const design_set *ds = &rq->set;
-    const char *cols[] = {"model", "field", "lambda_um", "cells", "rms_waves", "strehl", "na_tan", "na_sag"};
+    const char *cols[] = {"model", "field", "lambda_um", "cells", "rms_waves", "strehl", "na_tan", "na_sag",
+                          "fnumber_working"};
     if (t->json)
-        table_out_table(t, "wavefronts", NULL, cols, 8);
+        table_out_table(t, "wavefronts", NULL, cols, 9);
     else
-        fprintf(t->f, "# wavefront: model field lambda_um cells rms_waves strehl na_tan na_sag\n");
+        fprintf(t->f, "# wavefront: model field lambda_um cells rms_waves strehl na_tan na_sag fnumber_working\n");
     for (size_t i = 0; i < n; i++) {
+        /* the working F-number of the exit beam, 1 / (2 NA), NA the mean of the two axes' */
+        double fw = 1 / (2 * sqrt(fabs(s[i].na[0] * s[i].na[1])));
         if (!t->json) {
-            fprintf(t->f, "# wavefront: %s %.10g %.7g %d %.5f %.5f %.6f %.6f\n", ds->names[s[i].model],
+            fprintf(t->f, "# wavefront: %s %.10g %.7g %d %.5f %.5f %.6f %.6f %.4f\n", ds->names[s[i].model],
                     ds->field[s[i].field], ds->lambda[s[i].lambda], s[i].passed, s[i].rms_waves, s[i].strehl,
-                    fabs(s[i].na[0]), fabs(s[i].na[1]));
+                    fabs(s[i].na[0]), fabs(s[i].na[1]), fw);
             continue;
         }
         table_out_str(t, ds->names[s[i].model]);
@@ -229,6 +233,7 @@ static void print_summaries(table_out *t, const mtf_request *rq, const wf_summar
         table_out_num(t, s[i].strehl, 0);
         table_out_num(t, fabs(s[i].na[0]), 0);
         table_out_num(t, fabs(s[i].na[1]), 0);
+        table_out_num(t, fw, 0);
         table_out_row_end(t);
     }
 }

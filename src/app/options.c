@@ -170,6 +170,68 @@ static void apply(const opt_command *cmd, const opt_spec *s, size_t offset, cons
     opt_store(cmd->name, &at, value, opts);
 }
 
+/* Edit distance (insertions, deletions, substitutions, adjacent swaps) between a and
+ * the first len characters of b, capped: names are short, and only near misses matter. */
+static size_t edit_distance(const char *a, const char *b, size_t len)
+{
+    enum { CAP = 64 };
+    size_t la = strlen(a);
+    if (la >= CAP || len >= CAP)
+        return CAP;
+    size_t d[CAP + 1][CAP + 1];
+    for (size_t i = 0; i <= la; i++)
+        d[i][0] = i;
+    for (size_t j = 0; j <= len; j++)
+        d[0][j] = j;
+    for (size_t i = 1; i <= la; i++)
+        for (size_t j = 1; j <= len; j++) {
+            size_t best = d[i - 1][j - 1] + (a[i - 1] != b[j - 1]);
+            if (d[i - 1][j] + 1 < best)
+                best = d[i - 1][j] + 1;
+            if (d[i][j - 1] + 1 < best)
+                best = d[i][j - 1] + 1;
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] && d[i - 2][j - 2] + 1 < best)
+                best = d[i - 2][j - 2] + 1;
+            d[i][j] = best;
+        }
+    return d[la][len];
+}
+
+/* The long option of table (and its groups) nearest to name, or NULL when none is
+ * within a third of the name's length (at least 1, at most 3 edits), or when the name
+ * is a prefix of exactly one option (--field for --fields). */
+static const opt_spec *nearest(const opt_spec *table, const char *name, size_t len, size_t *best)
+{
+    const opt_spec *hit = NULL;
+    for (const opt_spec *s = table; s->type != OPT_END; s++) {
+        const opt_spec *h = NULL;
+        size_t d;
+        if (s->type == OPT_GROUP) {
+            d = *best;
+            h = nearest(s->group, name, len, &d);
+        } else if (s->long_name) {
+            h = s;
+            d = len >= 3 && strncmp(s->long_name, name, len) == 0 ? 1 : edit_distance(s->long_name, name, len);
+        }
+        if (h && d < *best)
+            *best = d, hit = h;
+    }
+    return hit;
+}
+
+static void die_unknown_long(const opt_command *cmd, const char *name, size_t len, const char *arg)
+{
+    size_t limit = len / 3 < 1 ? 1 : len / 3 > 3 ? 3 : len / 3, best = limit + 1;
+    const opt_spec *s = nearest(opt_builtin_table, name, len, &best);
+    const opt_spec *t = nearest(cmd->table, name, len, &best);
+    if (t)
+        s = t;
+    if (s)
+        diag_die(cmd->name, "unknown option '%.*s': did you mean --%s? (see --help)", (int)(len + 2), arg,
+                 s->long_name);
+    diag_die(cmd->name, "unknown option '%.*s' (see --help)", (int)(len + 2), arg);
+}
+
 /* A long option, argv[*i] = "--name" or "--name=value". */
 static void parse_long_option(const opt_command *cmd, int argc, char **argv, int *i, void *opts)
 {
@@ -181,7 +243,7 @@ static void parse_long_option(const opt_command *cmd, int argc, char **argv, int
     if (!s)
         s = find(cmd->table, a, len, 0, &offset);
     if (!s)
-        diag_die(cmd->name, "unknown option '%.*s' (see --help)", (int)(len + 2), argv[*i]);
+        die_unknown_long(cmd, a, len, argv[*i]);
     const char *value = NULL;
     if (!takes_value(s)) {
         if (eq)

@@ -1,7 +1,32 @@
 /* lens-render's option table (see render_cli.h, options.h). */
 #include "sparselens/render_cli.h"
 
+#include <math.h>
 #include <string.h>
+
+#include "sparselens/numparse.h"
+
+/* --focus MM or inf: a distance > 0, INFINITY for inf. */
+static void set_focus(const char *prog, const opt_spec *spec, const char *value, void *field)
+{
+    double *d = field;
+    if (!strcmp(value, "inf") || !strcmp(value, "infinity")) {
+        *d = INFINITY;
+        return;
+    }
+    if (parse_double(value, d) || !(*d > 0) || !isfinite(*d))
+        opt_die(prog, spec, "'%s': give a distance > 0 mm, or inf", value);
+}
+
+/* --blades N: 0 (the stop's circle) or 3 .. 16. */
+static void set_blades(const char *prog, const opt_spec *spec, const char *value, void *field)
+{
+    int *b = field;
+    double n;
+    if (parse_double(value, &n) || n != floor(n) || !(n == 0 || (n >= 3 && n <= 16)))
+        opt_die(prog, spec, "'%s': give 0 (a round stop) or a count from 3 to 16", value);
+    *b = n == 0 ? RENDER_BLADES_ROUND : (int)n;
+}
 
 static const opt_choice estimators[] = {
     {"eq13", RENDER_ESTIMATOR_EQ13}, {"full", RENDER_ESTIMATOR_FULL}, {NULL, 0}};
@@ -36,6 +61,29 @@ static const opt_spec render_table[] = {
      "render at many samples per pixel.\n"},
     {0, "seed", "N", OPT_INT, OPT_AT(render_cli, run.seed), .lo = 1, .hi = 4611686018427387904.0,
      .help = "random seed", .def = "the scene's"},
+    {0, "focus", "MM|inf", OPT_CALL, OPT_AT(render_cli, run.focus), .set = set_focus,
+     .help = "focus the lens at MM in front of its front vertex (or at infinity) instead of "
+             "the scene's focus",
+     .def = "the scene's",
+     .man =
+     "As the scene's\n"
+     ".B focus\n"
+     "line: the last thickness (lens to sensor) becomes the paraxial one for that distance at\n"
+     "the d line. Not with a\n"
+     ".I .poly\n"
+     "camera, whose focus was fitted.\n"},
+    {0, "fstop", "N", OPT_POSITIVE, OPT_AT(render_cli, run.fstop),
+     .help = "stop the lens to f-number N instead of the scene's fstop", .def = "the scene's",
+     .man =
+     "As the scene's\n"
+     ".B fstop\n"
+     "line: the stop's semi-diameter is scaled to that paraxial f-number. Not with a\n"
+     ".I .poly\n"
+     "camera.\n"},
+    {0, "blades", "N", OPT_CALL, OPT_AT(render_cli, run.blades), .set = set_blades,
+     .help = "an aperture of N blades (3 to 16; 0: the stop's circle) instead of the scene's "
+             "blades, at the scene's rotation",
+     .def = "the scene's"},
     {0, "noise-against", "FILE", OPT_STRING, OPT_AT(render_cli, run.noise_against),
      .help = "print the noise figure against FILE, a render of the same scene with another "
              "seed"},
@@ -51,11 +99,19 @@ static const opt_spec render_table[] = {
              "weight) instead of rendering",
      .man =
      "The module defines\n"
-     ".I double lens_camera_ray(sx, sy, lambda, r1, r2, org[3], dir[3]):\n"
+     ".I double NAME_ray(sx, sy, lambda, r1, r2, org[3], dir[3]):\n"
      "the weight of the camera ray from sensor point (sx, sy) (fractions of the sensor, the\n"
      "top-left at 0, 0), with its origin and direction in the scene frame\n"
      ".RB ( lens-scene (5)).\n"
-     "It compiles on its own as C99; -o is not needed.\n"},
+     "It compiles on its own as C11 or C++, its functions with C linkage, and\n"
+     ".I FILE.h\n"
+     "(for\n"
+     ".IR FILE .c)\n"
+     "declares them; -o is not needed.\n"},
+    {0, "name", "NAME", OPT_STRING, OPT_AT(render_cli, run.camera_name),
+     .help = "for --emit-camera: the prefix of every symbol of the module (NAME_ray, "
+             "NAME_rays, ...), so that cameras of several lenses link into one program",
+     .def = "lens_camera"},
     {'q', "quiet", NULL, OPT_FLAG, OPT_AT(render_cli, quiet),
      .help = "no decisions, progress or timings on stderr (the figures of --reference and "
              "--noise-against still)"},
@@ -75,4 +131,5 @@ void render_cli_default(render_cli *o)
 {
     memset(o, 0, sizeof *o);
     lens_cli_options_init(&o->lens);
+    o->run.camera_name = "lens_camera";
 }

@@ -6,8 +6,11 @@
 #include <string.h>
 
 #include "sparselens/camera.h"
+#include "sparselens/emit_files.h"
+#include "sparselens/escape.h"
 #include "sparselens/exr_io.h"
 #include "sparselens/outfile.h"
+#include "sparselens/paraxial.h"
 #include "sparselens/glass.h"
 #include "sparselens/image.h"
 #include "sparselens/lens.h"
@@ -140,16 +143,25 @@ typedef struct {
     render_lens_ctx *lc;
     render_sampler smp;
     render_camera cam;
-    char lens_path[1024];  /* the lens file, named in the log */
+    char lens_path[PATH_MAX + 64]; /* the lens file, named in the log */
     double sw, sh;         /* sensor, mm */
     int use_eta, achromatic, stop_only; /* stop_only: vignetting off, the stop's line pupil */
     double eta_const;
 } render_setup;
 
-static void cache_dir(const render_options *o, char *dir, size_t len)
+static int cache_dir(const render_options *o, char *dir, size_t len, lens_err *err)
 {
-    if (o->cache_dir) snprintf(dir, len, "%s", o->cache_dir);
-    else render_default_cache_dir(dir, len);
+    if (!o->cache_dir) {
+        render_default_cache_dir(dir, len);
+        return 0;
+    }
+    if (strlen(o->cache_dir) >= len) {
+        lens_errf(err, NULL, 0, "--cache-dir: a path of %zu characters, more than the %zu a "
+                  "path may have", strlen(o->cache_dir), len - 1);
+        return -1;
+    }
+    snprintf(dir, len, "%s", o->cache_dir);
+    return 0;
 }
 
 /* Step 1: the scene, its lens (or the lens a given system was fitted to), focus and
@@ -160,7 +172,10 @@ static int load_camera(const render_options *o, render_setup *s, lens_err *err)
     if (scene_load(o->scene, sc, err)) return -1;
     if (o->spp > 0) sc->spp = o->spp;
     if (o->seed) sc->seed = o->seed;
-    snprintf(s->lens_path, sizeof s->lens_path, "%s", sc->camera);
+    if (o->focus > 0) sc->focus = o->focus;
+    if (o->fstop > 0) sc->fstop = o->fstop;
+    if (o->blades) sc->blades = o->blades == RENDER_BLADES_ROUND ? 0 : o->blades;
+    memcpy(s->lens_path, sc->camera, strlen(sc->camera) + 1); /* both hold PATH_MAX */
     if (sc->camera_is_poly) {
         if (poly_read(sc->camera, &s->sys, err)) return -1;
         const char *frame = poly_get_meta(s->sys, "trace_frame");
@@ -183,12 +198,19 @@ static int load_camera(const render_options *o, render_setup *s, lens_err *err)
     if (s->sys) {
         /* a fitted system has its focus and aperture baked in */
         if (!isnan(sc->focus) || !isnan(sc->fstop)) {
-            lens_errf(err, sc->path, 0, "focus and fstop cannot change a fitted .poly camera; "
-                      "give the lens file instead");
+            lens_errf(err, sc->path, 0, "focus and fstop (the scene's, --focus, --fstop) "
+                      "cannot change a fitted .poly camera; give the lens file instead");
             return -1;
         }
     } else if (render_lens_setup(&s->lens, sc->focus, sc->fstop, err)) {
         return -1;
+    } else if (o->log) {
+        /* where the scene's (or --focus's) focus put the sensor, and its f-stop */
+        paraxial_data p;
+        if (paraxial_compute(&s->lens, GLASS_D_LINE, &p, err)) return -1;
+        fprintf(o->log, "camera: focus %.6g%s, the sensor %.6f mm behind the last surface, "
+                "f/%.4g (paraxial)\n", p.focus_distance, isinf(p.focus_distance) ? "" : " mm",
+                p.sensor_distance, p.fnumber);
     }
     s->sw = isnan(sc->sensor_w) ? s->lens.sensor_w : sc->sensor_w;
     s->sh = isnan(sc->sensor_h) ? s->lens.sensor_h : sc->sensor_h;
@@ -225,10 +247,10 @@ static int choose_lens_map(const render_options *o, render_setup *s, lens_err *e
         if (!s->use_eta && render_effects_eta_centre(&s->lens, &s->eta_const, err)) return -1;
     } else if (!s->sys) {
         render_effects e;
-        char dir[1024];
+        char dir[PATH_MAX];
         if (render_effects_decide(sc, &s->lens, s->sw, s->sh, &e, err)) return -1;
         render_effects_print(o->log, &e);
-        cache_dir(o, dir, sizeof dir);
+        if (cache_dir(o, dir, sizeof dir, err)) return -1;
         s->sys = render_effects_system(&s->lens, &e, dir, o->threads, o->log, err);
         if (!s->sys) return -1;
         s->use_eta = e.transmittance;
@@ -273,8 +295,8 @@ static int build_sampler(const render_options *o, render_setup *s, lens_err *err
     }
     int grey = s->sc.mode == SCENE_GREY;
     double l0 = grey ? GLASS_D_LINE : RENDER_LAMBDA_MIN, l1 = grey ? GLASS_D_LINE : RENDER_LAMBDA_MAX;
-    char dir[1024];
-    cache_dir(o, dir, sizeof dir);
+    char dir[PATH_MAX];
+    if (cache_dir(o, dir, sizeof dir, err)) return -1;
     return render_effects_sampler(&s->lens, l0, l1, 0.5 * hypot(s->sw, s->sh), s->stop_only, dir,
                                   o->threads, o->log, &s->smp, err);
 }
@@ -332,25 +354,43 @@ static int write_outputs(const render_options *o, const scene_t *sc, const float
     return 0;
 }
 
-/* --emit-camera: the scene's camera as one C file (camera.h), instead of the render. */
+typedef struct {
+    const render_options *o;
+    const render_setup *s;
+    const char *name;
+} camera_job;
+
+static int camera_body(FILE *f, void *ctx, lens_err *err)
+{
+    const camera_job *j = ctx;
+    return lens_camera_emit(f, &j->s->lens, j->s->sys, j->s->sw, j->s->sh, j->s->sc.blades,
+                            j->s->sc.blade_rotation * M_PI / 180, j->name, err);
+}
+
+static int camera_header(FILE *f, void *ctx, lens_err *err)
+{
+    const camera_job *j = ctx;
+    return lens_camera_emit_header(f, &j->s->lens, j->name, err);
+}
+
+static const char *camera_name(const render_options *o)
+{
+    return o->camera_name ? o->camera_name : "lens_camera";
+}
+
+/* --emit-camera: the scene's camera as one C file (camera.h) and its header, instead of
+ * the render. */
 static int emit_camera(const render_options *o, const render_setup *s, lens_err *err)
 {
-    const poly_system *sys = s->sys;
-    if (!sys) {
+    if (!s->sys) {
         lens_errf(err, o->scene, 0, "--emit-camera needs a polynomial system (not --exact)");
         return -1;
     }
-    outfile *of = outfile_open(o->emit_camera, err);
-    if (!of) return -1;
-    if (lens_camera_emit(outfile_stream(of), &s->lens, sys, s->sw, s->sh, s->sc.blades,
-                         s->sc.blade_rotation * M_PI / 180, "lens_camera", err)) {
-        outfile_abort(of);
-        return -1;
-    }
-    if (outfile_commit(of, err)) return -1;
+    camera_job j = {o, s, camera_name(o)};
+    if (emit_c_files(o->emit_camera, camera_body, camera_header, &j, err)) return -1;
     if (o->log)
-        fprintf(o->log, "camera module: wrote %s (lens_camera_ray, lens_camera_rays)\n",
-                o->emit_camera);
+        fprintf(o->log, "camera module: wrote %s (%s_ray, %s_rays)\n", o->emit_camera, j.name,
+                j.name);
     return 0;
 }
 
@@ -382,6 +422,11 @@ int render_run(const render_options *o, render_stats *st, lens_err *err)
     float *img = NULL;
     int rc = -1;
     lens_init(&s.lens);
+    const char *why;
+    if (o->emit_camera && !text_c_prefix_ok(camera_name(o), &why)) { /* before any fit */
+        lens_errf(err, NULL, 0, "--name: %s", why);
+        return -1;
+    }
     if (load_camera(o, &s, err) || check_outputs(o, &s.sc, err) || choose_lens_map(o, &s, err))
         goto done;
     if (o->emit_camera) {

@@ -100,7 +100,7 @@ int spot_report_warnings(const spot_request *rq, const spot_report *rep, report_
         for (int fi = 0; fi < rep->nfields; fi++) {
             const lens_err *why = &rep->why[(size_t)m * rep->nfields + fi];
             if (why->msg[0] && n < max)
-                snprintf(w[n++], sizeof w[0], "%s: %s; its rows are nan", rq->model_names[m], why->msg);
+                snprintf(w[n++], sizeof w[0], "%s: %.480s; its rows are nan", rq->model_names[m], why->msg);
         }
     return n;
 }

@@ -16,6 +16,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "sparselens/escape.h"
 #include "sparselens/outfile.h"
 
 #define FONT "DejaVu Sans"
@@ -236,11 +237,15 @@ void img_text(img_canvas *c, double x, double y, const char *text, double height
 {
     if (!text || !*text || !ok(c, 3, (double[]){x, y, height}))
         return;
+    /* cairo takes only well-formed UTF-8: any other string puts the context in error,
+     * and it draws nothing more (a blank picture) */
+    char shown[4096];
+    text_utf8(shown, sizeof shown, text);
     source(c, rgb, 1);
     font_size(c->cr, height);
-    text_box(c, x, y, text);
+    text_box(c, x, y, shown);
     cairo_move_to(c->cr, x, y);
-    cairo_show_text(c->cr, text);
+    cairo_show_text(c->cr, shown);
     cairo_new_path(c->cr);
 }
 
@@ -251,7 +256,9 @@ double img_text_width(const char *text, double height)
     set_font(cr);
     font_size(cr, height);
     cairo_text_extents_t e;
-    cairo_text_extents(cr, text ? text : "", &e);
+    char shown[4096];
+    text_utf8(shown, sizeof shown, text);
+    cairo_text_extents(cr, shown, &e);
     cairo_destroy(cr);
     cairo_surface_destroy(s);
     return e.x_advance;
@@ -296,7 +303,21 @@ static cairo_status_t render(const img_canvas *c, const char *path, FILE *f)
 
 int img_write_png(const img_canvas *c, const char *path, lens_err *err)
 {
+    /* the kind follows the name: PNG data in a file called .jpg is a file no viewer
+     * opens as what its name says */
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    if (dot && (!slash || dot > slash) && !ends_with(path, ".png") && !ends_with(path, ".svg") &&
+        !ends_with(path, ".pdf")) {
+        lens_errf(err, path, 0, "a picture is written as PNG, SVG or PDF, by the name's ending "
+                                "(.png, .svg, .pdf), and '%s' is none of them", dot);
+        return -1;
+    }
     char tmp[4096];
+    if (cairo_status(c->cr) != CAIRO_STATUS_SUCCESS) { /* a drawing failed: not a picture */
+        lens_errf(err, path, 0, "cannot draw the picture: %s",
+                  cairo_status_to_string(cairo_status(c->cr)));
+        return -1;
+    }
     if (outfile_tmp_path(path, tmp, sizeof tmp) != 0) {
         lens_errf(err, path, 0, "cannot make a temporary file name");
         return -1;

@@ -2,14 +2,26 @@
 #include "sparselens/data_path.h"
 
 #include <limits.h>
+#include <sys/stat.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+/* A lookup takes only regular files: a directory or a FIFO named like a lens (or the
+ * directory "DIR/" that an empty name makes) is passed over, never opened. */
 static int readable_file(const char *p)
 {
-    return access(p, R_OK) == 0;
+    struct stat st;
+    return p[0] && stat(p, &st) == 0 && S_ISREG(st.st_mode) && access(p, R_OK) == 0;
+}
+
+/* A name given exactly is taken as it is whatever it is (the opener refuses what
+ * cannot be read, with a message that says what it is). */
+static int exists(const char *p)
+{
+    struct stat st;
+    return stat(p, &st) == 0;
 }
 
 /* dir/file (+ ext) into buf if readable; "/x/bin/../lenses/..." reads badly in
@@ -78,10 +90,16 @@ int data_shipped_file(const char *kind, const char *file, char *buf, size_t n)
 int data_find(const char *kind, const char *env, const char *name, const char *const *exts,
               char *buf, size_t n)
 {
-    /* what exists is taken as it is, and so is a path anchored to a directory */
-    if (readable_file(name) || name[0] == '/' || !strncmp(name, "./", 2) ||
+    /* No name names nothing (not the directories searched). */
+    if (!name[0])
+        return -1;
+    /* what exists is taken as it is, and so is a path anchored to a directory; one
+     * that buf cannot hold whole is not copied (-1: the caller keeps the name) */
+    if (exists(name) || name[0] == '/' || !strncmp(name, "./", 2) ||
         !strncmp(name, "../", 3)) {
-        snprintf(buf, n, "%s", name);
+        if (strlen(name) >= n)
+            return -1;
+        memcpy(buf, name, strlen(name) + 1);
         return 0;
     }
     if (try_names(NULL, name, exts, 0, buf, n)) /* ./NAME.ext */

@@ -7,21 +7,71 @@
 #include <string.h>
 #include <unistd.h>
 
+void diag_sanitise(char *out, size_t cap, const char *text)
+{
+    static const char hex[] = "0123456789abcdef";
+    static const char cut[] = "[...]";
+    if (!cap)
+        return;
+    size_t o = 0;
+    for (const unsigned char *p = (const unsigned char *)text; *p; p++) {
+        int control = *p < 0x20 || *p == 0x7f;
+        size_t need = control ? 4 : 1;
+        if (o + need + 1 > cap) {
+            if (cap > sizeof cut) {
+                o = o + sizeof cut > cap ? cap - sizeof cut : o;
+                memcpy(out + o, cut, sizeof cut - 1);
+                o += sizeof cut - 1;
+            }
+            break;
+        }
+        if (control) {
+            out[o++] = '\\';
+            out[o++] = 'x';
+            out[o++] = hex[*p >> 4];
+            out[o++] = hex[*p & 15];
+        } else {
+            out[o++] = (char)*p;
+        }
+    }
+    out[o] = '\0';
+}
+
+/* The message whole, on the heap (NULL when out of memory). */
+static char *format_whole(const char *file, long line, const char *fmt, va_list ap)
+{
+    char head[64];
+    if (line > 0)
+        snprintf(head, sizeof head, ":%ld: ", line);
+    else
+        snprintf(head, sizeof head, ": ");
+    size_t lf = file ? strlen(file) + strlen(head) : 0;
+    va_list aq;
+    va_copy(aq, ap);
+    int nb = vsnprintf(NULL, 0, fmt, aq);
+    va_end(aq);
+    if (nb < 0)
+        nb = 0;
+    char *s = malloc(lf + (size_t)nb + 1);
+    if (!s)
+        return NULL;
+    if (file)
+        snprintf(s, lf + 1, "%s%s", file, head);
+    vsnprintf(s + lf, (size_t)nb + 1, fmt, ap);
+    return s;
+}
+
 void lens_errf(lens_err *err, const char *file, long line, const char *fmt, ...)
 {
     if (!err)
         return;
-    int n = 0;
-    if (file && line > 0)
-        n = snprintf(err->msg, sizeof err->msg, "%s:%ld: ", file, line);
-    else if (file)
-        n = snprintf(err->msg, sizeof err->msg, "%s: ", file);
-    if (n < 0 || (size_t)n >= sizeof err->msg)
-        n = 0;
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(err->msg + n, sizeof err->msg - (size_t)n, fmt, ap);
+    char *whole = format_whole(file, line, fmt, ap);
     va_end(ap);
+    /* the arguments may be err->msg itself (a message built on the one before) */
+    diag_sanitise(err->msg, sizeof err->msg, whole ? whole : "out of memory");
+    free(whole);
 }
 
 void diag_print(const char *prog, const lens_err *err)
@@ -32,11 +82,13 @@ void diag_print(const char *prog, const lens_err *err)
 void diag_die(const char *prog, const char *fmt, ...)
 {
     va_list ap;
-    fprintf(stderr, "%s: ", prog);
     va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
+    char *whole = format_whole(NULL, 0, fmt, ap);
     va_end(ap);
-    fputc('\n', stderr);
+    lens_err e;
+    diag_sanitise(e.msg, sizeof e.msg, whole ? whole : "out of memory");
+    free(whole);
+    fprintf(stderr, "%s: %s\n", prog, e.msg);
     exit(1);
 }
 

@@ -1,10 +1,16 @@
 #ifndef SPARSELENS_BASE_LINE_READER_H
 #define SPARSELENS_BASE_LINE_READER_H
 /* Line-by-line reading with the limits every text reader states in its man page:
- * a line longer than max bytes is refused ("line longer than N bytes") without being
- * held, a NUL byte is named rather than taken for the end of the line, a read error is
- * an error and never the end of the file, and a UTF-8 byte-order mark before the first
- * line is dropped. Memory stays below max + 2 bytes whatever the input. */
+ * a line longer than max bytes is refused ("line longer than N bytes") as soon as its
+ * first max + 1 bytes are in, never held whole and never waited for (a stream whose line
+ * never ends is refused at once, not read for ever in silence), a NUL byte is named
+ * rather than taken for the end of the line, a read error is an error and never the end
+ * of the file, and a UTF-8 byte-order mark before the first line is dropped.
+ *
+ * Input is taken in blocks: read(2) on a pipe, a terminal or a device (whatever has
+ * arrived, so a stream is answered row by row), fread on a regular file or a memory
+ * stream. The reader owns the stream from its first line on: nothing else reads f while
+ * it is in use. Memory stays below max + LINE_BLOCK_BYTES + 8 bytes whatever the input. */
 #include <stddef.h>
 #include <stdio.h>
 
@@ -14,15 +20,22 @@
  * prescription, sample row or .poly term, small enough that a line which never ends
  * is refused at once. */
 #define LINE_MAX_BYTES 65536
+/* What one read asks for. */
+#define LINE_BLOCK_BYTES 131072
 
 typedef struct {
     FILE *f;
     const char *path; /* names the file in messages */
     size_t max;       /* longest line accepted, in bytes, line end excluded */
-    char *buf;        /* the current line, NUL-terminated, line end ("\n", "\r\n") removed */
-    size_t cap;
+    char *buf;        /* the current line, NUL-terminated, line end ("\n", "\r\n") removed;
+                       * it lies in the block and is valid until the next line_next */
     size_t len;       /* bytes in buf */
     long line;        /* number of the current line (1 for the first) */
+    /* the block: bytes [pos, end) are read and not yet returned */
+    char *blk;
+    size_t cap, pos, end;
+    int fd;           /* read(2) on this descriptor, or -1: fread on f */
+    int eof, skip_rest;
 } line_reader;
 
 enum {

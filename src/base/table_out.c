@@ -1,6 +1,8 @@
 /* Text or JSON tables (see table_out.h). */
 #include "sparselens/table_out.h"
 
+#include "sparselens/escape.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -23,22 +25,6 @@ void table_out_format(char *buf, size_t len, double v, double scale, int digits)
     snprintf(buf, len, "%.*g", digits, v);
     if (strcmp(buf, "-0") == 0)
         snprintf(buf, len, "0");
-}
-
-static void json_string(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
-        if (*p == '"' || *p == '\\')
-            fprintf(f, "\\%c", *p);
-        else if (*p == '\n')
-            fputs("\\n", f);
-        else if (*p < 0x20)
-            fprintf(f, "\\u%04x", *p);
-        else
-            fputc(*p, f);
-    }
-    fputc('"', f);
 }
 
 void table_out_begin(table_out *t, FILE *f, int json, int precision, int default_precision)
@@ -71,7 +57,7 @@ static void start(table_out *t, const char *name, const char *note)
     }
     if (t->json) {
         fprintf(t->f, "%s\n", t->ntables ? "," : "");
-        json_string(t->f, name);
+        text_json(t->f, name);
         fputs(t->as_object ? ": {" : ": [", t->f);
     } else if (t->flat) {
         if (t->ntables)
@@ -135,7 +121,7 @@ static void cell(table_out *t)
         return;
     }
     fputs(t->ncells == 0 ? (t->nrows ? ",\n {" : "\n {") : ", ", t->f);
-    json_string(t->f, t->ncells < t->ncolumns ? t->columns[t->ncells] : "extra");
+    text_json(t->f, t->ncells < t->ncolumns ? t->columns[t->ncells] : "extra");
     fputs(": ", t->f);
 }
 
@@ -143,7 +129,7 @@ void table_out_str(table_out *t, const char *s)
 {
     cell(t);
     if (t->json)
-        json_string(t->f, s);
+        text_json(t->f, s);
     else
         fputs(s, t->f);
     t->ncells++;
@@ -215,7 +201,7 @@ void table_out_end(table_out *t, const char *const *warnings, int nwarnings)
     fprintf(t->f, "%s\n\"warnings\": [", t->ntables ? "," : "");
     for (int i = 0; i < nwarnings; i++) {
         fputs(i ? ", " : "", t->f);
-        json_string(t->f, warnings[i]);
+        text_json(t->f, warnings[i]);
     }
     fputs("]\n}\n", t->f);
 }

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "sparselens/fit.h"
+#include "fit/fit_distinct.h"
 #include "fit/fit_part.h"
 
 static int fit_is_clip_prefix(const char *name, size_t len);
@@ -227,34 +228,58 @@ static int scale_inputs(fit_ctx *c, const char *const *inputs, lens_err *err)
     return 0;
 }
 
-/* Held-out rows: a seeded shuffle, so the split is reproducible. */
+/* Held-out rays: a seeded shuffle of the distinct rays, so the split is reproducible,
+ * and every copy of a ray is on the side of the ray (a held-out copy of a training row
+ * would make the held-out error that of a memory). Without copies the split is the
+ * shuffle of the rows themselves. */
 static int hold_out(fit_ctx *c, lens_err *err)
 {
     const fit_options *opt = c->opt;
-    size_t n = c->n, nho = (size_t)floor(opt->holdout * (double)n);
-    c->nho = nho;
-    if (n - nho < (size_t)opt->max_terms) {
-        lens_errf(err, NULL, 0,
-                  "%zu usable samples (%zu for training after holding out %zu) are fewer than "
-                  "the %d terms asked for: trace more rays or lower --terms",
-                  n, n - nho, nho, opt->max_terms);
-        return -1;
-    }
-    size_t *perm = malloc(n * sizeof *perm);
-    if (!perm) {
+    size_t n = c->n;
+    size_t *group = malloc(n * sizeof *group), *perm = malloc(n * sizeof *perm);
+    size_t nd = group && perm ? fit_distinct_rays(c->s, n, c->nin, group) : 0;
+    if (!nd) {
+        free(group), free(perm);
         lens_errf(err, NULL, 0, "out of memory");
         return -1;
     }
+    c->ndistinct = nd;
+    size_t dho = (size_t)floor(opt->holdout * (double)nd);
+    if (nd - dho < (size_t)opt->max_terms) {
+        free(group), free(perm);
+        if (nd < n)
+            lens_errf(err, NULL, 0,
+                      "%zu usable samples are %zu distinct rays (%zu for training after "
+                      "holding out %zu), fewer than the %d terms asked for: trace more rays "
+                      "or lower --terms", n, nd, nd - dho, dho, opt->max_terms);
+        else
+            lens_errf(err, NULL, 0,
+                      "%zu usable samples (%zu for training after holding out %zu) are fewer "
+                      "than the %d terms asked for: trace more rays or lower --terms",
+                      n, n - dho, dho, opt->max_terms);
+        return -1;
+    }
     unsigned long long st = opt->seed;
-    for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < nd; i++)
         perm[i] = i;
-    for (size_t i = n - 1; i > 0; i--) {
+    for (size_t i = nd - 1; i > 0; i--) {
         size_t j = (size_t)(splitmix(&st) % (i + 1));
         size_t t = perm[i]; perm[i] = perm[j]; perm[j] = t;
     }
-    for (size_t i = 0; i < nho; i++)
-        c->hold[perm[i]] = 1;
-    free(perm);
+    unsigned char *held = calloc(nd, 1);
+    if (!held) {
+        free(group), free(perm);
+        lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
+    for (size_t i = 0; i < dho; i++)
+        held[perm[i]] = 1;
+    c->nho = 0;
+    for (size_t r = 0; r < n; r++) {
+        c->hold[r] = held[group[r]];
+        c->nho += c->hold[r];
+    }
+    free(held), free(group), free(perm);
     return 0;
 }
 
@@ -371,7 +396,11 @@ static void write_fit_meta(const fit_ctx *c, const char *const *outputs, const s
     const fit_options *opt = c->opt;
     set_metaf(sys, "fit_flags", "--terms %d --degree %d --parts %d --holdout %.17g --seed %lu",
               opt->max_terms, opt->max_degree, opt->max_parts, opt->holdout, opt->seed);
-    set_metaf(sys, "fit_samples", "%zu usable (%zu held out) of %zu", c->n, c->nho, c->count);
+    if (c->ndistinct < c->n) /* copies of rays: the count that measures the fit */
+        set_metaf(sys, "fit_samples", "%zu usable, %zu distinct rays (%zu held out) of %zu",
+                  c->n, c->ndistinct, c->nho, c->count);
+    else
+        set_metaf(sys, "fit_samples", "%zu usable (%zu held out) of %zu", c->n, c->nho, c->count);
     set_metaf(sys, "fit_parts", "%d", best->nparts);
     for (int o = 0; o < c->nout; o++) {
         char key[256];

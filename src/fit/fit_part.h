@@ -34,6 +34,7 @@ typedef struct {
     size_t count;        /* rows given */
     size_t n;            /* usable rows */
     size_t nho;          /* of them held out */
+    size_t ndistinct;    /* distinct rays among the usable rows (copies of a ray: one) */
     double *s;           /* n x nin scaled inputs */
     double *y;           /* n x nout outputs */
     unsigned char *hold; /* per usable row */

@@ -37,19 +37,8 @@ static int flush(pending *p, const char *path, agf_add_fn add, void *ctx, lens_e
                   p->g.name);
         return -1;
     }
-    /* The formula must give back the nominal n_d (where the d line is in range): this
-     * catches coefficients in the wrong columns or a wrong formula number. 1e-3 leaves
-     * room for makers' rounding, which is near 1e-5. */
-    const glass_t *g = &p->g;
-    if (GLASS_D_LINE >= g->lambda_min && GLASS_D_LINE <= g->lambda_max && g->nd > 1) {
-        double n = glass_formula_eval(g->formula, g->coef, GLASS_D_LINE);
-        if (!(fabs(n - g->nd) <= 1e-3)) {
-            lens_errf(err, path, p->line,
-                      "glass %s: formula %d (%s) gives n_d %.6f, the NM line says %.6f",
-                      g->name, g->formula, glass_formula_name(g->formula), n, g->nd);
-            return -1;
-        }
-    }
+    /* A formula that contradicts the NM line's n_d is a problem of that glass alone,
+     * recorded by glass_catalog_add: the rest of the catalog stays usable. */
     return add(ctx, &p->g, err);
 }
 

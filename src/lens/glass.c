@@ -1,4 +1,6 @@
 /* Refractive index of the media a lens is made of.
+ * Long file: the model glass and the catalog reader with its vendor, alias and
+ * unusable-entry rules share one lookup, which splitting would expose in a header.
  *
  * The (n_d, V_d) model glass. Patents give most glasses as n_d and V_d only; two numbers
  * fix an index and a slope, not the curvature of n(lambda) that sets the secondary
@@ -22,6 +24,7 @@
 #include "base/index_hash.h"
 #include "base/line_reader.h"
 #include "sparselens/glass.h"
+#include "sparselens/input_file.h"
 
 #include <ctype.h>
 #include <limits.h>
@@ -187,10 +190,22 @@ int glass_index(const glass_t *g, double l, double *n, lens_err *err)
 
 /* ---- catalogs ------------------------------------------------------------------ */
 
+/* What a catalog knows of each glass besides its data: whose it is, whether it is an old
+ * name read as another glass, and why it cannot be used (a formula that contradicts the
+ * entry's own n_d). */
+typedef struct {
+    char vendor[GLASS_VENDOR_MAX];
+    int alias_of; /* index of the glass an old name stands for, or -1 */
+    char problem[224];
+} glass_entry;
+
 struct glass_catalog {
     glass_t *g;
+    glass_entry *e;
     size_t n, cap;
     char *sources; /* "a.catalog, b.agf" */
+    char vendor[GLASS_VENDOR_MAX]; /* vendor of the glasses being added */
+    const char *loading;           /* file being read, for problems */
 };
 
 glass_catalog *glass_catalog_new(void)
@@ -203,8 +218,38 @@ void glass_catalog_free(glass_catalog *cat)
     if (!cat)
         return;
     free(cat->g);
+    free(cat->e);
     free(cat->sources);
     free(cat);
+}
+
+void glass_catalog_set_vendor(glass_catalog *cat, const char *vendor)
+{
+    size_t o = 0;
+    for (; vendor[o] && o + 1 < sizeof cat->vendor; o++)
+        cat->vendor[o] = (char)toupper((unsigned char)vendor[o]);
+    cat->vendor[o] = '\0';
+}
+
+/* A catalog's nominal n_d must agree with its own formula; a coefficient typed in the
+ * wrong column, or a wrong formula number, shows up here rather than as a subtly wrong
+ * lens. 1e-3 leaves room for makers' rounding, which is near 1e-5. */
+#define CATALOG_ND_TOLERANCE 1e-3
+
+static void check_consistent(const glass_catalog *cat, const glass_t *g, char *problem,
+                             size_t cap)
+{
+    problem[0] = '\0';
+    if (g->kind != GLASS_FORMULA || !(g->nd > 1) || !(GLASS_D_LINE >= g->lambda_min) ||
+        !(GLASS_D_LINE <= g->lambda_max))
+        return;
+    double n = glass_formula_eval(g->formula, g->coef, GLASS_D_LINE);
+    if (!(fabs(n - g->nd) <= CATALOG_ND_TOLERANCE))
+        snprintf(problem, cap,
+                 "in %s, formula %d (%s) gives n_d %.6f where the entry says %.6f "
+                 "(coefficients in the wrong order, or a wrong formula number?)",
+                 cat->loading ? cat->loading : "its catalog", g->formula,
+                 glass_formula_name(g->formula), n, g->nd);
 }
 
 int glass_catalog_add(glass_catalog *cat, const glass_t *g, lens_err *err)
@@ -216,13 +261,20 @@ int glass_catalog_add(glass_catalog *cat, const glass_t *g, lens_err *err)
     if (cat->n == cat->cap) {
         size_t cap = cat->cap ? 2 * cat->cap : 64;
         glass_t *ng = realloc(cat->g, cap * sizeof *ng);
-        if (!ng) {
+        if (ng)
+            cat->g = ng;
+        glass_entry *ne = ng ? realloc(cat->e, cap * sizeof *ne) : NULL;
+        if (!ne) {
             lens_errf(err, NULL, 0, "out of memory");
             return -1;
         }
-        cat->g = ng;
+        cat->e = ne;
         cat->cap = cap;
     }
+    glass_entry *e = &cat->e[cat->n];
+    memcpy(e->vendor, cat->vendor, sizeof e->vendor);
+    e->alias_of = -1;
+    check_consistent(cat, g, e->problem, sizeof e->problem);
     cat->g[cat->n++] = *g;
     return 0;
 }
@@ -244,6 +296,8 @@ const glass_t *glass_catalog_find(const glass_catalog *cat, const char *name)
 {
     if (!cat)
         return NULL;
+    /* The first in catalog order: the user's catalogs, then the shipped vendor order
+     * (whose old names stand for that vendor's successors). */
     for (size_t i = 0; i < cat->n; i++)
         if (strcasecmp(cat->g[i].name, name) == 0)
             return &cat->g[i];
@@ -258,6 +312,26 @@ size_t glass_catalog_size(const glass_catalog *cat)
 const glass_t *glass_catalog_at(const glass_catalog *cat, size_t i)
 {
     return cat && i < cat->n ? &cat->g[i] : NULL;
+}
+
+size_t glass_catalog_index(const glass_catalog *cat, const glass_t *g)
+{
+    return cat && g >= cat->g && g < cat->g + cat->n ? (size_t)(g - cat->g) : (size_t)-1;
+}
+
+const char *glass_catalog_vendor(const glass_catalog *cat, size_t i)
+{
+    return cat && i < cat->n ? cat->e[i].vendor : "";
+}
+
+const char *glass_catalog_alias_of(const glass_catalog *cat, size_t i)
+{
+    return cat && i < cat->n && cat->e[i].alias_of >= 0 ? cat->g[cat->e[i].alias_of].name : NULL;
+}
+
+const char *glass_catalog_problem(const glass_catalog *cat, size_t i)
+{
+    return cat && i < cat->n && cat->e[i].problem[0] ? cat->e[i].problem : NULL;
 }
 
 const char *glass_catalog_sources(const glass_catalog *cat)
@@ -286,10 +360,6 @@ static int formula_from_token(const char *t)
         return (int)v;
     return 0;
 }
-
-/* A catalog's nominal n_d must agree with its own formula; a coefficient typed in the
- * wrong column shows up here rather than as a subtly wrong lens. */
-#define CATALOG_ND_TOLERANCE 1e-3
 
 static int parse_catalog_line(char *line, const char *path, long lineno, glass_t *g,
                               lens_err *err)
@@ -357,16 +427,8 @@ static int parse_catalog_line(char *line, const char *path, long lineno, glass_t
         lens_errf(err, path, lineno, "glass %s: vd %g must be >= 0", g->name, g->vd);
         return -1;
     }
-    if (GLASS_D_LINE >= g->lambda_min && GLASS_D_LINE <= g->lambda_max) {
-        double n = glass_formula_eval(g->formula, g->coef, GLASS_D_LINE);
-        if (!(fabs(n - g->nd) <= CATALOG_ND_TOLERANCE)) {
-            lens_errf(err, path, lineno,
-                      "glass %s: the formula gives n_d %.6f, the catalog says nd %.6f "
-                      "(coefficients in the wrong order?)",
-                      g->name, n, g->nd);
-            return -1;
-        }
-    }
+    /* A formula that contradicts n_d is the catalog's problem for that glass alone:
+     * glass_catalog_add records it. */
     return 0;
 }
 
@@ -381,10 +443,69 @@ struct same_name_ctx {
     const char *name;
 };
 
+/* The same name of the same vendor (two vendors may both sell an F2). */
 static int same_name(const void *ctx, int index)
 {
     const struct same_name_ctx *c = ctx;
-    return strcasecmp(c->cat->g[index].name, c->name) == 0;
+    return strcasecmp(c->cat->g[index].name, c->name) == 0 &&
+           strcmp(c->cat->e[index].vendor, c->cat->vendor) == 0;
+}
+
+/* "vendor NAME": the glasses that follow are NAME's. */
+static int is_directive(char *line, const char *word, char **rest)
+{
+    size_t n = strlen(word);
+    if (strncasecmp(line, word, n) != 0 || (line[n] && !isspace((unsigned char)line[n])))
+        return 0;
+    *rest = line + n;
+    return 1;
+}
+
+static int add_named(glass_catalog *cat, index_hash *names, const glass_t *g, const char *path,
+                     long line, lens_err *err)
+{
+    uint64_t h = index_hash_text_nocase(g->name);
+    struct same_name_ctx ctx = {cat, g->name};
+    if (index_hash_find(names, h, same_name, &ctx) >= 0) {
+        lens_errf(err, path, line, "glass %s is listed twice in this file", g->name);
+        return -1;
+    }
+    if (glass_catalog_add(cat, g, err) != 0)
+        return -1;
+    if (index_hash_add(names, h, (int)(cat->n - 1)) != 0) {
+        lens_errf(err, path, line, "out of memory");
+        return -1;
+    }
+    return 0;
+}
+
+/* "alias OLD NEW": OLD is read as the vendor's NEW, listed before it in this file. */
+static int add_alias(glass_catalog *cat, index_hash *names, char *rest, const char *path,
+                     long line, lens_err *err)
+{
+    char *save = NULL, *old = strtok_r(rest, " \t\r\n", &save);
+    char *target = old ? strtok_r(NULL, " \t\r\n", &save) : NULL;
+    if (!target || strtok_r(NULL, " \t\r\n", &save)) {
+        lens_errf(err, path, line, "expected: alias OLD-NAME GLASS");
+        return -1;
+    }
+    struct same_name_ctx ctx = {cat, target};
+    int to = index_hash_find(names, index_hash_text_nocase(target), same_name, &ctx);
+    if (to < 0) {
+        lens_errf(err, path, line, "alias %s: no glass %s of %s above it", old, target,
+                  cat->vendor[0] ? cat->vendor : "this file");
+        return -1;
+    }
+    glass_t g = cat->g[to];
+    if (strlen(old) >= sizeof g.name) {
+        lens_errf(err, path, line, "glass name '%s' is too long", old);
+        return -1;
+    }
+    strcpy(g.name, old);
+    if (add_named(cat, names, &g, path, line, err) != 0)
+        return -1;
+    cat->e[cat->n - 1].alias_of = to;
+    return 0;
 }
 
 /* One pass, with a hash of the names read so far: a catalog of n glasses is read in
@@ -399,32 +520,50 @@ static int load_text_catalog(glass_catalog *cat, FILE *f, const char *path, lens
         char *hash = strchr(lr.buf, '#');
         if (hash)
             *hash = '\0';
-        char *p = lr.buf;
+        char *p = lr.buf, *rest;
         while (isspace((unsigned char)*p))
             p++;
         if (!*p)
             continue;
+        if (is_directive(p, "vendor", &rest)) {
+            char *save = NULL, *v = strtok_r(rest, " \t\r\n", &save);
+            if (!v || strtok_r(NULL, " \t\r\n", &save) || strlen(v) >= GLASS_VENDOR_MAX) {
+                lens_errf(err, path, lr.line, "expected: vendor NAME (one word, at most %d "
+                                              "characters)", GLASS_VENDOR_MAX - 1);
+                goto out;
+            }
+            glass_catalog_set_vendor(cat, v);
+            continue;
+        }
+        if (is_directive(p, "alias", &rest)) {
+            if (add_alias(cat, &names, rest, path, lr.line, err) != 0)
+                goto out;
+            continue;
+        }
         glass_t g;
-        if (parse_catalog_line(p, path, lr.line, &g, err) != 0)
+        if (parse_catalog_line(p, path, lr.line, &g, err) != 0 ||
+            add_named(cat, &names, &g, path, lr.line, err) != 0)
             goto out;
-        uint64_t h = index_hash_text_nocase(g.name);
-        struct same_name_ctx ctx = {cat, g.name};
-        if (index_hash_find(&names, h, same_name, &ctx) >= 0) {
-            lens_errf(err, path, lr.line, "glass %s is listed twice in this file", g.name);
-            goto out;
-        }
-        if (glass_catalog_add(cat, &g, err) != 0)
-            goto out;
-        if (index_hash_add(&names, h, (int)(cat->n - 1)) != 0) {
-            lens_errf(err, path, lr.line, "out of memory");
-            goto out;
-        }
     }
     rc = st == LINE_END ? 0 : -1;
 out:
     index_hash_free(&names);
     line_reader_free(&lr);
     return rc;
+}
+
+/* A file's glasses are its maker's until a vendor line says otherwise: SCHOTT for
+ * schott_2017.agf, NIKON for NIKON.AGF (the _VENDOR suffix of names selects them). */
+static void vendor_from_path(glass_catalog *cat, const char *path)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    char v[GLASS_VENDOR_MAX];
+    size_t o = 0;
+    for (; base[o] && base[o] != '_' && base[o] != '.' && base[o] != '-' && o + 1 < sizeof v; o++)
+        v[o] = base[o];
+    v[o] = '\0';
+    glass_catalog_set_vendor(cat, v);
 }
 
 /* agf.c hands each glass to a callback; this is it. */
@@ -435,9 +574,10 @@ static int agf_add(void *cat, const glass_t *g, lens_err *err)
 
 int glass_catalog_load(glass_catalog **catp, const char *path, lens_err *err)
 {
-    FILE *f = fopen(path, "r");
+    lens_err why;
+    FILE *f = input_open(path, &why);
     if (!f) {
-        lens_errf(err, path, 0, "cannot open the glass catalog");
+        lens_errf(err, NULL, 0, "glass catalog %s", why.msg);
         return -1;
     }
     int created = 0;
@@ -451,10 +591,13 @@ int glass_catalog_load(glass_catalog **catp, const char *path, lens_err *err)
         }
     }
     size_t before = (*catp)->n;
+    vendor_from_path(*catp, path);
+    (*catp)->loading = path;
     /* AGF catalogs (Zemax's format) are read by agf.c, one glass_catalog_add each. */
     int rc = ends_with_ci(path, ".agf") ? agf_read(path, agf_add, *catp, err)
                                         : load_text_catalog(*catp, f, path, err);
     fclose(f);
+    (*catp)->loading = NULL;
     if (rc == 0 && glass_catalog_add_source(*catp, path) != 0) {
         lens_errf(err, path, 0, "out of memory");
         rc = -1;

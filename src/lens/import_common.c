@@ -3,6 +3,7 @@
 #include "lens/import_common.h"
 
 #include "sparselens/numparse.h"
+#include "sparselens/input_file.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -132,11 +133,9 @@ int import_read_stream(FILE *f, const char *path, char **data, size_t *len, lens
 
 int import_read_file(const char *path, char **data, size_t *len, lens_err *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        lens_errf(err, path, 0, "cannot open: %s", strerror(errno));
+    FILE *f = input_open(path, err);
+    if (!f)
         return -1;
-    }
     int rc = import_read_stream(f, path, data, len, err);
     fclose(f);
     return rc;

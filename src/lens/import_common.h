@@ -173,6 +173,7 @@ typedef struct {
     const lens_load_options *opt;
     material_ctx m;      /* the catalogs, in lens_load's order, read on first use */
     char fallbacks[200]; /* glasses that fell back to nd/Vd, for the note */
+    char choices[400];   /* old names and vendor choices made, for the note */
     char maker_catalogs[100]; /* catalogs the file names (Zemax GCAT), for the message */
 } import_glass_ctx;
 
@@ -180,9 +181,13 @@ void import_glass_init(import_glass_ctx *g, const lens_load_options *opt, const 
 void import_glass_free(import_glass_ctx *g);
 
 /* Resolves a named glass into s->medium and s->material. nd, vd: the values the file
- * gives beside the name (NAN when none), used only for the nd/Vd fallback. Tries the
- * name as given, then case-insensitively and without hyphens (CODE V writes NBK7 for
- * N-BK7), then with a trailing "_MAKER" or ".MAKER" removed. */
+ * gives beside the name (NAN when none), used only for the nd/Vd fallback, and never
+ * when they are a catalog glass's round placeholders (1.5/40). Tries the name as given,
+ * then case-insensitively without '-', '_' and blanks (CODE V writes NBK7 for N-BK7); a
+ * trailing "_VENDOR" or ".VENDOR" selects that vendor's glass. A name several vendors
+ * sell is the first vendor's in catalog order (the user's catalogs, then SCHOTT OHARA
+ * HOYA HIKARI CDGM SUMITA PLASTIC), an old name is its successor (BK7: N-BK7), each
+ * with a note; a glass whose formula contradicts its n_d is an error naming it. */
 int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double vd,
                         const char *file, long line, lens_surface *s, lens_err *err);
 
@@ -190,6 +195,33 @@ int import_glass_lookup(import_glass_ctx *g, const char *name, double nd, double
  * s->material; -1 (err at file:line) when glass_check_ndvd refuses them. */
 int import_glass_model(lens_surface *s, double nd, double vd, const char *file, long line,
                        lens_err *err);
+
+/* The largest of lens->field_x/y's fields (hypot of x and y), in its kind's unit. */
+double import_top_field(const lens_t *lens);
+
+/* Sizes the semi-diameter of each lens surface i with missing[i] from the paraxial beam
+ * of the top field (lens->field_kind, fields; an angle, or an image height through the
+ * focal length; the axial beam otherwise) at the aperture (entrance pupil epd_mm, else
+ * f-number fno): |marginal| + |chief| height at the surface, what the unvignetted beam
+ * needs and no more. key names the file's keyword (DIAM, CIR) in the note and the error,
+ * aperture_keys its aperture keywords ("EPD or FNO") when it gives neither. 0, or -1 with err set. */
+int import_size_apertures(lens_t *lens, const int *missing, double epd_mm, double fno,
+                          const char *key, const char *aperture_keys, lens_err *err);
+
+/* A plane stop the file puts on the vertex of the next surface when that surface curves
+ * towards it (a stop in front of a concave face): the stop plane and the face cross
+ * inside the stop, which no tracer can follow. The stop moves in front by the face's sag
+ * at the stop's rim, its ring resting on the face (the gap in front shrinks as much), and
+ * a note says so. Nothing else changes; import_finish calls it. */
+void import_seat_stop(lens_t *lens);
+
+/* Copies the fields (kind, x may be NULL) and wavelengths (um, weights may be NULL:
+ * all 1; primary 1-based, 0 none) a design file gives into the lens. -1 (err at path)
+ * when there are more than LENS_MAX_FIELDS or LENS_MAX_WAVES. */
+int import_set_fields(lens_t *lens, lens_field_kind kind, const double *x, int nx,
+                      const double *y, int n, lens_err *err);
+int import_set_waves(lens_t *lens, const double *um, const double *weight, int n, int primary,
+                     lens_err *err);
 
 /* Appends the fallbacks (if any) to the notes. */
 void import_glass_note(const import_glass_ctx *g, lens_t *lens);

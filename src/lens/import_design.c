@@ -178,6 +178,7 @@ int import_finish(lens_t *lens, const import_skips *skips, double fnumber, const
 {
     import_skips_note(skips, lens);
     import_clean_text(lens);
+    import_seat_stop(lens);
     if (lens_finish(lens, err) != 0)
         return -1;
     const char *what = NULL;
@@ -192,6 +193,7 @@ int import_finish(lens_t *lens, const import_skips *skips, double fnumber, const
         return rc;
     /* The system aperture resized the stop after the checks: a widened stop can now cross
      * its neighbour, which the native reader would refuse in the written lens. */
+    import_seat_stop(lens);
     if (lens_finish(lens, err) != 0) {
         size_t n = strlen(err->msg);
         snprintf(err->msg + n, sizeof err->msg - n, " (stop semi-diameter %g mm from %s)", sd, what);

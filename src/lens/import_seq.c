@@ -63,7 +63,7 @@ static int define_surface(seq_state *st, qsurf *q, char **tok, int n, long line,
     }
     if (n > 3) {
         if (import_eq(tok[3], "REFL"))
-            refuse(q, line, "is a mirror (REFL); sparselens models refracting lenses only");
+            refuse(q, line, "is a mirror (REFL): reflecting systems are not supported");
         else {
             q->glass_line = line;
             return import_copy_name(q->glass, sizeof q->glass, tok[3], "glass name",
@@ -93,8 +93,10 @@ static int private_glass(seq_state *st, char **tok, int n, long line, lens_err *
     }
     if (import_eq(tok[0], "PWL")) {
         st->npwl = 0;
-        if (import_numbers(tok, n, st->pwl, &st->npwl, SEQ_MAX_PWL))
-            import_skip(&st->sys.skips, "private glass wavelengths past the 8th");
+        if (import_numbers(tok, n, st->pwl, &st->npwl, SEQ_MAX_PWL)) {
+            lens_errf(err, st->sys.path, line, "PWL: more than %d wavelengths", SEQ_MAX_PWL);
+            return -1;
+        }
         return 0;
     }
     if (st->nprv == SEQ_MAX_PRIVATE) {
@@ -204,8 +206,13 @@ static int surface_value(seq_state *st, qsurf *cur, char **tok, int n, long line
     }
     if (import_eq(k, "K"))
         return import_number(&st->sys, tok, n, 1, line, &cur->conic, err);
-    if (import_eq(k, "CIR")) /* CIR [Sk] value */
+    if (import_eq(k, "CIR")) { /* CIR [Sk] value; CIR OBS [EDG] value: an obscuration */
+        if (n > 1 && (import_eq(tok[1], "OBS") || import_eq(tok[1], "EDG") || import_eq(tok[1], "HOL"))) {
+            import_skip(&st->sys.skips, "central obscurations (CIR OBS)");
+            return 0;
+        }
         return import_number(&st->sys, tok, n, n > 2 ? 2 : 1, line, &cur->cir, err);
+    }
     if (import_eq(k, "CUY") || import_eq(k, "RDY")) {
         int rdy = import_eq(k, "RDY");
         if (import_number(&st->sys, tok, n, 1, line, rdy ? &cur->radius : &cur->curv, err) != 0)
@@ -236,11 +243,11 @@ static int surface_refusal(qsurf *cur, char **tok, int n, long line)
     /* variable flags, labels, initials, weights, end of entry */
     static const char *const no_optics[] = {"CCY", "THC", "GLC", "KC",  "AC", "BC",
                                             "CC",  "DC",  "EC",  "SLB", "LEN", "GO",
-                                            "INI", "WTW", "WTF", "END", "DOR", NULL};
+                                            "INI", "WTF", "END", "DOR", NULL};
     const char *k = tok[0];
     if (import_eq(k, "REFL") || import_eq(k, "RMD")) {
         if (import_eq(k, "REFL") || (n > 1 && import_eq(tok[1], "REFL")))
-            refuse(cur, line, "is a mirror (REFL); sparselens models refracting lenses only");
+            refuse(cur, line, "is a mirror (REFL): reflecting systems are not supported");
     } else if (import_eq_any(k, tilts)) {
         if (import_any_nonzero(tok, n, 1))
             refuse(cur, line, "is tilted or decentred; sparselens models centred systems only");
@@ -298,26 +305,30 @@ static void fields(seq_state *st, char **tok, int n)
     static const char *const keys[] = {"YAN", "YOB", "YIM", "YRI"};
     static const char *const kinds[] = {"angle (deg)", "object height", "paraxial image height",
                                         "real image height"};
+    static const lens_field_kind fk[] = {LENS_FIELD_ANGLE, LENS_FIELD_OBJECT_HEIGHT,
+                                         LENS_FIELD_IMAGE_HEIGHT, LENS_FIELD_REAL_IMAGE_HEIGHT};
     for (int i = 0; i < 4; i++)
-        if (import_eq(tok[0], keys[i]))
+        if (import_eq(tok[0], keys[i])) {
             snprintf(st->field_kind, sizeof st->field_kind, "%s", kinds[i]);
+            st->fkind = fk[i];
+        }
     st->nyan = 0;
     if (import_numbers(tok, n, st->yan, &st->nyan, SEQ_MAX_LIST))
-        import_skip(&st->sys.skips, "fields past the 24th");
+        import_skip(&st->sys.skips, "fields past the 32nd");
 }
 
 /* DIM: the length unit. */
 static int dimension(seq_state *st, char **tok, int n, long line, lens_err *err)
 {
     const char *u = n > 1 ? tok[1] : "M";
-    if (import_eq(u, "M"))
+    if (import_eq(u, "M") || import_eq(u, "MM"))
         st->sys.unit = 1;
-    else if (import_eq(u, "C"))
+    else if (import_eq(u, "C") || import_eq(u, "CM"))
         st->sys.unit = 10;
-    else if (import_eq(u, "I"))
+    else if (import_eq(u, "I") || import_eq(u, "IN"))
         st->sys.unit = 25.4;
     else {
-        lens_errf(err, st->sys.path, line, "DIM %s: unknown unit (M, C or I)", u);
+        lens_errf(err, st->sys.path, line, "DIM %s: unknown unit (M, C or I; MM, CM or IN)", u);
         return -1;
     }
     return 0;
@@ -344,7 +355,10 @@ static int system_command(seq_state *st, char **tok, int n, long line, lens_err 
         return import_number(&st->sys, tok, n, 1, line, &st->sys.fno, err);
     else if (import_eq(k, "WL")) {
         if (import_numbers(tok, n, st->wl, &st->nwl, SEQ_MAX_LIST))
-            import_skip(&st->sys.skips, "wavelengths past the 24th");
+            import_skip(&st->sys.skips, "wavelengths past the 32nd");
+    } else if (import_eq(k, "WTW")) {
+        st->nwtw = 0;
+        import_numbers(tok, n, st->wtw, &st->nwtw, SEQ_MAX_LIST);
     } else if (import_eq(k, "REF")) {
         if (n > 1 && parse_long(tok[1], &r) == 0)
             st->ref = (int)r;

@@ -5,8 +5,8 @@
 #include "lens/import_common.h"
 
 #define SEQ_INFINITE_OBJECT 1e9 /* CODE V writes 1e10 or more for an object at infinity */
-#define SEQ_MAX_LIST 24         /* wavelengths, fields */
-#define SEQ_MAX_PWL 8           /* wavelengths of a private glass */
+#define SEQ_MAX_LIST LENS_MAX_WAVES /* wavelengths, fields */
+#define SEQ_MAX_PWL LENS_MAX_WAVES  /* wavelengths of a private glass; more is an error */
 #define SEQ_MAX_PRIVATE 32      /* private glasses */
 
 typedef struct {
@@ -36,9 +36,12 @@ typedef struct {
     int curvature_mode;
     double wl[SEQ_MAX_LIST];
     int nwl, ref;
+    double wtw[SEQ_MAX_LIST]; /* WTW: the wavelengths' weights */
+    int nwtw;
     double yan[SEQ_MAX_LIST];
     int nyan;
     char field_kind[32];
+    lens_field_kind fkind;
     /* private glass catalog (PRV ... END): indices at the PWL wavelengths */
     int in_prv;
     double pwl[SEQ_MAX_PWL];

@@ -1,6 +1,7 @@
 /* CODE V .seq reader, second half: the lens built from the surfaces and system data
  * import_seq.c read (glass codes, private glasses, catalog glasses; clear apertures from
- * paraxial rays where the file gives none; the notes). */
+ * paraxial rays where the file gives none, import_aperture.c; the fields, wavelengths
+ * and notes). */
 #include "lens/import_seq.h"
 
 #include <ctype.h>
@@ -53,91 +54,6 @@ static int fictitious(const char *name, double *nd, double *vd)
     *nd = (double)(1000 + code / 1000) / 1000.0;
     *vd = (double)(code % 1000) / 10.0;
     return 1;
-}
-
-/* Heights of a paraxial ray (y0, nu0 = n u in air) at every surface, d line. */
-static void trace_heights(const lens_t *lens, const double *n, double y, double nu, double *ys)
-{
-    double before = 1.0;
-    for (size_t i = 0; i < lens->nsurf; i++) {
-        const lens_surface *s = &lens->surf[i];
-        ys[i] = y;
-        nu -= y * (isfinite(s->radius) ? 1.0 / s->radius : 0.0) * (n[i] - before);
-        y += s->thickness * nu / n[i];
-        before = n[i];
-    }
-}
-
-/* CODE V computes clear apertures itself, so .seq files often give no CIR. The
- * unvignetted beam's paraxial footprint stands in: |marginal| + |chief| height, with the
- * marginal ray at EPD/2 and the chief ray through the stop centre at the largest field
- * angle (the axial beam alone when the fields are not angles). */
-static int estimate_apertures(seq_state *st, const int *missing, lens_err *err)
-{
-    lens_t *lens = st->sys.lens;
-    size_t ns = lens->nsurf;
-    double *buf = calloc(4 * ns, sizeof *buf);
-    if (!buf) {
-        lens_errf(err, st->sys.path, 0, "out of memory");
-        return -1;
-    }
-    double *n = buf, *ym = buf + ns, *ya = buf + 2 * ns, *yb = buf + 3 * ns;
-    for (size_t i = 0; i < ns; i++) {
-        lens_err e;
-        if (glass_index(&lens->surf[i].medium, GLASS_D_LINE, &n[i], &e) != 0) {
-            lens_errf(err, st->sys.path, lens->surf[i].line, "%s", e.msg);
-            free(buf);
-            return -1;
-        }
-    }
-    trace_heights(lens, n, 1.0, 0.0, yb); /* for the efl and the chief ray */
-    double nu_last = 0, y = 1.0, before = 1.0;
-    for (size_t i = 0; i < ns; i++) { /* nu after the last surface */
-        const lens_surface *s = &lens->surf[i];
-        nu_last -= y * (isfinite(s->radius) ? 1.0 / s->radius : 0.0) * (n[i] - before);
-        y += s->thickness * nu_last / n[i];
-        before = n[i];
-    }
-    double efl = nu_last != 0 ? -1.0 / nu_last : NAN;
-    double epd = isfinite(st->sys.epd) && st->sys.epd > 0 ? st->sys.epd * st->sys.unit
-                 : isfinite(st->sys.fno) && st->sys.fno > 0 ? fabs(efl) / st->sys.fno : NAN;
-    if (!(epd > 0) || !isfinite(epd)) {
-        free(buf);
-        int k = 0;
-        for (size_t i = 0; i < ns; i++)
-            k += missing[i];
-        lens_errf(err, st->sys.path, 0,
-                  "%d surface%s without a clear aperture (CIR), and no EPD or FNO to compute "
-                  "them from",
-                  k, k > 1 ? "s" : "");
-        return -1;
-    }
-    trace_heights(lens, n, epd / 2, 0.0, ym);
-    double field = 0;
-    int angles = strcmp(st->field_kind, "angle (deg)") == 0;
-    for (int i = 0; angles && i < st->nyan; i++)
-        field = fmax(field, fabs(st->yan[i]));
-    if (field >= 90)
-        field = 0;
-    double nu0 = tan(field * M_PI / 180);
-    trace_heights(lens, n, 0.0, nu0, ya);
-    int stop = 0;
-    for (size_t i = 0; i < ns; i++)
-        if (lens->surf[i].is_stop)
-            stop = (int)i;
-    double y0 = yb[stop] != 0 ? -ya[stop] / yb[stop] : 0;
-    int k = 0;
-    for (size_t i = 0; i < ns; i++)
-        if (missing[i]) {
-            lens->surf[i].semi_diameter = fabs(ym[i]) + fabs(ya[i] + y0 * yb[i]);
-            k++;
-        }
-    lens_add_note(lens,
-                  "%d clear aperture%s not in the file, set from paraxial rays (EPD %g mm, "
-                  "field %g deg)",
-                  k, k > 1 ? "s" : "", epd, field);
-    free(buf);
-    return 0;
 }
 
 static int find_private(const seq_state *st, const char *name)
@@ -279,8 +195,17 @@ int seq_build(void *state, const lens_load_options *opt, lens_err *err)
         if (lens->surf[i].is_stop)
             missing_stop_cir = missing[i];
     }
+    double um[SEQ_MAX_LIST];
+    for (int i = 0; i < st->nwl; i++)
+        um[i] = st->wl[i] / 1000;
+    if (rc == 0)
+        rc = import_set_fields(lens, st->fkind, NULL, 0, st->yan, st->nyan, err);
+    if (rc == 0)
+        rc = import_set_waves(lens, um, st->nwtw == st->nwl ? st->wtw : NULL, st->nwl, st->ref,
+                              err);
     if (rc == 0 && missing_cir)
-        rc = estimate_apertures(st, missing, err);
+        rc = import_size_apertures(lens, missing, st->sys.epd * st->sys.unit, st->sys.fno,
+                                   "CIR", "EPD or FNO", err);
     free(missing);
     if (rc != 0)
         return -1;

@@ -19,8 +19,8 @@
 
 #define ZMX_MAX_TOK 64
 #define ZMX_NPARM 9 /* PARM 1..8 used by the even asphere (r^2 .. r^16) */
-#define ZMX_MAX_FIELDS 12
-#define ZMX_MAX_WAVES 24
+#define ZMX_MAX_FIELDS LENS_MAX_FIELDS
+#define ZMX_MAX_WAVES LENS_MAX_WAVES
 
 typedef struct {
     long line;      /* the SURF line */
@@ -44,8 +44,8 @@ typedef struct {
     int ftype, nfields, nwaves, pwav;
     double xfield[ZMX_MAX_FIELDS], yfield[ZMX_MAX_FIELDS];
     int nx, ny;
-    double wave[ZMX_MAX_WAVES];
-    int nwave_read;
+    double wave[ZMX_MAX_WAVES], wweight[ZMX_MAX_WAVES];
+    int nwave_read, has_weights;
     int mnum;
     char gcat[100];
 } zmx_state;
@@ -133,9 +133,7 @@ static int surface_key(zmx_state *st, zsurf *z, char **tok, int n, long line, le
         }
         z->model = strcmp(tok[1], "___BLANK") == 0 || (n > 2 && strcmp(tok[2], "1") == 0);
         if (import_eq(tok[1], "MIRROR"))
-            refuse(z, line, "%s",
-                   "is a mirror (a fold or catadioptric design); sparselens models refracting "
-                   "lenses only");
+            refuse(z, line, "%s", "is a mirror (MIRROR): reflecting systems are not supported");
     } else if (import_eq(k, "COAT")) {
         import_skip(&st->sys.skips, "coatings");
     } else if (import_eq(k, "IGNR")) {
@@ -203,18 +201,23 @@ static int system_key(zmx_state *st, char **tok, int n, long line, lens_err *err
         int y = toupper((unsigned char)k[0]) == 'Y';
         if (import_numbers(tok, n, y ? st->yfield : st->xfield, y ? &st->ny : &st->nx,
                            ZMX_MAX_FIELDS))
-            import_skip(&st->sys.skips, "fields past the 12th");
+            import_skip(&st->sys.skips, "fields past the 32nd");
     } else if (import_eq(k, "WAVM")) {
         long i;
         if (n > 2 && parse_long(tok[1], &i) == 0 && i >= 1 && i <= ZMX_MAX_WAVES &&
             parse_double(tok[2], &v) == 0) {
             st->wave[i - 1] = v;
+            st->wweight[i - 1] = 1;
+            if (n > 3 && parse_double(tok[3], &v) == 0 && v >= 0) {
+                st->wweight[i - 1] = v;
+                st->has_weights = 1;
+            }
             if (i > st->nwave_read)
                 st->nwave_read = (int)i;
         }
     } else if (import_eq(k, "WAVL") || import_eq(k, "WAVN")) {
         if (import_numbers(tok, n, st->wave, &st->nwave_read, ZMX_MAX_WAVES))
-            import_skip(&st->sys.skips, "wavelengths past the 24th");
+            import_skip(&st->sys.skips, "wavelengths past the 32nd");
         if (st->nwaves == 0)
             st->nwaves = st->nwave_read;
     } else if (import_eq(k, "PWAV")) {
@@ -300,9 +303,10 @@ static int check_type(zmx_state *st, zsurf *z)
     return 0;
 }
 
-static void fields_and_waves_note(zmx_state *st)
+/* The file's fields and wavelengths, into the lens and its notes. */
+static int fields_and_waves(zmx_state *st, lens_err *err)
 {
-    int nf = st->nfields > 0 && st->nfields <= 12 ? st->nfields : (st->ny > st->nx ? st->ny : st->nx);
+    int nf = st->nfields > 0 && st->nfields <= ZMX_MAX_FIELDS ? st->nfields : (st->ny > st->nx ? st->ny : st->nx);
     if (nf > st->ny)
         nf = st->ny;
     if (st->nfields <= 0) /* no count in the file: the unused slots are the trailing zeros */
@@ -310,10 +314,20 @@ static void fields_and_waves_note(zmx_state *st)
             nf--;
     static const char *const kind[] = {"angle (deg)", "object height", "paraxial image height",
                                        "real image height"};
-    import_fields_note(st->sys.lens, st->ftype >= 0 && st->ftype <= 3 ? kind[st->ftype] : "other",
-                       st->xfield, st->nx, st->yfield, nf);
+    static const lens_field_kind fk[] = {LENS_FIELD_ANGLE, LENS_FIELD_OBJECT_HEIGHT,
+                                         LENS_FIELD_IMAGE_HEIGHT, LENS_FIELD_REAL_IMAGE_HEIGHT};
+    int known = st->ftype >= 0 && st->ftype <= 3;
+    import_fields_note(st->sys.lens, known ? kind[st->ftype] : "other", st->xfield, st->nx,
+                       st->yfield, nf);
     int nw = st->nwaves > 0 && st->nwaves <= st->nwave_read ? st->nwaves : st->nwave_read;
     import_waves_note(st->sys.lens, st->wave, nw, 1, st->pwav);
+    if (!st->has_weights)
+        for (int i = 0; i < nw; i++)
+            st->wweight[i] = 1;
+    if (import_set_fields(st->sys.lens, known ? fk[st->ftype] : LENS_FIELD_NONE, st->xfield,
+                          st->nx, st->yfield, known ? nf : 0, err) != 0)
+        return -1;
+    return import_set_waves(st->sys.lens, st->wave, st->wweight, nw, st->pwav, err);
 }
 
 static int build(void *state, const lens_load_options *opt, lens_err *err)
@@ -413,7 +427,20 @@ static int build(void *state, const lens_load_options *opt, lens_err *err)
     if (merged)
         lens_add_note(lens, "%d flat air-to-air dummy surface%s merged into the gaps", merged,
                     merged > 1 ? "s" : "");
-    fields_and_waves_note(st);
+    /* Surfaces without DIAM (or DIAM 0): Zemax sizes them from the rays. */
+    int *missing = calloc(lens->nsurf, sizeof *missing);
+    if (!missing) {
+        lens_errf(err, st->sys.path, 0, "out of memory");
+        return -1;
+    }
+    for (size_t i = 0; i < lens->nsurf; i++)
+        missing[i] = !(lens->surf[i].semi_diameter > 0);
+    int rc = fields_and_waves(st, err);
+    if (rc == 0)
+        rc = import_size_apertures(lens, missing, st->sys.epd * u, st->sys.fno, "DIAM", "ENPD or FNUM", err);
+    free(missing);
+    if (rc != 0)
+        return -1;
     return import_finish(lens, &st->sys.skips, st->sys.fno, "FNUM", st->sys.epd * u, "ENPD", stop_clap, err);
 }
 

@@ -5,8 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <unistd.h>
 
 #include "sparselens/data_path.h"
+#include "sparselens/input_file.h"
 #include "sparselens/import_design.h"
 #include "sparselens/import_table.h"
 #include "lens/import_common.h"
@@ -155,14 +157,19 @@ int lens_load(const char *path, const lens_load_options *opt, lens_t *lens, lens
     int is_stdin = strcmp(path, "-") == 0;
     /* A name that is not a file here is a lens name: ./, $SPARSELENS_LENS_PATH, then
      * the shipped lenses (data_path.h), each with any reader's extension. */
-    char found[1024];
+    char found[PATH_MAX + 64];
     if (!is_stdin) {
-        if (lens_find_file(path, found, sizeof found) != 0) {
+        if (!path[0]) {
+            lens_errf(err, NULL, 0, "an empty lens name");
+            return -1;
+        }
+        if (lens_find_file(path, found, sizeof found) == 0)
+            path = found;
+        else if (access(path, F_OK) != 0) { /* one too long to copy is taken as it is */
             lens_errf(err, path, 0, "no such lens file, nor a lens of that name in ./, "
                                     "$SPARSELENS_LENS_PATH or the shipped lenses");
             return -1;
         }
-        path = found;
     }
     size_t k = NREADERS;
     for (size_t i = 0; i < NREADERS && !is_stdin && !format; i++)
@@ -170,11 +177,9 @@ int lens_load(const char *path, const lens_load_options *opt, lens_t *lens, lens
             k = i;
     if (k == NREADERS)
         return load_by_content(path, is_stdin, format, opt, lens, err);
-    FILE *f = fopen(path, "r");
-    if (!f) {
-        lens_errf(err, path, 0, "cannot open the lens file");
+    FILE *f = input_open(path, err);
+    if (!f)
         return -1;
-    }
     int rc = readers[k].read(f, path, opt, lens, err);
     fclose(f);
     if (rc == 0)

@@ -54,6 +54,7 @@ static int load_catalogs(material_ctx *m, lens_err *err)
         if (access(beside, R_OK) == 0 && add_catalog(m, beside, seen, &nseen, err) != 0)
             return -1;
     }
+    m->shipped_from = glass_catalog_size(m->cat);
     const char *def = glass_default_catalog_path();
     if (def && add_catalog(m, def, seen, &nseen, err) != 0)
         return -1;

@@ -15,6 +15,7 @@ typedef struct {
     const lens_load_options *opt;
     const char *lens_path;
     glass_catalog *cat;
+    size_t shipped_from; /* index of the first glass of the shipped catalog */
     int loaded;
 } material_ctx;
 

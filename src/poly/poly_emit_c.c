@@ -4,6 +4,8 @@
  * partial sums, so compiled without floating-point contraction it gives the same bits. */
 #include "poly/poly_impl.h"
 
+#include "sparselens/escape.h"
+
 #include <ctype.h>
 #include <math.h>
 #include <stdlib.h>
@@ -11,24 +13,21 @@
 
 int poly_c_name_ok(const char *name)
 {
-    /* C11's keywords: the emitted function would not compile under one of them */
-    static const char *const keywords[] = {
-        "auto", "break", "case", "char", "const", "continue", "default", "do", "double",
-        "else", "enum", "extern", "float", "for", "goto", "if", "inline", "int", "long",
-        "register", "restrict", "return", "short", "signed", "sizeof", "static", "struct",
-        "switch", "typedef", "union", "unsigned", "void", "volatile", "while", "_Alignas",
-        "_Alignof", "_Atomic", "_Bool", "_Complex", "_Generic", "_Imaginary", "_Noreturn",
-        "_Static_assert", "_Thread_local"};
-    const char *s = name;
-    if (!s || !(isalpha((unsigned char)*s) || *s == '_'))
+    const char *why;
+    return text_c_prefix_ok(name, &why);
+}
+
+int poly_c_name_check(const char *name, lens_err *err)
+{
+    const char *why;
+    if (text_c_prefix_ok(name, &why))
         return 0;
-    for (; *s; s++)
-        if (!(isalnum((unsigned char)*s) || *s == '_'))
-            return 0;
-    for (size_t k = 0; k < sizeof keywords / sizeof *keywords; k++)
-        if (strcmp(name, keywords[k]) == 0)
-            return 0;
-    return 1;
+    if (name && *name && strspn(name, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                      "0123456789_") == strlen(name))
+        lens_errf(err, NULL, 0, "--name: '%s' cannot name the generated C: %s", name, why);
+    else
+        lens_errf(err, NULL, 0, "--name: %s", why);
+    return -1;
 }
 
 static void num(FILE *f, double v)
@@ -46,17 +45,6 @@ static void num(FILE *f, double v)
         fputs(buf, f);
 }
 
-/* Comment text must not close the comment: names come from the file. */
-static void comment_name(FILE *f, const char *s)
-{
-    for (; *s; s++) {
-        if (s[0] == '*' && s[1] == '/')
-            fputs("* /", f), s++;
-        else
-            fputc(*s, f);
-    }
-}
-
 /* m1.. = the scaled inputs (poly_scale_column), input i read as srcfmt with i. */
 static void emit_scaled_inputs(FILE *f, const poly_system *s, const char *indent,
                                const char *srcfmt)
@@ -69,7 +57,7 @@ static void emit_scaled_inputs(FILE *f, const poly_system *s, const char *indent
         fputs(") * (1.0 / ", f);
         num(f, s->scale[i]);
         fputs("); /* ", f);
-        comment_name(f, s->inputs[i]);
+        text_c_comment(f, s->inputs[i]);
         fputs(" */\n", f);
     }
 }
@@ -101,7 +89,7 @@ static int emit_part(FILE *f, const poly_system *s, const poly_part *p, const ch
         const poly_out_terms *ot = &p->out[o];
         const int t0 = pl->start[o], ns = pl->nsingle[o];
         fprintf(f, "        { /* ");
-        comment_name(f, s->outputs[o]);
+        text_c_comment(f, s->outputs[o]);
         fprintf(f, ": %d terms */\n", ot->nterms);
         if (ot->nterms == 0) {
             fputs("            ", f);
@@ -236,7 +224,7 @@ static void emit_frame_in(FILE *f, const poly_system *s, const char *ind, const 
     for (int i = 0; i < nin; i++)
         if (s->xform[i] == POLY_XFORM_INVERSE_SQUARE) {
             fprintf(f, "%st[%d] = 1 / (t[%d] * t[%d]); /* ", ind, i, i, i);
-            comment_name(f, s->inputs[i]);
+            text_c_comment(f, s->inputs[i]);
             fputs(": inverse-square */\n", f);
         }
     if (s->frame == POLY_FRAME_MERIDIONAL && s->nplain > 0) {
@@ -319,17 +307,14 @@ static int emit_batch(FILE *f, const poly_system *s, const char *func)
             "\n/* %s on n rays: in holds n rows of %d inputs, out gets n rows of %d outputs\n"
             " * and pass (unless NULL) n flags, the values of %s ray by ray. With GCC on\n"
             " * x86-64 also compiled for AVX-512 and AVX2, the clone picked when the program\n"
-            " * loads (the same bits: no contraction into FMA in ISO C mode). AVX-512's 32\n"
-            " * vector registers keep more of a block's values out of memory: on the default\n"
-            " * fit of fisheye-ii (then 19 outputs) at -O2, 40 ns a ray with the AVX2 clone\n"
-            " * alone, 33 with AVX-512's, liblens's own batch kernel 37 (one run). */\n"
+            " * loads (the same bits: no contraction into FMA in ISO C mode). */\n"
             "#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && __GNUC__ >= 12\n"
             "__attribute__((target_clones(\"arch=x86-64-v4\", \"arch=x86-64-v3\", \"default\")))\n"
             "#endif\n"
-            "void %s_batch(size_t n, const double *restrict in, double *restrict out,\n"
-            "    unsigned char *restrict pass)\n{\n"
+            "void %s_batch(size_t n, const double *%s_restrict in, double *%s_restrict out,\n"
+            "    unsigned char *%s_restrict pass)\n{\n"
             "    size_t b = 0;\n",
-            func, nin, nout, func, func);
+            func, nin, nout, func, func, func, func, func);
     if (blocks) {
         fputs("    for (; b + 8 <= n; b += 8) {\n        double ", f);
         for (int i = 0; i < nin; i++)
@@ -392,11 +377,11 @@ static int emit_batch(FILE *f, const poly_system *s, const char *func)
 }
 
 /* The polynomials of s on in[] into out[]: scaled inputs, part choice, the sums. */
-static int emit_core_body(FILE *f, const poly_system *s, int voids)
+static int emit_core_body(FILE *f, const poly_system *s)
 {
     fputs("    const double m0 = 1;\n", f);
     emit_scaled_inputs(f, s, "    ", "in[%d]");
-    for (int i = 0; voids && i < s->nin; i++) /* a view may not use every input */
+    for (int i = 0; i < s->nin; i++) /* no term may use an input */
         fprintf(f, "    (void)m%d;\n", 1 + i);
     fputs("    (void)m0;\n", f);
     if (s->nparts > 1 && s->ix >= 0 && s->iy >= 0) {
@@ -462,45 +447,109 @@ static void emit_one_ray_tuning(FILE *f)
           f);
 }
 
+/* The part of a path after its last '/': a build's absolute path is no business of a
+ * generated file. */
+static const char *base_name(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+/* What the system holds, for the file's reader: terms, degree, parts. */
+static void emit_size(FILE *f, const poly_system *s)
+{
+    long terms = 0;
+    int degree = 0;
+    for (int p = 0; p < s->nparts; p++)
+        for (int o = 0; o < s->nout; o++)
+            terms += s->parts[p].out[o].nterms;
+    for (int o = 0; o < s->nout; o++)
+        if (poly_max_degree(s, o) > degree)
+            degree = poly_max_degree(s, o);
+    fprintf(f, " * This system: %ld terms of degree <= %d over %d part%s, %d pass circle%s.\n", terms,
+            degree, s->nparts, s->nparts == 1 ? "" : "s", s->ncircles, s->ncircles == 1 ? "" : "s");
+}
+
+/* The file's opening comment: the lens, the arrays' columns. */
+static void emit_opening(FILE *f, const poly_system *s, const char *func, const char *what)
+{
+    fprintf(f, "/* Generated by sparselens (lens-fit / lens-eval --emit c); do not edit.\n"
+               " * %s\n * Lens: ", what);
+    text_c_comment(f, s->lens_name);
+    if (s->lens_path[0]) {
+        fputs(" (", f);
+        text_c_comment(f, base_name(s->lens_path));
+        fputs(")", f);
+    }
+    fprintf(f, "\n * %s(in, out): in[]: ", func);
+    for (int i = 0; i < s->nin; i++) {
+        fprintf(f, "%s[%d] ", i ? ", " : "", i);
+        text_c_comment(f, s->inputs[i]);
+    }
+    fputs("\n * out[]:", f);
+    for (int o = 0; o < s->nout; o++) {
+        fprintf(f, "%s[%d] ", o ? ", " : " ", o);
+        text_c_comment(f, s->outputs[o]);
+    }
+    fputs("\n", f);
+    emit_size(f, s);
+}
+
+/* The declarations of poly_emit_c's file, in C and C++. */
+static void emit_declarations(FILE *f, const poly_system *s, const char *func)
+{
+    fprintf(f,
+            "#ifdef __cplusplus\nextern \"C\" {\n#endif\n"
+            "int %s(const double in[%d], double out[%d]);\n"
+            "void %s_batch(size_t n, const double *in, double *out, unsigned char *pass);\n"
+            "#ifdef __cplusplus\n}\n#endif\n",
+            func, s->nin, s->nout, func);
+}
+
+int poly_emit_c_header(FILE *f, const poly_system *s, const char *func)
+{
+    if (!poly_c_name_ok(func))
+        return -1;
+    emit_opening(f, s, func, "The declarations of its C file.");
+    fputs(" * Returns 1 if the ray passes the lens, 0 if not (out[] is filled either way). */\n", f);
+    char guard[96];
+    size_t k = 0;
+    for (; func[k] && k < sizeof guard - 3; k++)
+        guard[k] = (char)toupper((unsigned char)func[k]);
+    memcpy(guard + k, "_H", 3);
+    fprintf(f, "#ifndef %s\n#define %s\n#include <stddef.h>\n\n", guard, guard);
+    emit_declarations(f, s, func);
+    fprintf(f, "\n#endif\n");
+    return ferror(f) ? -1 : 0;
+}
+
+static int emit_functions(FILE *f, const poly_system *s, const char *func);
+
 int poly_emit_c(FILE *f, const poly_system *s, const char *func)
 {
     if (!poly_c_name_ok(func))
         return -1;
-    const int nin = s->nin, nout = s->nout;
-    fputs("/* Generated by sparselens (lens-fit / lens-eval --emit c); do not edit.\n * Lens: ",
-          f);
-    comment_name(f, s->lens_name);
-    if (s->lens_path[0]) {
-        fputs(" (", f);
-        comment_name(f, s->lens_path);
-        fputs(")", f);
-    }
-    fputs("\n * in[]: ", f);
-    for (int i = 0; i < nin; i++) {
-        fprintf(f, "%s[%d] ", i ? ", " : "", i);
-        comment_name(f, s->inputs[i]);
-    }
-    fputs("\n * out[]:", f);
-    for (int o = 0; o < nout; o++) {
-        fprintf(f, "%s[%d] ", o ? ", " : " ", o);
-        comment_name(f, s->outputs[o]);
-    }
+    emit_opening(f, s, func, "C11 and C++ (compiled as either, the functions have C linkage).");
     fprintf(f,
-            "\n * Returns 1 if the ray passes the lens, 0 if not (out[] is filled either way).\n"
+            " * Returns 1 if the ray passes the lens, 0 if not (out[] is filled either way).\n"
             " * %s_batch does the same for many rays, in blocks of 8 that compilers vectorise.\n"
-            " * Measured on lens-fit's default fit of fisheye-ii (40 terms of degree <= 11;\n"
-            " * 17 outputs: the five optical ones and the passage's hit points; GCC 12, one\n"
-            " * thread of a Xeon with AVX-512, bench_poly, best of 21 interleaved rounds, three\n"
-            " * runs on a shared machine): one call 84 ns a ray at -O2 and 85 at -O3\n"
-            " * -march=native (liblens's poly_eval 86); the batch function 0.96-0.97 and\n"
-            " * 1.01 times the time of liblens's own batch kernel (about 28.5 ns a ray); the\n"
-            " * five optical outputs alone (--outputs out_x,out_y,out_u,out_v,out_eta): one\n"
-            " * call 62 and 63 ns (poly_eval 49), the batch function 1.05-1.06 and 1.15\n"
-            " * times the kernel's 16.4 ns.\n"
             " * Compile without floating-point contraction (-ffp-contract=off, the default\n"
             " * with -std=c99 or -std=c11) to get exactly the values of lens-eval. */\n"
-            "#include <math.h>\n#include <stddef.h>\n\n",
-            func);
+            "#include <math.h>\n#include <stddef.h>\n\n"
+            "#ifdef __cplusplus\n#define %s_restrict __restrict\nextern \"C\" {\n#else\n"
+            "#define %s_restrict restrict\n#endif\n",
+            func, func, func);
+    emit_declarations(f, s, func);
+    fputs("\n", f);
+    int rc = emit_functions(f, s, func);
+    fprintf(f, "\n#undef %s_restrict\n#ifdef __cplusplus\n}\n#endif\n", func);
+    return rc != 0 || ferror(f) ? -1 : 0;
+}
+
+/* The functions themselves: the one-ray function (with its views), then the batch. */
+static int emit_functions(FILE *f, const poly_system *s, const char *func)
+{
+    const int nin = s->nin, nout = s->nout;
     const poly_system *const whole = s;
     const int act = poly_frame_active(s) && s->nparts > 0;
     if (act && s->vframe) {
@@ -508,7 +557,7 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
         emit_one_ray_tuning(f);
         fprintf(f, "static void %s_core_plain(const double in[%d], double out[%d])\n{\n", func,
                 nin, nout);
-        if (emit_core_body(f, s->vplain, 1) != 0)
+        if (emit_core_body(f, s->vplain) != 0)
             return -1;
         fputs("}\n\n", f);
         s = s->vframe; /* NAME_core below; the frame itself is taken from the caller's */
@@ -525,7 +574,7 @@ int poly_emit_c(FILE *f, const poly_system *s, const char *func)
         fputs("    (void)in;\n    return 0;\n}\n", f);
         return emit_batch(f, s, func) != 0 || ferror(f) ? -1 : 0;
     }
-    if (emit_core_body(f, s, act) != 0)
+    if (emit_core_body(f, s) != 0)
         return -1;
     if (act) {
         fputs("}\n\n", f);

@@ -26,7 +26,7 @@
  * its first ray so no lane computes on garbage. Only IEEE multiplies, adds, divides and
  * square roots, never contracted: every instruction set gives the bits of the scalar
  * path; except, with KERNEL_FMA defined (AVX-512), the sums of a Jacobian run (RUN_JAC,
- * RUN_JACF), which fuse each term's multiply and add (issue 14 allows the Jacobian 1e-12
+ * RUN_JACF), which fuse each term's multiply and add (the Jacobian is allowed 1e-12
  * relative; poly_eval_sums.h says what it bought). No include guard: meant to be
  * included several times.
  * Long function: a block's whole pass (inputs, frame, plans, chain rule, stores, pass

@@ -6,7 +6,7 @@
  * one-ray path (poly_eval.c's sums_one), of the emitted C and of lens-eval.
  * KERNEL_FUSED 1: the same items in the same order with fused multiply-adds, for the
  * sums of a Jacobian run alone, which may differ from the unfused sums by 1e-12
- * relative (issue 14; test_poly and test_poly_fast check the batch Jacobian against
+ * relative (the Jacobian's stated tolerance; test_poly and test_poly_fast check the batch Jacobian against
  * the one-ray one so): a single term is one operation instead of two, a quad five
  * instead of nine, a pair three instead of five, a lone term two instead of three.
  * bench_poly on the default fisheye-ii fit with its five optical outputs, best of 6

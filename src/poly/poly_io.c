@@ -3,6 +3,7 @@
 
 #include "base/line_reader.h"
 #include "sparselens/numparse.h"
+#include "sparselens/input_file.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -546,11 +547,9 @@ int poly_read(const char *path, poly_system **sys, lens_err *err)
     *sys = NULL;
     if (strcmp(path, "-") == 0)
         return poly_read_stream(stdin, "-", sys, err);
-    FILE *f = fopen(path, "r");
-    if (!f) {
-        lens_errf(err, path, 0, "%s", strerror(errno));
+    FILE *f = input_open(path, err);
+    if (!f)
         return -1;
-    }
     int rc = poly_read_stream(f, path, sys, err);
     fclose(f);
     return rc;

@@ -18,6 +18,11 @@ lens_camera *lens_camera_new(const lens_t *lens, const poly_system *sys, double 
                              double sensor_h, double lambda_min, double lambda_max,
                              lens_err *err)
 {
+    char why[400];
+    if (sys && poly_lens_mismatch(sys, lens->name, lens->path, why, sizeof why)) {
+        lens_errf(err, lens->path, 0, "%s: a camera needs the system fitted to its lens", why);
+        return NULL;
+    }
     lens_camera *c = calloc(1, sizeof *c);
     if (!c) {
         lens_errf(err, lens->path, 0, "out of memory");
@@ -79,4 +84,13 @@ size_t lens_camera_rays(const lens_camera *c, size_t n, const double *samples, d
         }
     }
     return passed;
+}
+
+double lens_camera_ray(const lens_camera *c, double sx, double sy, double lambda, double r1,
+                       double r2, double org[3], double dir[3])
+{
+    double sample[LENS_CAMERA_SAMPLE] = {sx, sy, lambda, r1, r2}, ray[LENS_CAMERA_RAY];
+    lens_camera_rays(c, 1, sample, ray);
+    for (int k = 0; k < 3; k++) org[k] = ray[k], dir[k] = ray[3 + k];
+    return ray[6];
 }

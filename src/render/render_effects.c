@@ -27,6 +27,7 @@
  * A scene's "transmittance|vignetting|dispersion on|off" overrides the choice. */
 #include "sparselens/render_effects.h"
 
+#include <limits.h>
 #include <errno.h>
 #include <math.h>
 #include <omp.h>
@@ -222,8 +223,8 @@ static uint64_t lens_hash(const lens_t *lens)
     return h;
 }
 
-/* The version in the key changes whenever render_fit's systems do (v3: the passage
- * helper's faithful passage; v4: the outer frame that turns with the ray and training
+/* The version in the key changes whenever render_fit's systems do (v3: the faithful
+ * passage; v4: the outer frame that turns with the ray and training
  * rays in the sensor's corners), so that a cache never serves a system of older code. */
 void render_effects_key(const lens_t *lens, const render_effects *e, char key[17])
 {
@@ -239,15 +240,18 @@ void render_effects_key(const lens_t *lens, const render_effects *e, char key[17
 void render_default_cache_dir(char *buf, size_t len)
 {
     const char *x = getenv("XDG_CACHE_HOME"), *home = getenv("HOME");
-    if (x && *x) snprintf(buf, len, "%s/sparselens", x);
-    else if (home && *home) snprintf(buf, len, "%s/.cache/sparselens", home);
-    else if (len) buf[0] = 0;
+    int n = -1;
+    if (x && *x) n = snprintf(buf, len, "%s/sparselens", x);
+    else if (home && *home) n = snprintf(buf, len, "%s/.cache/sparselens", home);
+    /* none, or one too long to hold whole: no cache (never a cut name elsewhere) */
+    if ((n < 0 || (size_t)n >= len) && len) buf[0] = 0;
 }
 
 /* mkdir -p for the cache; failures only mean no caching. */
 static int make_dirs(const char *dir)
 {
-    char tmp[1024];
+    char tmp[PATH_MAX];
+    if (strlen(dir) >= sizeof tmp) return -1;
     snprintf(tmp, sizeof tmp, "%s", dir);
     for (char *p = tmp + 1; *p; p++)
         if (*p == '/') {
@@ -262,11 +266,12 @@ static int make_dirs(const char *dir)
 static poly_system *obtain(const lens_t *lens, const render_effects *e, const char *dir,
                            int threads, FILE *log, double *fit_s, lens_err *err)
 {
-    char key[17], path[1200] = "";
+    char key[17], path[PATH_MAX + 64] = "";
     render_effects_key(lens, e, key);
     *fit_s = 0;
     if (dir && *dir) {
-        snprintf(path, sizeof path, "%s/%s.poly", dir, key);
+        if (snprintf(path, sizeof path, "%s/%s.poly", dir, key) >= (int)sizeof path)
+            path[0] = 0; /* a cache path too long to hold: no caching */
         FILE *f = fopen(path, "r");
         if (f) {
             fclose(f);
@@ -300,14 +305,16 @@ int render_effects_sampler(const lens_t *lens, double lambda_min, double lambda_
                            render_sampler *smp, lens_err *err)
 {
     uint64_t h = lens_hash(lens);
-    char tag[160], path[1200] = "";
+    char tag[160], path[PATH_MAX + 64] = "";
     int n = snprintf(tag, sizeof tag, "%s v1 %.17g %.17g %.17g", stop_only ? "stop" : "pupil",
                      lambda_min, lambda_max, rmax);
     h = fnv(h, tag, (size_t)n);
     memset(smp, 0, sizeof *smp);
     smp->kind = RENDER_SAMPLE_PUPIL;
     if (dir && *dir) {
-        snprintf(path, sizeof path, "%s/%016llx.pupil", dir, (unsigned long long)h);
+        if (snprintf(path, sizeof path, "%s/%016llx.pupil", dir, (unsigned long long)h) >=
+            (int)sizeof path)
+            path[0] = 0; /* a cache path too long to hold: no caching */
         FILE *f = fopen(path, "rb");
         if (f) {
             lens_err e2;

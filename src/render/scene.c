@@ -14,6 +14,7 @@
 
 #include "render/render_math.h"
 #include "sparselens/data_path.h"
+#include "sparselens/input_file.h"
 
 #define MAX_TOKENS 40
 
@@ -54,6 +55,25 @@ typedef struct {
     int n;
     lens_err *err;
 } line_ctx;
+
+/* A position or size in mm, within what the renderer can intersect: |v| up to
+ * SCENE_MAX_MM and, for a size, at least SCENE_MIN_MM (a texture of 5e-324 mm tiles
+ * to infinity; an emitter at 1e160 mm is lost in round-off). */
+static int num(line_ctx *c, int i, double *v);
+static int length(line_ctx *c, int i, double *v, int is_size, const char *what)
+{
+    if (num(c, i, v)) return -1;
+    if (is_size ? !(*v >= SCENE_MIN_MM && *v <= SCENE_MAX_MM) : !(fabs(*v) <= SCENE_MAX_MM)) {
+        if (is_size)
+            lens_errf(c->err, c->path, c->line, "%s %s mm is outside %g to %g mm", what,
+                      c->tok[i], SCENE_MIN_MM, SCENE_MAX_MM);
+        else
+            lens_errf(c->err, c->path, c->line, "%s %s mm is outside -%g to %g mm", what,
+                      c->tok[i], SCENE_MAX_MM, SCENE_MAX_MM);
+        return -1;
+    }
+    return 0;
+}
 
 static int num(line_ctx *c, int i, double *v)
 {
@@ -114,10 +134,10 @@ static int read_colour(line_ctx *c, int *i, const char *what, double rgb[3], int
 /* Binary PPM (P6, 8 bit) or PGM (P5): simple enough to read here without a library. */
 static int load_pnm(const char *file, scene_texture *t, line_ctx *c)
 {
-    FILE *f = fopen(file, "rb");
+    lens_err why;
+    FILE *f = input_open(file, &why);
     if (!f) {
-        lens_errf(c->err, c->path, c->line, "cannot open image texture %s: %s", file,
-                  strerror(errno));
+        lens_errf(c->err, c->path, c->line, "image texture %s", why.msg);
         return -1;
     }
     char magic[3] = {0};
@@ -169,13 +189,20 @@ static int load_pnm(const char *file, scene_texture *t, line_ctx *c)
     return 0;
 }
 
-static void resolve(const char *scene_path, const char *rel, char *out, size_t outlen)
+/* rel against the scene's directory, into out; a path out cannot hold whole (longer
+ * than any the system opens) is refused, never cut. */
+static int resolve(const line_ctx *c, const char *rel, char *out, size_t outlen)
 {
-    const char *slash = strrchr(scene_path, '/');
-    if (rel[0] == '/' || !slash)
-        snprintf(out, outlen, "%s", rel);
-    else
-        snprintf(out, outlen, "%.*s/%s", (int)(slash - scene_path), scene_path, rel);
+    const char *slash = strrchr(c->path, '/');
+    int n = rel[0] == '/' || !slash
+                ? snprintf(out, outlen, "%s", rel)
+                : snprintf(out, outlen, "%.*s/%s", (int)(slash - c->path), c->path, rel);
+    if (n < 0 || (size_t)n >= outlen) {
+        lens_errf(c->err, c->path, c->line, "the path '%.40s...' is %d characters long, "
+                  "more than the %zu a path may have", rel, n, outlen - 1);
+        return -1;
+    }
+    return 0;
 }
 
 /* Modifiers after an object's geometry: albedo, checker, image, emit. */
@@ -192,25 +219,22 @@ static int read_modifiers(line_ctx *c, int i, scene_object *o)
             o->tex.kind = TEX_CHECKER;
             double a, b;
             if (num(c, i, &a) || num(c, i + 1, &b) || num(c, i + 2, &o->tex.size)) return -1;
-            i += 3;
             if (a < 0 || b < 0 || o->tex.size <= 0) {
                 lens_errf(c->err, c->path, c->line,
                           "checker needs albedos >= 0 and a square size > 0");
                 return -1;
             }
+            if (length(c, i + 2, &o->tex.size, 1, "checker square")) return -1;
+            i += 3;
             for (int k = 0; k < 3; k++) o->tex.a[k] = a, o->tex.b[k] = b;
         } else if (!strcmp(m, "image")) {
             if (i + 1 >= c->n) {
                 lens_errf(c->err, c->path, c->line, "image needs FILE and WIDTH_MM");
                 return -1;
             }
-            char file[1024];
-            resolve(c->path, c->tok[i], file, sizeof file);
-            if (num(c, i + 1, &o->tex.size)) return -1;
-            if (o->tex.size <= 0) {
-                lens_errf(c->err, c->path, c->line, "image width must be > 0 mm");
-                return -1;
-            }
+            char file[PATH_MAX];
+            if (resolve(c, c->tok[i], file, sizeof file)) return -1;
+            if (length(c, i + 1, &o->tex.size, 1, "image width")) return -1;
             i += 2;
             o->tex.kind = TEX_IMAGE;
             free(o->tex.pix);
@@ -253,19 +277,25 @@ static int add_object(scene_t *s, line_ctx *c, object_kind kind)
     o.kind = kind;
     o.line = c->line;
     int i = 1;
+    if (s->nobj >= SCENE_MAX_OBJECTS) {
+        lens_errf(c->err, c->path, c->line, "more than %d objects (each ray is tested against "
+                  "every object: lens-scene(5), LIMITS)", SCENE_MAX_OBJECTS);
+        return -1;
+    }
     for (int k = 0; k < 3; k++, i++)
-        if (num(c, i, &o.p[k])) return -1;
+        if (length(c, i, &o.p[k], 0, "position")) return -1;
     if (kind == OBJ_PLANE || kind == OBJ_DISK) {
         for (int k = 0; k < 3; k++, i++)
             if (num(c, i, &o.n[k])) return -1;
         if (unit_normal(c, o.n)) return -1;
     }
     if (kind == OBJ_SPHERE || kind == OBJ_DISK) {
-        if (num(c, i++, &o.radius)) return -1;
+        if (num(c, i, &o.radius)) return -1;
         if (!(o.radius > 0)) {
             lens_errf(c->err, c->path, c->line, "radius must be > 0");
             return -1;
         }
+        if (length(c, i++, &o.radius, 1, "radius")) return -1;
     }
     if (read_modifiers(c, i, &o)) {
         free(o.tex.pix);
@@ -325,7 +355,7 @@ static int statement(scene_t *s, line_ctx *c, int *have_camera)
             lens_errf(c->err, c->path, c->line, "camera takes one file (a lens or a .poly)");
             return -1;
         }
-        resolve(c->path, c->tok[1], s->camera, sizeof s->camera);
+        if (resolve(c, c->tok[1], s->camera, sizeof s->camera)) return -1;
         /* a bare name with no such file beside the scene is a lens name (lens_load
          * looks in ./, $SPARSELENS_LENS_PATH and the shipped lenses) */
         if (!strchr(c->tok[1], '/') && access(s->camera, R_OK) != 0)
@@ -420,6 +450,11 @@ static int statement(scene_t *s, line_ctx *c, int *have_camera)
 int scene_parse(const char *text, const char *path, scene_t *s, lens_err *err)
 {
     scene_init(s);
+    if (strlen(path) >= sizeof s->path) {
+        lens_errf(err, NULL, 0, "a scene path of %zu characters, more than the %zu a path "
+                  "may have", strlen(path), sizeof s->path - 1);
+        return -1;
+    }
     snprintf(s->path, sizeof s->path, "%s", path);
     int have_camera = 0;
     line_ctx c = {.path = path, .line = 0, .err = err};
@@ -468,15 +503,13 @@ int scene_load(const char *path, scene_t *s, lens_err *err)
     /* A bare name that is not a file here is a scene name: ./, $SPARSELENS_SCENE_PATH,
      * then the shipped scenes (data_path.h); the camera is then found beside it. */
     static const char *const exts[] = {".scene", NULL};
-    char found[1024];
+    char found[PATH_MAX + 64];
     if (strcmp(path, "-") && data_find("scenes", "SPARSELENS_SCENE_PATH", path, exts, found,
                                        sizeof found) == 0)
         path = found;
-    FILE *f = strcmp(path, "-") ? fopen(path, "rb") : stdin;
-    if (!f) {
-        lens_errf(err, path, 0, "cannot open: %s", strerror(errno));
+    FILE *f = strcmp(path, "-") ? input_open(path, err) : stdin;
+    if (!f)
         return -1;
-    }
     size_t cap = 4096, len = 0;
     char *text = malloc(cap);
     size_t got;

@@ -91,9 +91,20 @@ static int take_census(const lens_t *lens, size_t count, const double *in, const
         free(n);
         free(h);
     }
+    if (bad == 1) {
+        /* Name the wavelength, the glass and its range (lens_indices says them). */
+        double *n = malloc(lens->nsurf * sizeof *n);
+        lens_err e = {""};
+        for (size_t i = 0; n && i < count && !e.msg[0]; i++)
+            if (lens_indices(lens, in[5 * i + 4], n, &e) != 0)
+                lens_errf(err, NULL, 0, "pilot rays of the lens: %s", e.msg);
+        free(n);
+        if (!e.msg[0])
+            lens_errf(err, NULL, 0, "out of memory");
+        return -1;
+    }
     if (bad) {
-        lens_errf(err, NULL, 0, bad == 2 ? "out of memory" : "a pilot wavelength is outside "
-                                                             "the range of a glass of the lens");
+        lens_errf(err, NULL, 0, "out of memory");
         return -1;
     }
     /* rings up to the furthest sensor point the lens lights */

@@ -2,6 +2,7 @@
 #include "sparselens/samples.h"
 
 #include "base/line_reader.h"
+#include "base/numtext.h"
 
 #include <errno.h>
 #include <math.h>
@@ -19,6 +20,10 @@ struct samples_reader {
     long row_line; /* line of the last row returned */
     int ncols;
     char *names[SAMPLES_MAX_COLS];
+    /* The field that holds each column: its place in the last '# columns:' line read (a
+     * second one, from files joined by cat, may order the same columns otherwise). */
+    int col_field[SAMPLES_MAX_COLS];
+    long header_line; /* the first '# columns:' line */
     line_reader lr;
     char *buf; /* the current line (lr.buf) */
     /* The fields of the last row: where each starts in buf, and its length. */
@@ -86,40 +91,99 @@ static int is_blank(const char *s)
     return s[strspn(s, " \t")] == '\0';
 }
 
-static int parse_header(samples_reader *r, const char *text, lens_err *err)
+/* The names of a '# columns:' line into names[] (strdup'ed; the caller frees them):
+ * how many, or -1 with err set (none, too many, one twice, out of memory). */
+static int parse_names(const samples_reader *r, const char *text, char **names, lens_err *err)
 {
     char *copy = strdup(text);
-    if (!copy) {
-        lens_errf(err, display(r), r->line, "out of memory");
-        return -1;
-    }
     int n = 0;
+    if (!copy)
+        goto oom;
     for (char *save, *tok = strtok_r(copy, " \t", &save); tok; tok = strtok_r(NULL, " \t", &save)) {
         if (n == SAMPLES_MAX_COLS) {
             lens_errf(err, display(r), r->line, "more than %d columns", SAMPLES_MAX_COLS);
-            free(copy);
-            return -1;
+            goto fail;
         }
         for (int i = 0; i < n; i++)
-            if (strcmp(r->names[i], tok) == 0) {
+            if (strcmp(names[i], tok) == 0) {
                 lens_errf(err, display(r), r->line, "column '%s' named twice", tok);
-                free(copy);
-                return -1;
+                goto fail;
             }
-        r->names[n] = strdup(tok);
-        if (!r->names[n]) {
-            free(copy);
-            lens_errf(err, display(r), r->line, "out of memory");
-            return -1;
-        }
-        r->ncols = ++n;
+        if (!(names[n] = strdup(tok)))
+            goto oom;
+        n++;
     }
     free(copy);
     if (n == 0) {
         lens_errf(err, display(r), r->line, "'# columns:' names no columns");
         return -1;
     }
+    return n;
+oom:
+    lens_errf(err, display(r), r->line, "out of memory");
+fail:
+    free(copy);
+    for (int i = 0; i < n; i++)
+        free(names[i]);
+    return -1;
+}
+
+static int parse_header(samples_reader *r, const char *text, lens_err *err)
+{
+    int n = parse_names(r, text, r->names, err);
+    if (n < 0)
+        return -1;
+    r->ncols = n;
+    r->header_line = r->line;
+    for (int i = 0; i < n; i++)
+        r->col_field[i] = i;
     return 0;
+}
+
+/* A '# columns:' line after the rows of a first file (files joined by cat): the same
+ * columns in any order switch the fields' order for the rows that follow, so each column
+ * keeps its values and its place in the output; other columns are refused, since what
+ * was written before could not describe the rows after. */
+static int switch_header(samples_reader *r, const char *text, lens_err *err)
+{
+    char *names[SAMPLES_MAX_COLS];
+    int n = parse_names(r, text, names, err);
+    if (n < 0)
+        return -1;
+    int field[SAMPLES_MAX_COLS], rc = 0;
+    const char *odd = NULL;
+    for (int c = 0; c < r->ncols && !odd; c++) {
+        field[c] = -1;
+        for (int k = 0; k < n && field[c] < 0; k++)
+            if (strcmp(names[k], r->names[c]) == 0)
+                field[c] = k;
+        if (field[c] < 0)
+            odd = r->names[c];
+    }
+    if (odd || n != r->ncols) {
+        if (!odd) /* all the first's columns are there: one is new */
+            for (int k = 0; k < n && !odd; k++)
+                odd = samples_find(r, names[k]) < 0 ? names[k] : NULL;
+        lens_errf(err, display(r), r->line,
+                  "a second '# columns:' line %s column '%s' (the first, at line %ld, %s): "
+                  "joined sample files must have the same columns",
+                  samples_find(r, odd) < 0 ? "adds" : "lacks", odd, r->header_line,
+                  samples_find(r, odd) < 0 ? "lacks it" : "has it");
+        rc = -1;
+    } else {
+        memcpy(r->col_field, field, sizeof(int) * (size_t)n);
+    }
+    for (int k = 0; k < n; k++)
+        free(names[k]);
+    return rc;
+}
+
+/* "columns:" after the '#' of a comment line, or NULL. */
+static const char *columns_text(const char *comment)
+{
+    const char *s = comment + 1;
+    s += strspn(s, " \t");
+    return strncmp(s, "columns:", 8) == 0 ? s + 8 : NULL;
 }
 
 samples_reader *samples_open(const char *path, lens_err *err)
@@ -223,16 +287,14 @@ static int split_fields(samples_reader *r, const char *s)
 
 static int parse_field(const samples_reader *r, int k, double *v)
 {
-    const char *tok = r->buf + r->field_at[k];
-    char *end;
-    *v = strtod(tok, &end);
-    return end != tok + r->field_len[k] || r->field_len[k] == 0 ? -1 : 0;
+    return numtext_parse(r->buf + r->field_at[k], (size_t)r->field_len[k], v);
 }
 
 double samples_field_number(const samples_reader *r, int col)
 {
     double v;
-    if (col < 0 || col >= r->nfields || parse_field(r, col, &v) != 0)
+    if (col < 0 || col >= r->ncols || r->col_field[col] >= r->nfields ||
+        parse_field(r, r->col_field[col], &v) != 0)
         return NAN;
     return v;
 }
@@ -251,7 +313,18 @@ int samples_next(samples_reader *r, double *vals, lens_err *err)
             return st == LINE_FAIL ? SAMPLES_FAIL : -1;
         }
         char *s = r->buf + strspn(r->buf, " \t");
-        if (*s == '#' || *s == '\0')
+        if (*s == '#') {
+            const char *names = columns_text(s);
+            if (names && switch_header(r, names, err) != 0) {
+                r->row_line = r->line;
+                r->nfields = 0;
+                for (int i = 0; i < r->ncols; i++)
+                    vals[i] = NAN;
+                return SAMPLES_FAIL;
+            }
+            continue;
+        }
+        if (*s == '\0')
             continue;
         r->row_line = r->line;
         for (int i = 0; i < r->ncols; i++)
@@ -263,13 +336,14 @@ int samples_next(samples_reader *r, double *vals, lens_err *err)
             return -1;
         }
         for (int i = 0; i < k; i++) {
+            const int f = r->col_field[i];
             if (r->opaque[i])
                 continue;
-            if (parse_field(r, i, &vals[i]) != 0) {
+            if (parse_field(r, f, &vals[i]) != 0) {
                 for (int j = 0; j < r->ncols; j++)
                     vals[j] = NAN;
-                lens_errf(err, display(r), r->line, "field %d ('%.*s') is not a number", i + 1,
-                          r->field_len[i] < 40 ? r->field_len[i] : 40, r->buf + r->field_at[i]);
+                lens_errf(err, display(r), r->line, "field %d ('%.*s') is not a number", f + 1,
+                          r->field_len[f] < 40 ? r->field_len[f] : 40, r->buf + r->field_at[f]);
                 return -1;
             }
         }
@@ -300,7 +374,7 @@ size_t samples_passthrough_text(const samples_reader *r, char *buf, size_t cap)
 {
     size_t n = 0;
     for (int k = 0; k < r->npass; k++) {
-        int c = r->pass[k];
+        int c = r->col_field[r->pass[k]];
         /* a row with too few fields still gets a field in every column */
         const char *tok = c < r->nfields ? r->buf + r->field_at[c] : "nan";
         int len = c < r->nfields ? r->field_len[c] : 3;
@@ -313,7 +387,7 @@ size_t samples_passthrough_text(const samples_reader *r, char *buf, size_t cap)
 void samples_write_passthrough(FILE *f, const samples_reader *r)
 {
     for (int k = 0; k < r->npass; k++) {
-        int c = r->pass[k];
+        int c = r->col_field[r->pass[k]];
         if (c < r->nfields)
             fprintf(f, " %.*s", r->field_len[c], r->buf + r->field_at[c]);
         else
@@ -359,28 +433,30 @@ void samples_write_filter_header(FILE *f, const char *const *names, int n, const
     fputc('\n', f);
 }
 
-/* The shortest of %.15g/%.17g that reads back to the same double: exact, and
- * readable where the value is short (0.5 rather than 0.50000000000000000). */
-static void write_shortest(FILE *f, double v)
+/* Each number the shortest of %.15g/%.17g that reads back to the same double: exact,
+ * and readable where the value is short (0.5 rather than 0.50000000000000000);
+ * non-finite ones as nan, inf, -inf (numtext_format). */
+size_t samples_format_values(char *buf, const double *vals, int n)
 {
-    char buf[32];
-    snprintf(buf, sizeof buf, "%.15g", v);
-    if (strtod(buf, NULL) != v)
-        snprintf(buf, sizeof buf, "%.17g", v);
-    fputs(buf, f);
-}
-
-static void write_values(FILE *f, const double *vals, int n)
-{
+    size_t k = 0;
     for (int i = 0; i < n; i++) {
         if (i)
-            fputc(' ', f);
-        if (isnan(vals[i]))
-            fputs("nan", f);
-        else if (isinf(vals[i]))
-            fputs(vals[i] > 0 ? "inf" : "-inf", f);
-        else
-            write_shortest(f, vals[i]);
+            buf[k++] = ' ';
+        k += numtext_format(vals[i], buf + k);
+    }
+    return k;
+}
+
+/* One fwrite a row (of up to 64 numbers; a longer row in pieces). */
+static void write_values(FILE *f, const double *vals, int n)
+{
+    char buf[SAMPLES_MAX_COLS * (NUMTEXT_MAX + 1) + 1];
+    for (int i = 0; i < n; i += SAMPLES_MAX_COLS) {
+        const int m = n - i < SAMPLES_MAX_COLS ? n - i : SAMPLES_MAX_COLS;
+        size_t k = i ? 1 : 0;
+        buf[0] = ' ';
+        k += samples_format_values(buf + k, vals + i, m);
+        fwrite(buf, 1, k, f);
     }
 }
 

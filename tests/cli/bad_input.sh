@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Bad input never crashes a command or loses data (issue 6). Expectations, for every
+# Bad input never crashes a command or loses data. Expectations, for every
 # command that is built:
 #  - a malformed lens, an empty file, a missing glass, NaN / inf / 1e999 in every
 #    numeric field of a lens, binary garbage, a .poly with an exponent past the degree

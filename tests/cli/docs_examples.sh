@@ -26,17 +26,20 @@ ln -s "$TOP/$BIN" "$clone/bin"
 
 export XDG_CACHE_HOME=$T/cache
 unset SPARSELENS_LENS_PATH SPARSELENS_SCENE_PATH SPARSELENS_GLASS_CATALOG
+# The installed tree first: the README's and the section-3 pages' programs build with its
+# sparselens.pc and run with its library (tests/cli/install.sh checks what lands where).
+prefix=$T/prefix
+env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL make -s --no-print-directory -C "$TOP" install \
+  SANITIZE="$SANITIZE" PREFIX="$prefix" DESTDIR="$T/stage" >"$T/install.log" 2>&1 &&
+  mv "$T/stage$prefix" "$prefix" ||
+  { fail "docs: make install" "$(tail -3 "$T/install.log" | tr '\n' ' ')"; exit 0; }
+export PKG_CONFIG_PATH=$prefix/lib/pkgconfig LD_LIBRARY_PATH=$prefix/lib
 # The README sets up PATH itself (its first lines say how). One file after the other: the
 # heavy examples (lens-trace, lens-fit, lens-render) already use every core, and pages
 # side by side measured no faster (reports/suite-time.md).
 tools/doc-examples.sh --run "$T/docs" README.md
 
-# The man pages, installed (tests/cli/install.sh checks what lands where).
-prefix=$T/prefix
-env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL make -s --no-print-directory -C "$TOP" install \
-  SANITIZE="$SANITIZE" PREFIX="$prefix" DESTDIR="$T/stage" >"$T/install.log" 2>&1 &&
-  mv "$T/stage$prefix" "$prefix" ||
-  { fail "docs man pages: make install" "$(tail -3 "$T/install.log" | tr '\n' ' ')"; exit 0; }
+# The man pages, installed.
 pages=() differ=""
 for m in man/*.[1-8]; do
   i=$prefix/share/man/man${m##*.}/${m##*/}

@@ -111,7 +111,7 @@ else
   fail eval_emit_c_matches "emitted C does not compile"
 fi
 expect_error eval_emit_bad_name "not a C identifier" $E $sys --emit c --name 9x
-expect_error eval_emit_keyword_name "'int' is not a C identifier, or is a C keyword" $E $sys --emit c --name int
+expect_error eval_emit_keyword_name "'int' cannot name the generated C: a C or C\+\+ keyword" $E $sys --emit c --name int
 
 # The same for a system fitted by lens-fit to rays traced by lens-trace (the issue's
 # check: emitted C against lens-eval on the same rays, to 1e-12 relative).

@@ -106,7 +106,7 @@ then ok fit_emit_c; else fail fit_emit_c "$(head -3 $T/cc.err)"; fi
 
 # degenerate input: one-line errors naming the problem, and no output file left behind
 # --name is checked before the fit (once only after it), a C keyword too
-expect_error fit_emit_keyword_name "'double' is not a C identifier, or is a C keyword" \
+expect_error fit_emit_keyword_name "'double' cannot name the generated C: a C or C\+\+ keyword" \
   $F -q --emit c --name double $T/train.txt
 expect_error fit_output_is_input "--outputs: 'x' is an input" $F -q --outputs x $T/train.txt
 expect_error fit_output_twice "--outputs: 'out_x' is named twice" $F -q --outputs out_x,out_y,out_x $T/train.txt

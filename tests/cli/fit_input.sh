@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# lens-fit's data errors (issue 16): every one names the file and a line and says what is
+# lens-fit's data errors: every one names the file and a line and says what is
 # wrong in the file's own columns and units, never in the fitter's scaled or framed
 # variables ("sample 3: input x is not finite" for 1e308, "constant (3.3057...)" for a
 # wavelength of 0.55 um, "input v is constant (0)" for meridional rays); no file is left.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The flow of the stages (issue 12): no include may point up it; a file of a stage
+# The flow of the stages: no include may point up it; a file of a stage
 # includes headers of its own stage and of the stages before it only. The include order
 # is base < lens < trace < sample < poly < fit < analysis, render < app < cmd: rays flow
 # sample -> fit -> poly, but the fitter builds its result through the polynomial model

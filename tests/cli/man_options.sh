@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Options are documented where they are defined (issue 12): each command's option table
+# Options are documented where they are defined: each command's option table
 # is the source of its --help and of the SYNOPSIS and OPTIONS sections of its man page.
 # Fails when a man page and the table drift apart (an option added without `make man`, a
 # section edited by hand), when --help lists an option the man page lacks, when a page

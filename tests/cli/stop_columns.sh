@@ -65,7 +65,7 @@ echo "# stop_columns: $n test rays: without the stop circle false_pass $fp0 fals
 if [ "$fp1" -lt "$fp0" ] && [ $((fp1 + fb1)) -lt $((fp0 + fb0)) ]; then ok stop_fewer_false
 else fail stop_fewer_false "false_pass+false_block $fp1+$fb1 with the stop circle, $fp0+$fb0 without"; fi
 
-# The default pipeline (issue 13): the system records its passage in full, lets through
+# The default pipeline: the system records its passage in full, lets through
 # the spot diagram's rays the lens lets through (vignetted fractions within a point of
 # the lens's on the axis and at 10 degrees), and misses little of the light on a test
 # set over every direction that can pass. Without passage columns the fractions are

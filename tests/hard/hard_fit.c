@@ -1,4 +1,4 @@
-/* Hard cases of the fitter (issue 6), driven by tests/hard/fit_hard.sh, which builds this
+/* Hard cases of the fitter, driven by tests/hard/fit_hard.sh, which builds this
  * file against liblens once fit_system is in it. Prints "ok NAME" / "FAIL NAME: why"
  * lines and "hard-metric LENS CASE VALUE" lines (for reports/robustness.md).
  *

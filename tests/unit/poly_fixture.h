@@ -152,7 +152,7 @@ static inline void fixture_naive(const poly_system *s, const double *in, double 
 /* The batch Jacobian against the one-ray one, entry by entry: poly_eval_jacobian_batch
  * sums its derivative and value terms with fused multiply-adds where the machine has
  * them (AVX-512), poly_eval_jacobian with separate multiplies and adds, so the two may
- * differ by rounding: issue 14 allows 1e-12 relative. Entry k of n (one ray's row)
+ * differ by rounding: 1e-12 relative is allowed. Entry k of n (one ray's row)
  * agrees when equal (inf, nan alike) or within 1e-12 of the larger of its size and
  * scale[k] (the entry's size over the rays, or of its output's row: a derivative that
  * cancels to nearly 0 keeps its terms' rounding). Returns the first entry that does

@@ -335,6 +335,40 @@ static void test_light_share(void **state)
     poly_free(s);
 }
 
+/* The worst ring is the worst of the rings the table shows, however few rays it holds:
+ * ten rays at sensor radius 5.5 mm that the lens passes and the system (pass circle 0.1
+ * on u, v) blocks make ring 5 disagree on all its light, beside a well-sampled centre
+ * where the two agree; the summary names it with its ray count. */
+static void test_sparse_worst_ring(void **state)
+{
+    (void)state;
+    const char *in[] = {"x", "y", "u", "v"}, *out[] = {"out_x", "out_y"};
+    poly_system *s = poly_new("t", 4, in, 2, out);
+    poly_add_part(s, 0, INFINITY);
+    int eu[4] = {0, 0, 1, 0}, ev[4] = {0, 0, 0, 1};
+    poly_add_term(s, 0, 0, eu, 1);
+    poly_add_term(s, 0, 1, ev, 1);
+    poly_add_pass_circle(s, 0, 1, 0.1);
+    eval_report *r = eval_report_new(s, NULL);
+    for (int i = 0; i < 2000; i++) {
+        double u = 0.2 * (i % 50) / 50 - 0.1, v = 0.2 * (i / 50) / 40 - 0.1;
+        double x[4] = {0, 0, u, v}, pred[2], ref[2] = {u, v};
+        int sys = poly_eval(s, x, pred);
+        eval_report_add(r, x, pred, sys, ref, sys); /* lens and system agree */
+    }
+    for (int i = 0; i < 10; i++) {
+        double x[4] = {5.5, 0, 0.105, 0}, pred[2], ref[2] = {0.105, 0};
+        int sys = poly_eval(s, x, pred);
+        assert_false(sys);
+        eval_report_add(r, x, pred, sys, ref, 1);
+    }
+    assert_true(report_value(r, "worst_ring_mm") == 5);
+    assert_true(fabs(report_value(r, "worst_ring_disagree") - 1) < 1e-12);
+    assert_true(report_value(r, "worst_ring_rays") == 10);
+    eval_report_free(r);
+    poly_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -345,6 +379,7 @@ int main(void)
         cmocka_unit_test(test_part_jump),
         cmocka_unit_test(test_part_jump_where_both_pass),
         cmocka_unit_test(test_light_share),
+        cmocka_unit_test(test_sparse_worst_ring),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

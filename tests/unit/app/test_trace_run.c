@@ -93,7 +93,7 @@ static void generated_rows_are_exact_traces(void **state)
 
 typedef struct {
     int calls;
-    char msg[512];
+    char msg[LENS_ERR_MAX];
 } bad_log;
 
 static void on_bad(void *ctx, const lens_err *err)

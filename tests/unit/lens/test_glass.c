@@ -224,10 +224,30 @@ static void test_catalog_errors(void **state)
     snprintf(buf, sizeof buf, "%s%s", ok, ok);
     expect_catalog_error(buf, "4", "listed twice");
     expect_catalog_error("G4 conrady 1.5 0.01 0.001 0.7 0.4 1.5 50\n", "1", "range");
-    /* Coefficients in the wrong order: K and L swapped. */
-    expect_catalog_error("G5 sellmeier1 0.00600069867 1.03961212 0.0200179144 0.231792344 "
-                         "103.560653 1.01046945 0.3 2.5 1.5168 64.17\n",
-                         "1", "wrong order");
+    /* Coefficients in the wrong order (K and L swapped): that glass is unusable, named
+     * with its reason, and the file's other glasses load. */
+    char *bad = write_tmp("G5 sellmeier1 0.00600069867 1.03961212 0.0200179144 0.231792344 "
+                          "103.560653 1.01046945 0.3 2.5 1.5168 64.17\n"
+                          "G6 sellmeier1 1.03961212 0.00600069867 0.231792344 0.0200179144 "
+                          "1.01046945 103.560653 0.3 2.5 1.5168 64.17\n");
+    glass_catalog *mixed = NULL;
+    lens_err e2;
+    if (glass_catalog_load(&mixed, bad, &e2) != 0)
+        fail_msg("%s", e2.msg);
+    const glass_t *g5 = glass_catalog_find(mixed, "G5"), *g6 = glass_catalog_find(mixed, "G6");
+    assert_non_null(g5);
+    assert_non_null(g6);
+    const char *why = glass_catalog_problem(mixed, glass_catalog_index(mixed, g5));
+    assert_non_null(why);
+    assert_non_null(strstr(why, "wrong order"));
+    assert_non_null(strstr(why, "where the entry says 1.516800"));
+    assert_null(glass_catalog_problem(mixed, glass_catalog_index(mixed, g6)));
+    glass_catalog_free(mixed);
+    unlink(bad);
+    /* vendor and alias lines */
+    expect_catalog_error("vendor\n", "1", "expected: vendor NAME");
+    expect_catalog_error("alias OLD NONE\n", "1", "no glass NONE");
+    expect_catalog_error("alias OLD\n", "1", "expected: alias");
 
     glass_catalog *cat = NULL;
     lens_err err;

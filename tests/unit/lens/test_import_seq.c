@@ -131,7 +131,7 @@ static void test_apertures_from_rays(void **state)
         fail_msg("%s", err.msg);
     assert_near(lens.surf[0].semi_diameter, 5, 1e-12);
     assert_near(lens.surf[1].semi_diameter, 5 - 1.0 / 6 + 5 * tan(5 * M_PI / 180) / 1.5, 1e-12);
-    assert_non_null(strstr(lens.notes, "2 clear apertures not in the file"));
+    assert_non_null(strstr(lens.notes, "2 semi-diameters not in the file (CIR)"));
     lens_free(&lens);
 }
 

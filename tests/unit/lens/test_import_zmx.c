@@ -299,18 +299,28 @@ static void test_missing_glass(void **state)
     assert_int_not_equal(parse(text, &with_catalog, &lens, &err), 0);
     assert_non_null(strstr(err.msg, "mem.zmx:9: glass XG-NOPE not found in"));
     assert_non_null(strstr(err.msg, "test.agf"));
-    assert_non_null(strstr(err.msg, "--glass-fallback ndvd"));
+    /* 1.6 and 40 beside a catalog glass are placeholders: never recommended, never used. */
+    assert_null(strstr(err.msg, "--glass-fallback"));
+    assert_non_null(strstr(err.msg, "placeholders"));
     /* With GCAT, the message says which maker catalogs the design used. */
     char with_gcat[1100];
     snprintf(with_gcat, sizeof with_gcat, "GCAT SCHOTT OHARA\n%s", text);
     assert_int_not_equal(parse(with_gcat, &with_catalog, &lens, &err), 0);
     assert_non_null(strstr(err.msg, "the file names the catalogs SCHOTT OHARA"));
     lens_load_options fb = {.catalogs = test_catalogs, .ndvd_fallback = 1};
+    assert_int_not_equal(parse(text, &fb, &lens, &err), 0);
+    assert_non_null(strstr(err.msg, "placeholders"));
+    /* A catalog glass's own values (five decimals) are data: recommended, then used. */
+    char *ph = strstr(text, "1.6 40");
+    memmove(ph + 13, ph + 6, strlen(ph + 6) + 1);
+    memcpy(ph, "1.61272 58.63", 13);
+    assert_int_not_equal(parse(text, &with_catalog, &lens, &err), 0);
+    assert_non_null(strstr(err.msg, "--glass-fallback ndvd would use them"));
     if (parse(text, &fb, &lens, &err) != 0)
         fail_msg("%s", err.msg);
     assert_int_equal(lens.surf[0].medium.kind, GLASS_NDVD);
-    assert_near(lens.surf[0].medium.nd, 1.6, 0);
-    assert_near(lens.surf[0].medium.vd, 40, 0);
+    assert_near(lens.surf[0].medium.nd, 1.61272, 0);
+    assert_near(lens.surf[0].medium.vd, 58.63, 0);
     assert_non_null(strstr(lens.notes, "XG-NOPE"));
     lens_free(&lens);
 }

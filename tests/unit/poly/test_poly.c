@@ -164,7 +164,7 @@ static void check_batch(int nparts)
         double one[5], naive[5], o2[5], j1[25];
         int ps = poly_eval(s, in + r * 5, one);
         /* the Jacobian's outputs are the batch's bits; batch and one-ray derivatives to
-         * 1e-12 relative (the batch's sums fused, issue 14) */
+         * 1e-12 relative (the batch's sums fused) */
         assert_int_equal(poly_eval_jacobian(s, in + r * 5, o2, j1), ps);
         assert_memory_equal(o2, out + r * 5, sizeof o2);
         assert_int_equal(fixture_jacobian_differs(j1, jac + (size_t)r * 25, jscale, 25), -1);
@@ -449,7 +449,7 @@ static void test_batch_frame_layouts(void **st)
                 agree(o[k], outb[r * 5 + k], range[k], r, k);
             assert_int_equal(p, pb[r]);
             /* the batch Jacobian (cores through the kernel, chunk by chunk) is the
-             * scalar's to 1e-12 relative (its sums fused, issue 14); the values' bits */
+             * scalar's to 1e-12 relative (its sums fused); the values' bits */
             assert_int_equal(poly_eval_jacobian(s, in + r * 5, oj, j1), p);
             assert_memory_equal(oj, outb + r * 5, sizeof oj);
             assert_int_equal(fixture_jacobian_differs(j1, jb + (size_t)r * 25, jscale, 25), -1);

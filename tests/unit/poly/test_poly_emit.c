@@ -235,7 +235,11 @@ static void test_emit_bad_name(void **st)
     assert_int_equal(poly_emit_c(f, s, "int"), -1); /* a keyword: would not compile */
     assert_int_equal(poly_emit_c(f, s, "_Bool"), -1);
     assert_true(poly_c_name_ok("int_"));
-    assert_true(poly_c_name_ok("_lens2"));
+    assert_true(poly_c_name_ok("lens2_"));
+    assert_false(poly_c_name_ok("_lens2")); /* reserved at file scope (C11 7.1.3) */
+    assert_false(poly_c_name_ok("sqrt"));   /* <math.h>, which the file includes */
+    assert_false(poly_c_name_ok("NAN"));
+    assert_false(poly_c_name_ok("class")); /* the file compiles as C++ too */
     fclose(f);
     assert_int_equal(len, 0); /* nothing written for any of them */
     free(buf);

@@ -1,4 +1,4 @@
-/* Hard case of the renderer's estimator (issue 6): the rim of the pupil, where the set of
+/* Hard case of the renderer's estimator: the rim of the pupil, where the set of
  * directions that pass shrinks to nothing and the estimator's density (the Jacobian of
  * the map from uniforms to directions) goes to zero or blows up.
  *

@@ -1,4 +1,4 @@
-/* The cat's eye (issue 4): a small bright sphere far out of focus through fisheye-ii
+/* The cat's eye: a small bright sphere far out of focus through fisheye-ii
  * (focused at 25 mm, the sphere at 500 mm) renders as a round disk at the centre of the
  * picture and, towards the corner, as a disk clipped by the front group: narrower along
  * the radius than across it.

@@ -1,4 +1,4 @@
-/* Unbiasedness of lens-render's polynomial path (issues 4 and 13), against a reference
+/* Unbiasedness of lens-render's polynomial path, against a reference
  * that shares nothing with it: a white furnace (an emitter of radiance 1 filling every
  * direction) seen through a lens gives each pixel the mean over the pixel of
  *   E(x, y) = integral of P_a T_r cos^4(theta) du dv
@@ -211,7 +211,7 @@ static void furnace(lens_t *lens, const char *scene_text, double sw, double sh, 
                       100 * ref.se / ref.mean, 100 * (rp.mean / ref.mean - 1),
                       100 * rp.se / ref.mean, 100 * (re.mean / ref.mean - 1),
                       100 * re.se / ref.mean);
-        /* within 0.5% (issue 13's target) or three standard errors, which are small
+        /* within 0.5% (the renderer's target) or three standard errors, which are small
          * enough that a 1% bias fails */
         if (!quick) {
             assert_true(sp < 0.002 * ref.mean);

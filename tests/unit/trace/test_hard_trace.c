@@ -1,4 +1,4 @@
-/* Hard numerical cases of the exact tracer (issue 6), each with its own expectation:
+/* Hard numerical cases of the exact tracer, each with its own expectation:
  *  - a fisheye past 180 degrees (lenses/fisheye-aspherical.lens, 181): chief rays past
  *    90 degrees from the axis stay representable in the outer-pupil frame, and tracing
  *    them back from the object side lands on the sensor point they started from;
