@@ -20,7 +20,8 @@ BUILD := build-san
 BIN   := bin-san
 # float-cast-overflow explicitly: GCC's -fsanitize=undefined leaves it out (clang's has it),
 # and a double too large for a long is undefined behaviour (a tiny checker square did it).
-OPT   := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined,float-cast-overflow \
+SAN_FLAGS := -fsanitize=address,undefined,float-cast-overflow
+OPT   := -O1 -g -fno-omit-frame-pointer $(SAN_FLAGS) \
          -fno-sanitize-recover=undefined,float-cast-overflow
 endif
 
@@ -189,7 +190,9 @@ $(INST)/data_path.o: src/base/data_path.c include/sparselens/data_path.h $(INST)
 # libsparselens.so.MAJOR, exporting exactly what the public headers declare (the
 # umbrella include/sparselens.h and the headers it includes, the only ones installed:
 # tools/public-symbols.sh makes the version script), libsparselens.a, and sparselens.pc
-# (Libs.private: what a static link needs). Both hold the installed data directory.
+# (Libs.private: what a static link needs; a sanitized build's Libs carries the sanitizers,
+# whose runtime must come first in a program that loads it). Both hold the installed data
+# directory.
 LIBDIR    = $(PREFIX)/lib
 INCDIR    = $(PREFIX)/include
 MAJOR    := $(firstword $(subst ., ,$(VERSION)))
@@ -216,7 +219,7 @@ $(INST)/sparselens.pc: Makefile VERSION $(INST)/datadir.txt
 	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$(LIBDIR)' 'includedir=$(INCDIR)' '' \
 	  'Name: sparselens' \
 	  'Description: lens prescriptions, exact ray tracing, sparse polynomial optics and a lens camera' \
-	  'Version: $(VERSION)' 'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -lsparselens' \
+	  'Version: $(VERSION)' 'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -lsparselens $(SAN_FLAGS)' \
 	  'Libs.private: $(strip $(LDLIBS)) -lgomp' > $@
 
 $(INST)/bin/lens-%: cmd/lens-%.c $(INST)/data_path.o $(LIB)
