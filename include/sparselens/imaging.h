@@ -108,10 +108,11 @@ void imaging_models_free(imaging_models *m);
 int imaging_models_setup(const imaging_models *m, double object_distance, imaging im[2],
                          const char *names[2]);
 
-/* Default fields when none are given: 0, 0.7 and 1 times the largest field (object at
+/* Default fields when none are given (field holds IMAGING_MAX_FIELDS): the design
+ * file's own (lens_file_fields), else 0, 0.7 and 1 times the largest field (object at
  * infinity: the half field of view of the sensor diagonal from the lens header, clipped
  * to the largest field whose chief ray passes at every one of the nl wavelengths).
- * Returns the count, or -1 with err set. */
+ * Ascending, the largest last. Returns the count, or -1 with err set. */
 int imaging_default_fields(const imaging *im, const double *lambda, int nl, double *field,
                            lens_err *err);
 

@@ -24,6 +24,8 @@ typedef struct {
     focus_mode focus_mode;
     double lambda[IMAGING_MAX_WAVELENGTHS];
     int nl;
+    int primary;                /* index into lambda of the primary wavelength */
+    const char *wavelengths_default; /* the command's default: not given when still it */
     lens_cli_options lopt;
 } imaging_cli;
 
@@ -36,7 +38,9 @@ void imaging_cli_default(imaging_cli *a, const char *wavelengths);
  * parsed and checked. */
 void imaging_cli_finish(const char *prog, imaging_cli *a, const char *const *operands, int n);
 
-/* Loads the input (and --compare, --lens) into models, stops the lens down (--fnumber),
+/* Loads the input (and --compare, --lens) into models (without --wavelengths, the lens's
+ * design file's wavelengths become lambda, its primary the primary: all of them, or the
+ * primary alone for a command whose default is one), stops the lens down (--fnumber),
  * sets up im[] and names[] for the object distance, and returns the number of models, or
  * -1 with err set (models then freed). Frees the lens-loading options, which are not
  * needed after. */

@@ -90,6 +90,13 @@ int poly_eval_jacobian_batch_outputs(const poly_system *sys, size_t count, const
 int poly_eval_part(const poly_system *sys, int part, const double *in, double *out);
 /* 1 when in lies inside the input ranges seen in training (extrapolation check). */
 int poly_in_domain(const poly_system *sys, const double *in);
+/* 1 when the sensor point (x, y) mm at lambda um (NAN: any) lies inside what the system
+ * was fitted over: for a meridional system the disc of the training sensor's corner
+ * radius (it sees only the radius), else the rectangle of its x and y ranges, and the
+ * training wavelengths; a system recording no such range is taken at its word. 0
+ * outside, with why (n bytes) saying where the point lies and where the domain ends. */
+int poly_sensor_in_domain(const poly_system *sys, double x, double y, double lambda, char *why,
+                          size_t n);
 
 /* Building a system (lens-fit, tests). Inputs are scaled before the monomials are
  * formed: s_i = (in_i - offset_i) / scale_i; coefficients multiply monomials of s.

@@ -23,4 +23,9 @@ typedef struct {
 int trace_run(const trace_cli *o, const lens_t *lens, samples_reader *in, FILE *out,
               const trace_run_hooks *hooks, long *bad_rows, lens_err *err);
 
+/* The wavelength band lens-trace draws from without --lambda: 0.4..0.7 um widened to
+ * hold the design file's wavelengths, and narrowed to where every glass has data (but
+ * never past the file's wavelengths). */
+void trace_default_band(const lens_t *lens, double *lo, double *hi);
+
 #endif

@@ -1,5 +1,6 @@
 /* The imaging set-up shared by the spot and distortion analyses (see imaging.h). */
 #include "sparselens/imaging.h"
+#include "sparselens/file_fields.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -245,6 +246,15 @@ int imaging_chief(const imaging *im, const double *n, double lambda, double fiel
                   field, field_unit(im), lambda, im->sys ? " through the system" : "");
         return -1;
     }
+    /* A system answers outside what it was fitted over too, by extrapolation: a field
+     * whose chief ray lands there is one it cannot image. The domain is on the file's
+     * sensor plane, where the ray was before the shift. */
+    char why[256];
+    if (im->sys && !poly_sensor_in_domain(im->sys, s[0] + im->sensor_shift * s[2],
+                                          s[1] + im->sensor_shift * s[3], lambda, why, sizeof why)) {
+        lens_errf(err, NULL, 0, "field %g %s at %g um: %s", field, field_unit(im), lambda, why);
+        return -1;
+    }
     return 0;
 }
 
@@ -349,6 +359,8 @@ int imaging_models_load(const char *path, const char *compare, const char *lens_
         imaging_models_free(m);
         return -1;
     }
+    /* the grid maps and the sensor-corner field need a sensor: the file's fields give one */
+    lens_sensor_from_fields(&m->lens, NULL);
     return 0;
 }
 
@@ -382,6 +394,9 @@ int imaging_models_setup(const imaging_models *m, double object_distance, imagin
 int imaging_default_fields(const imaging *im, const double *lambdas, int nl, double *field,
                            lens_err *err)
 {
+    int k = lens_file_fields(im->lens, im->object_distance, field, IMAGING_MAX_FIELDS, err);
+    if (k != 0)
+        return k;
     if (!isinf(im->object_distance)) {
         lens_errf(err, NULL, 0, "give --fields (object heights in mm) for a finite object distance");
         return -1;

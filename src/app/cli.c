@@ -1,4 +1,5 @@
 #include "sparselens/cli.h"
+#include "sparselens/file_fields.h"
 #include "sparselens/outfile.h"
 #include "sparselens/lens_cli_options.h"
 #include "sparselens/numparse.h"
@@ -42,6 +43,12 @@ void cli_load_lens(const char *prog, const char *path, const lens_load_options *
         exit(1);
     }
     lens_cli_warn_notes(prog, lens); /* what an importer skipped, one warning line each */
+    /* a design file sized by its fields rather than a sensor: the sensor they imply */
+    if (lens_sensor_from_fields(lens, &err) < 0) {
+        char msg[sizeof err.msg];
+        diag_sanitise(msg, sizeof msg, err.msg);
+        fprintf(stderr, "%s: warning: %s\n", prog, msg);
+    }
 }
 
 int cli_progress_wanted(void)

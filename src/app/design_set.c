@@ -142,7 +142,7 @@ void design_run_begin(const char *prog, design_run *r, imaging_cli *a, const out
     memset(ds, 0, sizeof *ds);
     r->set = ds;
     ds->nmodels = imaging_cli_load(prog, a, &r->models, ds->im, ds->names);
-    ds->lambda = a->lambda, ds->nl = a->nl, ds->primary = a->nl / 2;
+    ds->lambda = a->lambda, ds->nl = a->nl, ds->primary = a->primary;
     ds->focus = a->focus_mode;
     lens_err err;
     int nf = fields_from_cli(a, &ds->im[0], spread, r->field, &err);

@@ -20,11 +20,14 @@ static int choose_fields(const distort_request *rq, const char *fields_s, double
         }
         return n;
     }
-    double three[3];
-    if (imaging_default_fields(&rq->im[0], &rq->lambda, 1, three, err) < 0)
+    double given[IMAGING_MAX_FIELDS];
+    int n = imaging_default_fields(&rq->im[0], &rq->lambda, 1, given, err);
+    if (n < 0)
         return -1;
-    for (int i = 0; i < 11; i++)
-        field[i] = round(three[2] * i / 10 * 100) / 100;
+    /* the file's largest field exactly: the field it states distortion for */
+    for (int i = 0; i < 10; i++)
+        field[i] = round(given[n - 1] * i / 10 * 100) / 100;
+    field[10] = given[n - 1];
     return 11;
 }
 
@@ -33,7 +36,7 @@ int distort_cli_run(distort_cli *o, FILE *out, FILE *log, const char *prog, lens
     const char *input = o->im.input, *fields_s = o->im.fields, *map_path = o->map, *png = o->png;
     int opencv = o->opencv.w > 0;
     double field[IMAGING_MAX_FIELDS];
-    distort_request rq = {.lambda = o->im.lambda[o->im.nl / 2], .mapping = o->mapping,
+    distort_request rq = {.mapping = o->mapping,
                           .sensor_w = o->sensor.w, .sensor_h = o->sensor.h,
                           .focus = o->im.focus_mode, .illum_rays = o->illum_rays,
                           .cv_width = (int)o->opencv.w, .cv_height = (int)o->opencv.h};
@@ -46,6 +49,7 @@ int distort_cli_run(distort_cli *o, FILE *out, FILE *log, const char *prog, lens
     imaging_models models;
     if ((rq.nmodels = imaging_cli_models(&o->im, &models, rq.im, rq.model_names, err)) < 0)
         return -1;
+    rq.lambda = o->im.lambda[o->im.primary]; /* the file's primary may replace the default */
     rq.field = field;
     distort_report rep;
     if ((rq.nfields = choose_fields(&rq, fields_s, field, err)) < 0 ||

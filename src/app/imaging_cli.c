@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "sparselens/cli.h"
+#include "sparselens/file_fields.h"
 #include "sparselens/paraxial.h"
 
 /* --fields and --wavelengths as lens-spot and the designer commands have them (lens-distort
@@ -16,15 +17,21 @@ const opt_spec imaging_cli_field_table[] = {
     {0, "fields", "LIST", OPT_STRING, OPT_AT(imaging_cli, fields),
      .help = "field angles in degrees (object at infinity) or object heights in mm "
              "(--object-distance)",
-     .def = "0, 0.7 and 1 times the largest",
+     .def = "the design file's, else 0, 0.7 and 1 times the largest",
      .man =
-     "The largest field is the half field of view of the sensor diagonal named in the lens\n"
-     "header, or, without one, the largest field whose chief ray still reaches the sensor.\n"},
+     "A Zemax or CODE V file's fields (angles, or image heights turned into the angles\n"
+     "that image there) are the default for an object at infinity, its object heights for\n"
+     "a finite one. Without them the largest field is the half field of view of the sensor\n"
+     "diagonal named in the lens header, or, without one, the largest field whose chief ray\n"
+     "still reaches the sensor.\n"},
     {0, "wavelengths", "LIST", OPT_STRING, OPT_AT(imaging_cli, wavelengths),
-     .help = "um values or Fraunhofer names; the middle one is the primary", .def = "F,d,C",
+     .help = "um values or Fraunhofer names; the middle one is the primary",
+     .def = "the design file's, else F,d,C",
      .man =
      "Wavelengths are 0.2 to 2.5 um; the line names are i h g F' F e d D C' C r A' s t\n"
-     "(F = 0.4861327, d = 0.5875618, C = 0.6562725).\n"},
+     "(F = 0.4861327, d = 0.5875618, C = 0.6562725).\n"
+     "A Zemax or CODE V file's wavelengths (up to 16) are the default, shortest first,\n"
+     "with the primary it marks as the primary.\n"},
     {0}};
 
 const opt_spec imaging_cli_table[] = {
@@ -45,6 +52,9 @@ const opt_spec imaging_cli_table[] = {
      .help = "also through a fitted system, shown beside the lens",
      .man =
      "Its inputs must be x y u v lambda and its outputs include out_x out_y out_u out_v.\n"
+     "A system answers only inside its training domain: a field whose chief ray lands\n"
+     "beyond the sensor radius it was fitted over, or a wavelength outside its band, is\n"
+     "one it cannot image (nan, a warning naming the domain), never an extrapolation.\n"
      "A system fitted to another lens (neither the lens name nor the lens file it records\n"
      "is this lens's) is shown all the same, with a warning.\n"},
     {0, "lens", "LENS", OPT_STRING, OPT_AT(imaging_cli, lens),
@@ -78,7 +88,7 @@ const opt_spec imaging_cli_table[] = {
 void imaging_cli_default(imaging_cli *a, const char *wavelengths)
 {
     memset(a, 0, sizeof *a);
-    a->wavelengths = wavelengths;
+    a->wavelengths = a->wavelengths_default = wavelengths;
     a->focus = "file";
     a->object_distance = INFINITY;
     a->fnumber = NAN;
@@ -94,8 +104,42 @@ void imaging_cli_finish(const char *prog, imaging_cli *a, const char *const *ope
     a->nl = wavelengths_parse(a->wavelengths, a->lambda, IMAGING_MAX_WAVELENGTHS, &err);
     if (a->nl < 0)
         diag_die(prog, "--wavelengths: %s", err.msg);
+    a->primary = a->nl / 2;
     if (focus_mode_parse(a->focus, &a->focus_mode) != 0)
         diag_die(prog, "--focus: '%s' is not file, paraxial or best", a->focus);
+}
+
+static int cmp_double(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
+/* The design file's wavelengths in place of the command's default, shortest first
+ * (ones the analyses do not take, or more than they hold, leave the default). */
+static void file_wavelengths(imaging_cli *a, const lens_t *lens)
+{
+    int n = lens->nwaves;
+    if (n < 1 || n > IMAGING_MAX_WAVELENGTHS)
+        return;
+    for (int i = 0; i < n; i++)
+        if (!(lens->wave_um[i] >= 0.2 && lens->wave_um[i] <= 2.5))
+            return;
+    double primary = lens_file_primary_wave(lens);
+    if (a->nl == 1) {
+        a->lambda[0] = primary, a->primary = 0;
+        return;
+    }
+    memcpy(a->lambda, lens->wave_um, sizeof(double) * (size_t)n);
+    qsort(a->lambda, (size_t)n, sizeof(double), cmp_double);
+    int m = 0;
+    for (int i = 0; i < n; i++)
+        if (m == 0 || a->lambda[i] != a->lambda[m - 1])
+            a->lambda[m++] = a->lambda[i];
+    a->nl = m;
+    for (int i = 0; i < m; i++)
+        if (a->lambda[i] == primary)
+            a->primary = i;
 }
 
 int imaging_cli_models(imaging_cli *a, imaging_models *models, imaging im[2],
@@ -104,6 +148,8 @@ int imaging_cli_models(imaging_cli *a, imaging_models *models, imaging im[2],
     int rc = imaging_models_load(a->input, a->compare, a->lens, lens_cli_options_get(&a->lopt),
                                  models, err);
     lens_cli_options_free(&a->lopt);
+    if (rc == 0 && a->wavelengths == a->wavelengths_default)
+        file_wavelengths(a, &models->lens);
     /* A system fitted to samples of the stopped-down lens records that f-number: the lens
      * it is shown or compared with is stopped down alike, unless --fnumber says. */
     const poly_system *sys = models->sys ? models->sys : models->compare;

@@ -1,5 +1,6 @@
 /* lens-render's job from scene file to image files (render_run.h). */
 #include "sparselens/render_run.h"
+#include "sparselens/file_fields.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -195,6 +196,7 @@ static int load_camera(const render_options *o, render_setup *s, lens_err *err)
     }
     if (lens_load(s->lens_path, o->load, &s->lens, err)) return -1;
     if (o->log) lens_cli_warn_notes("lens-render", &s->lens); /* what an importer skipped */
+    lens_sensor_from_fields(&s->lens, NULL); /* a design file's fields give the sensor */
     if (s->sys) {
         /* a fitted system has its focus and aperture baked in */
         if (!isnan(sc->focus) || !isnan(sc->fstop)) {

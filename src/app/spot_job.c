@@ -11,7 +11,6 @@ int spot_cli_run(spot_cli *o, FILE *out, FILE *log, const char *prog, lens_err *
 {
     const char *exr = o->exr, *png = o->png, *fields_s = o->im.fields, *focus_s = o->im.focus;
     const double *lambda = o->im.lambda;
-    int nl = o->im.nl;
     double dist = o->im.object_distance;
 
     spot_request rq = {.focus = o->im.focus_mode, .pattern = o->pattern, .rays = (size_t)o->rays,
@@ -20,7 +19,8 @@ int spot_cli_run(spot_cli *o, FILE *out, FILE *log, const char *prog, lens_err *
     imaging_models models;
     if ((rq.nmodels = imaging_cli_models(&o->im, &models, rq.im, rq.model_names, err)) < 0)
         return -1;
-    rq.lambda = lambda, rq.nl = nl, rq.primary = nl / 2;
+    int nl = o->im.nl; /* the file's wavelengths may have replaced the default */
+    rq.lambda = lambda, rq.nl = nl, rq.primary = o->im.primary;
     int nf = fields_s ? numbers_parse(fields_s, "field", field, IMAGING_MAX_FIELDS, err)
                       : imaging_default_fields(&rq.im[0], lambda, nl, field, err);
     if (nf < 0 && fields_s) {

@@ -38,7 +38,9 @@ static const opt_spec trace_table[] = {
              "can pass (test sets that measure passage as a share of the light)",
      .def = "pupil"},
     {0, "lambda", "A:B|L", OPT_CALL, OPT_AT(trace_cli, lambda), .set = set_lambda,
-     .help = "wavelengths uniform in A..B um, or one wavelength L", .def = "0.4:0.7",
+     .help = "wavelengths uniform in A..B um, or one wavelength L",
+     .def = "0.4:0.7, widened to the design file's wavelengths and narrowed to the glasses' "
+            "data",
      .man =
      "A wavelength outside a glass's range is an error, not an extrapolation.\n"},
     {0, "to", NULL, OPT_CHOICE, OPT_AT(trace_cli, target), .choices = targets,
@@ -64,7 +66,12 @@ static const opt_spec trace_table[] = {
     {0, "no-passage-columns", NULL, OPT_FLAG, OPT_AT(trace_cli, no_passage_columns),
      .help = "no passage columns: the ten default columns alone"},
     {0, "sensor", "WxH", OPT_CALL, OPT_AT(trace_cli, sensor), .set = cli_set_size,
-     .help = "sensor size in mm", .def = "the lens header's"},
+     .help = "sensor size in mm",
+     .def = "the lens header's, else the one the design file's largest field implies",
+     .man =
+     "A Zemax or CODE V file states fields, not a sensor: the sensor is then 3:2 with its\n"
+     "corner 3% beyond where the largest field's chief ray lands, so that a system fitted\n"
+     "to the samples images every field of the file.\n"},
     {0, "fnumber", "N", OPT_POSITIVE, OPT_AT(trace_cli, fnumber),
      .help = "stop the lens down to f-number N (efl over entrance pupil diameter, paraxial, "
              "object at infinity) by scaling the aperture stop's semi-diameter",
@@ -101,7 +108,7 @@ void trace_cli_default(trace_cli *o)
     o->count = 10000;
     o->seed = 1;
     o->strategy = SAMPLING_PUPIL;
-    o->lambda[0] = 0.4, o->lambda[1] = 0.7;
+    o->lambda[0] = o->lambda[1] = NAN; /* the file's, else 0.4:0.7 (trace_run) */
     o->sensor = (cli_size){NAN, NAN};
     o->fnumber = NAN;
     o->target = TRACE_TO_OUTER;

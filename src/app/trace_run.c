@@ -318,6 +318,25 @@ static int filter(const lens_t *lens, const trace_args *a, samples_reader *r, FI
     return rc;
 }
 
+void trace_default_band(const lens_t *lens, double *lo, double *hi)
+{
+    /* The visible band, widened to the file's wavelengths; then narrowed to where every
+     * glass has data, but never past the file's own wavelengths (those are an error
+     * where a glass has none). Wider than the file's: analyses at its F and C lines
+     * then sit inside a fitted system's band, not on its edge. */
+    double flo = INFINITY, fhi = -INFINITY;
+    for (int i = 0; i < lens->nwaves; i++)
+        flo = fmin(flo, lens->wave_um[i]), fhi = fmax(fhi, lens->wave_um[i]);
+    *lo = fmin(0.4, flo), *hi = fmax(0.7, fhi);
+    for (size_t i = 0; i < lens->nsurf; i++) {
+        const glass_t *g = &lens->surf[i].medium;
+        if (g->lambda_min > 0 && isfinite(g->lambda_min))
+            *lo = fmax(*lo, fmin(g->lambda_min, flo));
+        if (g->lambda_max > 0 && isfinite(g->lambda_max))
+            *hi = fmin(*hi, fmax(g->lambda_max, fhi));
+    }
+}
+
 int trace_run(const trace_cli *o, const lens_t *lens, samples_reader *in, FILE *out,
               const trace_run_hooks *hooks, long *bad_rows, lens_err *err)
 {
@@ -332,6 +351,8 @@ int trace_run(const trace_cli *o, const lens_t *lens, samples_reader *in, FILE *
                     .clip_columns = (!cols_none && !cols_stop) || o->clip_list,
                     .clip_list = o->clip_list, .fnumber = o->fnumber, .hooks = hooks};
     *bad_rows = 0;
+    if (isnan(a.lambda_min)) /* the band the design file states, else the visible */
+        trace_default_band(lens, &a.lambda_min, &a.lambda_max);
     if (isnan(a.sensor_w)) {
         a.sensor_w = lens->sensor_w;
         a.sensor_h = lens->sensor_h;
