@@ -1,3 +1,4 @@
+# shellcheck shell=bash disable=SC2034  # sets SENSOR_FLAGS, NEEDS, TOP, TOP_FROM for the caller
 # Functions of tools/realworld.sh that tests/cli/realworld.sh uses too (sourced; BIN and
 # D_LINE set by the caller).
 # The one place that supplies what a command cannot yet find by itself in an imported

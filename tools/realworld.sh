@@ -18,7 +18,7 @@
 # Two lenses run at a time (JOBS). Mirror systems are refused by the importers on
 # purpose and are listed apart as not refracting.
 set -uo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/.." || exit 1
 BIN=${BIN:-bin}
 if [ "${1:-}" = --one ]; then OUT=${OUT:-build/realworld}; else OUT=${1:-${OUT:-build/realworld}}; fi
 JOBS=${JOBS:-2}
@@ -75,6 +75,7 @@ one() { # FILE: measure one lens into $OUT/<folder>/<file>/row.tsv
   f1=$(awk -v t="$TOP" 'BEGIN { printf "%.6g", t }')
   "$BIN"/lens-spot "$f" --fields "0,$f0,$f1" --compare "$sys" >"$dir/spot.txt" 2>"$dir/spot.err"
   # worst |system / lens - 1| of the spot RMS about the chief ray, pooled rows ("all")
+  # shellcheck disable=SC2016
   local spot_awk='$3 == "all" && ($1 == "lens" || $1 == "poly") { v[$1, $2] = $11; fl[$2] = 1 }
     END { w = -1; for (x in fl) { l = v["lens", x]; p = v["poly", x]
             if (l == "" || p == "" || l == "nan" || p == "nan" || l + 0 == 0) continue
