@@ -124,10 +124,12 @@ def main():
         wp = max(pas, key=lambda r: f(r["passage_pct"]))
         L.append("- worst passage disagreement: %.3g %% of the light (%s)." % (f(wp["passage_pct"]), short(wp)))
     sp_fail = [r for r in fitted if f(r["spot_pct"]) is not None and abs(f(r["spot_pct"])) > SPOT_MAX]
-    dfail = [r for r in fitted if f(r["dist_lens"]) is not None and f(r["dist_sys"]) is not None
-             and abs(f(r["dist_lens"]) - f(r["dist_sys"])) > DIST_MAX]
+    dmeas = [r for r in fitted if f(r["dist_lens"]) is not None and f(r["dist_sys"]) is not None
+             and f(r["dist_lens"]) == f(r["dist_lens"]) and f(r["dist_sys"]) == f(r["dist_sys"])]
+    dfail = [r for r in dmeas if abs(f(r["dist_lens"]) - f(r["dist_sys"])) > DIST_MAX]
     L.append("- spot RMS off by more than %g %% on some field row: %d of %d; distortion at the top "
-             "field off by more than %g points: %d." % (SPOT_MAX, len(sp_fail), len(fitted), DIST_MAX, len(dfail)))
+             "field off by more than %g points: %d of the %d where both could be measured."
+             % (SPOT_MAX, len(sp_fail), len(fitted), DIST_MAX, len(dfail), len(dmeas)))
     L.append("")
     L.append("## Lenses")
     L.append("")
