@@ -75,7 +75,7 @@ TESTS    := $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(TEST_SRC)))
 BENCHES  := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/bench_*.c))
 LIB      := $(BUILD)/liblens.a
 
-.PHONY: all deps test check demo bench bench-compare reports figures install fuzz clean man
+.PHONY: all deps test check demo bench bench-compare reports realworld figures install fuzz clean man
 all: $(CMDS) $(TESTS) $(BENCHES) man
 
 # The SYNOPSIS and OPTIONS sections of each command's man page are generated from its
@@ -158,6 +158,12 @@ bench-compare: deps
 reports: deps
 	@$(MAKE) --no-print-directory -j$(shell nproc 2>/dev/null || echo 2) all
 	@$(MAKE) --no-print-directory -f tools/reports.mk BIN=$(BIN) BUILD=$(BUILD)
+
+# The pipeline on the public prescriptions of lenses/realworld (files nobody here wrote):
+# reports/realworld.md (tools/realworld.sh; about 3 min on 2 cores).
+realworld: deps
+	@$(MAKE) --no-print-directory -j$(shell nproc 2>/dev/null || echo 2) all
+	@BIN=$(BIN) tools/realworld.sh $(BUILD)/realworld
 
 # The accuracy report and its pictures from the committed sweeps (reports/cache), no sweep.
 figures:
