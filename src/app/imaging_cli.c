@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "sparselens/cli.h"
+#include "sparselens/escape.h"
 #include "sparselens/paraxial.h"
 
 /* --fields and --wavelengths as lens-spot and the designer commands have them (lens-distort
@@ -179,7 +180,11 @@ void imaging_cli_setup(const imaging_cli *a, const imaging_models *m, double lam
 void imaging_setup_print(table_out *t, const imaging_setup *s, const imaging_models *m)
 {
     if (!t->json) {
-        fprintf(t->f, "# %s: %s\n", m->lens.name[0] ? m->lens.name : "lens", s->text);
+        fputs("# ", t->f);
+        text_line(t->f, m->lens.name[0] ? m->lens.name : "lens");
+        fputs(": ", t->f);
+        text_line(t->f, s->text);
+        fputc('\n', t->f);
         return;
     }
     table_out_keys(t, "setup", NULL);

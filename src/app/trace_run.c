@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sparselens/escape.h"
 #include "sparselens/sampling.h"
 #include "sparselens/trace.h"
 #include "sparselens/clip_pilot.h"
@@ -47,8 +48,12 @@ static int ncols(const trace_args *a)
 
 static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
 {
-    fprintf(f, "# lens-trace %s: lens %s, frame %s", a->lens_path, lens->name[0] ? lens->name : "-",
-            a->target == TRACE_TO_STOP ? "stop" : "outer");
+    /* names from the command line and the lens file, escaped: none forges a line */
+    fputs("# lens-trace ", f);
+    text_line(f, a->lens_path);
+    fputs(": lens ", f);
+    text_line(f, lens->name[0] ? lens->name : "-");
+    fprintf(f, ", frame %s", a->target == TRACE_TO_STOP ? "stop" : "outer");
     if (!a->from_stdin)
         fprintf(f, ", sampling %s, seed %lu, lambda %g:%g um, sensor %gx%g mm",
                 sampling_strategy_name(a->strategy), a->seed, a->lambda_min, a->lambda_max,
@@ -56,7 +61,9 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
     fputc('\n', f);
     /* What lens-fit records in a system, so that the system finds its lens again; the
      * path as given, so that the same command gives the same file anywhere. */
-    fprintf(f, "# lens: %s\n", lens->name[0] ? lens->name : "-");
+    fputs("# lens: ", f);
+    text_line(f, lens->name[0] ? lens->name : "-");
+    fputc('\n', f);
     if (strcmp(a->lens_path, "-") != 0 && !strchr(a->lens_path, '\n'))
         fprintf(f, "# lens-path: %s\n", a->lens_path);
     /* where out_x .. out_v are (--to): lens-fit records it, lens-eval --report and the

@@ -191,3 +191,23 @@ int text_c_prefix_ok(const char *name, const char **why)
         *why = "a name the generated code uses for a variable";
     return *why == NULL;
 }
+
+void text_line(FILE *f, const char *s)
+{
+    text_line_n(f, s, strlen(s));
+}
+
+void text_line_n(FILE *f, const char *s, size_t n)
+{
+    static const char hex[] = "0123456789abcdef";
+    for (const unsigned char *p = (const unsigned char *)s, *e = p + n; p < e; p++) {
+        if (*p < 0x20 || *p == 0x7f) {
+            fputc('\\', f);
+            fputc('x', f);
+            fputc(hex[*p >> 4], f);
+            fputc(hex[*p & 15], f);
+        } else {
+            fputc(*p, f);
+        }
+    }
+}

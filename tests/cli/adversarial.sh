@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# What an adversarial review tried, each answered by a clear one-line error (or a
+# warning where a result is still whole), a non-zero exit and no partial output file;
+# names from input files never forge a line of a text table.
+source "$(dirname "$0")/lib.sh"
+LENS=lenses/dgauss.50mm.lens
+# err_one NAME PATTERN CMD...: non-zero exit, no crash, stderr one line matching PATTERN.
+err_one() {
+  local n=$1 pat=$2; shift 2
+  local err rc
+  err=$(run "$@" 2>&1 >/dev/null); rc=$?
+  if [ $rc -eq 0 ]; then fail "$n" "exit 0"; return; fi
+  if [ $rc -gt 128 ] || grep -qE 'Sanitizer|runtime error' <<<"$err"; then fail "$n" "crashed: $err"; return; fi
+  if [ "$(grep -c '' <<<"$err")" -ne 1 ] || ! grep -qE -- "$pat" <<<"$err"; then
+    fail "$n" "stderr '$err' does not match '$pat'"; return; fi
+  ok "$n"
+}
+# no_ctl NAME FILE: the file holds no control byte but tab and newline.
+no_ctl() {
+  if LC_ALL=C grep -q $'[\x01-\x08\x0b-\x1f\x7f]' "$2"; then
+    fail "$1" "$(LC_ALL=C grep -m1 $'[\x01-\x08\x0b-\x1f\x7f]' "$2" | cat -v)"
+  else ok "$1"; fi
+}
+
+# ---- names from input files in text output: control bytes escaped as \xNN -----------
+# (\r, \v and \f end a line for many readers; ESC drives a terminal)
+{ printf '# name: evil\rname\x0bX\x1b[31mRED\n'; tail -n +2 lenses/simple.lens; } >"$T/evil.lens"
+run $BIN/lens-info "$T/evil.lens" >"$T/info.txt" 2>/dev/null
+no_ctl info_name_escaped "$T/info.txt"
+grep -qF 'name evil\x0dname\x0bX\x1b[31mRED' "$T/info.txt" && ok info_name_shown ||
+  fail info_name_shown "$(grep '^name' "$T/info.txt" | cat -v)"
+run $BIN/lens-spot "$T/evil.lens" --fields 0 >"$T/spot.txt" 2>/dev/null
+no_ctl spot_name_escaped "$T/spot.txt"
+grep -qF '# evil\x0dname\x0bX\x1b[31mRED: f/' "$T/spot.txt" && ok spot_name_shown ||
+  fail spot_name_shown "$(grep evil "$T/spot.txt" | cat -v)"
+run $BIN/lens-trace "$T/evil.lens" -n 2 >"$T/trace.txt" 2>/dev/null
+no_ctl trace_name_escaped "$T/trace.txt"
+[ "$(grep -c '^# lens: evil\\x0dname' "$T/trace.txt")" = 1 ] && ok trace_name_shown ||
+  fail trace_name_shown "$(grep 'lens:' "$T/trace.txt" | cat -v)"
