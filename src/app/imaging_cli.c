@@ -64,7 +64,8 @@ const opt_spec imaging_cli_table[] = {
      .help = "stop the lens down to f-number N (efl over entrance pupil diameter, paraxial, "
              "object at infinity) by scaling the aperture stop's semi-diameter",
      .def = "the lens's own, or the f-number a system records",
-     .man = "A lens opens no wider than its stop allows (an error). A fitted system keeps the\n"
+     .man = "A lens opens no wider than its stop allows, and is stopped down to f/10000 at\n"
+            "most (outside that range an error gives it). A fitted system keeps the\n"
             "aperture it was fitted with; one fitted to samples traced with\n"
             ".B \"lens-trace \\-\\-fnumber\"\n"
             "records that f-number\n"

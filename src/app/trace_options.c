@@ -71,7 +71,8 @@ static const opt_spec trace_table[] = {
      .def = "the lens's own",
      .man = "A comment line of the samples records it\n"
             ".RB ( \"# fnumber: N\" ).\n"
-            "A lens opens no wider than its stop allows (an error).\n"},
+            "A lens opens no wider than its stop allows, and is stopped down to f/10000 at\n"
+            "most (outside that range an error gives it).\n"},
     {0, "threads", "T", OPT_INT, OPT_AT(trace_cli, threads), .lo = 1, .hi = 1024,
      .help = "threads", .def = "all"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(trace_cli, out_path),

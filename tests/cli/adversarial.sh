@@ -37,3 +37,20 @@ run $BIN/lens-trace "$T/evil.lens" -n 2 >"$T/trace.txt" 2>/dev/null
 no_ctl trace_name_escaped "$T/trace.txt"
 [ "$(grep -c '^# lens: evil\\x0dname' "$T/trace.txt")" = 1 ] && ok trace_name_shown ||
   fail trace_name_shown "$(grep 'lens:' "$T/trace.txt" | cat -v)"
+
+# ---- absurd numbers: refused with the accepted range, never nan with exit 0 ------------
+err_one mtf_pixel_range '^lens-mtf: --pixel: must lie in \[0.01, 10000\], not 1e-320$' \
+  $BIN/lens-mtf $LENS --pixel 1e-320
+err_one mtf_through_focus_range '^lens-mtf: --through-focus: must lie in \[1e-06, 100000\], not 1e308$' \
+  $BIN/lens-mtf $LENS --through-focus 1e308
+err_one mtf_focus_range_range '^lens-mtf: --focus-range: must lie in \[1e-06, 1000\]' \
+  $BIN/lens-mtf $LENS --through-focus 10 --focus-range 1e308
+err_one spot_fnumber_range "^lens-spot: $LENS: f/1e\\+308 is outside the accepted range f/2.03 .* to f/10000$" \
+  $BIN/lens-spot $LENS --fnumber 1e308
+err_one trace_fnumber_range "^lens-trace: $LENS: f/1e\\+308 is outside the accepted range" \
+  $BIN/lens-trace $LENS --fnumber 1e308 -n 3
+# the slowest accepted stop still gives numbers: an Airy radius of 1.22 lambda N
+# (awk takes "nan" for a number that is near everything: it is checked apart)
+airy=$(run $BIN/lens-spot $LENS --fnumber 1e4 --fields 0 --wavelengths d 2>/dev/null | awk '$1 == "lens" { print $NF }')
+[[ $airy =~ ^[0-9.]+$ ]] && near "$airy" "$(awk 'BEGIN { print 1.22 * 0.5875618 * 1e4 }')" 1 && ok spot_fnumber_slowest ||
+  fail spot_fnumber_slowest "airy '$airy'"
