@@ -47,7 +47,9 @@ static const opt_spec trace_table[] = {
      "See\n"
      ".BR lens-samples (5).\n"},
     {0, "passing-only", NULL, OPT_FLAG, OPT_AT(trace_cli, passing_only),
-     .help = "write N rays that pass, leaving the blocked ones out"},
+     .help = "write N rays that pass, leaving the blocked ones out",
+     .man = "A lens that passes fewer than one in 1000 of the first 65536 rays traced is\n"
+            "refused before anything is written.\n"},
     {0, "all", NULL, OPT_FLAG, OPT_AT(trace_cli, all),
      .help = "the default (N rays as drawn); kept for old scripts"},
     {0, "stop-columns", NULL, OPT_FLAG, OPT_AT(trace_cli, stop_columns),

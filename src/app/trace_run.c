@@ -197,7 +197,6 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         ray_generator_free(g);
         return -1;
     }
-    samples_write_header(f, (const char *const *)a->names, ncols(a));
     long written = 0;
     size_t next = 0;
     /* A lens that passes almost nothing would loop for ever: give up after 1000 rays
@@ -223,6 +222,24 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
             break;
         }
         next += n;
+        if (next == n) {
+            /* Nothing is written before the first chunk shows that enough rays pass: a
+             * refusal after the header (or after some rows) would leave a sample file
+             * that looks whole on stdout. */
+            size_t pass = 0;
+            for (size_t i = 0; i < n; i++)
+                pass += out[5 * i + 4] > 0;
+            if (!a->all && (double)a->count * (double)n > (double)pass * (double)give_up) {
+                lens_errf(err, a->lens_path, 0, "only %zu of the first %zu traced rays pass "
+                          "the lens, too few for %ld passing rays (at most 1000 traced per "
+                          "ray); check the sensor size, the f-number and the lens",
+                          pass, n, a->count);
+                rc = -1;
+                break;
+            }
+            write_preamble(f, lens, a);
+            samples_write_header(f, (const char *const *)a->names, ncols(a));
+        }
         for (size_t i = 0; i < n && written < a->count; i++) {
             if (!a->all && !(out[5 * i + 4] > 0))
                 continue;
@@ -358,9 +375,12 @@ int trace_run(const trace_cli *o, const lens_t *lens, samples_reader *in, FILE *
     int map[5]; /* a stream's columns before anything is written (stdout has no undo) */
     if ((!a.from_stdin || samples_map(in, stream_columns, 5, map, err) == 0) &&
         (!a.clip_columns || choose_clip(lens, &a, err) == 0) && make_names(&a, err) == 0) {
-        write_preamble(out, lens, &a);
-        rc = a.from_stdin ? filter(lens, &a, in, out, bad_rows, err)
-                          : generate(lens, &a, out, err);
+        if (a.from_stdin) {
+            write_preamble(out, lens, &a);
+            rc = filter(lens, &a, in, out, bad_rows, err);
+        } else {
+            rc = generate(lens, &a, out, err); /* writes the preamble when rays pass */
+        }
     }
     free_names(&a);
     return rc;

@@ -54,3 +54,16 @@ err_one trace_fnumber_range "^lens-trace: $LENS: f/1e\\+308 is outside the accep
 airy=$(run $BIN/lens-spot $LENS --fnumber 1e4 --fields 0 --wavelengths d 2>/dev/null | awk '$1 == "lens" { print $NF }')
 [[ $airy =~ ^[0-9.]+$ ]] && near "$airy" "$(awk 'BEGIN { print 1.22 * 0.5875618 * 1e4 }')" 1 && ok spot_fnumber_slowest ||
   fail spot_fnumber_slowest "airy '$airy'"
+
+# ---- nothing written before an error -----------------------------------------------
+# lens-trace --passing-only through a stop that passes next to nothing: refused before
+# the preamble and the header, on stdout as with -o
+out=$(run $BIN/lens-trace $LENS --passing-only --fnumber 1e4 -n 100 2>"$T/err"); rc=$?
+[ $rc -ne 0 ] && [ -z "$out" ] && grep -q 'only 0 of the first 65536 traced rays pass the lens' "$T/err" &&
+  ok trace_refused_before_output || fail trace_refused_before_output "rc $rc, $(wc -c <<<"$out") bytes on stdout"
+run $BIN/lens-trace $LENS --passing-only --fnumber 1e4 -n 100 -o "$T/few.txt" 2>/dev/null
+[ ! -e "$T/few.txt" ] && ok trace_refused_no_file || fail trace_refused_no_file
+# a stop that passes few rays but enough: the rows all pass
+run $BIN/lens-trace $LENS --passing-only --fnumber 100 -n 50 >"$T/slow.txt" 2>/dev/null &&
+  [ "$(awk '!/^#/ && $10 > 0' "$T/slow.txt" | wc -l)" = 50 ] && ok trace_slow_stop_passes ||
+  fail trace_slow_stop_passes "$(grep -vc '^#' "$T/slow.txt") rows"
