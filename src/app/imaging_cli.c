@@ -92,6 +92,9 @@ void imaging_cli_finish(const char *prog, imaging_cli *a, const char *const *ope
     if (n == 0)
         diag_die(prog, "no lens given (see --help)");
     a->input = operands[0];
+    /* the table goes to stdout: a closed one is refused before any picture is drawn */
+    cli_check_stdout(prog);
+    cli_check_output(prog, a->png);
     lens_err err;
     a->nl = wavelengths_parse(a->wavelengths, a->lambda, IMAGING_MAX_WAVELENGTHS, &err);
     if (a->nl < 0)

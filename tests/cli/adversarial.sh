@@ -67,3 +67,22 @@ run $BIN/lens-trace $LENS --passing-only --fnumber 1e4 -n 100 -o "$T/few.txt" 2>
 run $BIN/lens-trace $LENS --passing-only --fnumber 100 -n 50 >"$T/slow.txt" 2>/dev/null &&
   [ "$(awk '!/^#/ && $10 > 0' "$T/slow.txt" | wc -l)" = 50 ] && ok trace_slow_stop_passes ||
   fail trace_slow_stop_passes "$(grep -vc '^#' "$T/slow.txt") rows"
+# pictures: every output path checked before drawing, and removed when the table on
+# standard output is lost
+err_one layout_svg_unwritable '^lens-layout: /nonexistent/dir/x.svg: cannot write: No such file or directory$' \
+  $BIN/lens-layout $LENS --png "$T/lay.png" --svg /nonexistent/dir/x.svg
+[ ! -e "$T/lay.png" ] && ok layout_svg_unwritable_no_png || fail layout_svg_unwritable_no_png "lay.png left"
+err=$(run $BIN/lens-spot $LENS --png "$T/spot.png" 2>&1 >&-); rc=$?
+[ $rc -eq 1 ] && [ "$err" = "lens-spot: <stdout>: cannot write: Bad file descriptor" ] && [ ! -e "$T/spot.png" ] &&
+  ok spot_stdout_closed_no_png || fail spot_stdout_closed_no_png "rc $rc '$err' $(ls "$T"/spot.png 2>&1)"
+if [ -w /dev/full ]; then
+  for c in "lens-spot --png $T/full.png --exr $T/full.exr" "lens-layout --png $T/full.png --svg $T/full.svg" \
+           "lens-mtf --fields 0 --png $T/full.png" "lens-distort --png $T/full.png"; do
+    set -- $c
+    err=$(run $BIN/$1 $LENS "${@:2}" 2>&1 >/dev/full); rc=$?
+    left=$(ls "$T"/full.* 2>/dev/null)
+    [ $rc -eq 1 ] && grep -qx "$1: <stdout>: write error: No space left on device" <<<"$err" && [ -z "$left" ] &&
+      ok "${1}_stdout_full_no_picture" || fail "${1}_stdout_full_no_picture" "rc $rc '$err' left '$left'"
+    rm -f "$T"/full.*
+  done
+fi
