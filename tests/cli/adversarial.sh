@@ -86,3 +86,19 @@ if [ -w /dev/full ]; then
     rm -f "$T"/full.*
   done
 fi
+
+# ---- systems: values the commands act on are checked where their line is known -------
+P=tests/data/perfect-50mm.poly
+awk '/^pass / {print; print "meta fnumber 0"; next} {print}' $P >"$T/f0.poly"
+line=$(grep -n '^meta fnumber' "$T/f0.poly" | cut -d: -f1)
+err_one poly_meta_fnumber_zero "^lens-spot: $T/f0.poly:$line: meta fnumber '0' is not an f-number > 0$" \
+  $BIN/lens-spot "$T/f0.poly"
+err_one poly_meta_fnumber_eval "^lens-eval: $T/f0.poly:$line: meta fnumber" $BIN/lens-eval "$T/f0.poly" </dev/null
+# "meta passage full" with no pass circle: a claim nothing backs, refused at its line;
+# with the circle the same system is read and shown
+awk '/^pass / {print "meta passage full"; next} {print}' $P >"$T/nopass.poly"
+line=$(grep -n '^meta passage' "$T/nopass.poly" | cut -d: -f1)
+err_one poly_passage_full_no_pass "^lens-spot: $T/nopass.poly:$line: 'meta passage full' but no pass circle" \
+  $BIN/lens-spot "$T/nopass.poly"
+awk '/^pass / {print; print "meta passage full"; next} {print}' $P >"$T/pass.poly"
+run $BIN/lens-spot "$T/pass.poly" >/dev/null 2>&1 && ok poly_passage_full_with_pass || fail poly_passage_full_with_pass
