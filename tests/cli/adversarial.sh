@@ -102,3 +102,31 @@ err_one poly_passage_full_no_pass "^lens-spot: $T/nopass.poly:$line: 'meta passa
   $BIN/lens-spot "$T/nopass.poly"
 awk '/^pass / {print; print "meta passage full"; next} {print}' $P >"$T/pass.poly"
 run $BIN/lens-spot "$T/pass.poly" >/dev/null 2>&1 && ok poly_passage_full_with_pass || fail poly_passage_full_with_pass
+
+# ---- scenes --------------------------------------------------------------------------
+# focus (or fstop) on a fitted .poly camera: refused with the scene's file and line, or
+# with the option that asked
+sed "s|^lens-path tests/|lens-path $TOP/tests/|" $P >"$T/cam.poly"
+printf 'camera cam.poly\nsensor 36 24\nresolution 8 6\nspp 1\nfocus 1000\nplane 0 0 1000 0 0 -1 emit 1\n' >"$T/pf.scene"
+err_one scene_poly_focus_line "^lens-render: $T/pf.scene:5: focus cannot change a fitted .poly camera" \
+  $BIN/lens-render "$T/pf.scene" -q -o "$T/pf.exr"
+sed 's/^focus 1000$/fstop 8/' "$T/pf.scene" >"$T/ps.scene"
+err_one scene_poly_fstop_line "^lens-render: $T/ps.scene:5: fstop cannot change a fitted .poly camera" \
+  $BIN/lens-render "$T/ps.scene" -q -o "$T/pf.exr"
+[ ! -e "$T/pf.exr" ] && ok scene_poly_focus_no_file || fail scene_poly_focus_no_file
+# a coordinate past the documented bound (1e9 mm): refused with its line, no image
+printf 'camera dgauss.50mm\nsensor 36 24\nresolution 8 6\nspp 1\nsphere 0 0 1e160 1 emit 1\n' >"$T/far.scene"
+err_one scene_far_emitter "^lens-render: $T/far.scene:5: position 1e160 mm is outside -1e\\+09 to 1e\\+09 mm$" \
+  $BIN/lens-render "$T/far.scene" -q --exact -o "$T/far.exr"
+[ ! -e "$T/far.exr" ] && ok scene_far_no_file || fail scene_far_no_file
+# --emit-camera onto a full device: the write error and its reason, not a name question
+if [ -w /dev/full ]; then
+  printf 'camera simple.lens\nsensor 36 24\nresolution 8 6\nspp 1\nplane 0 0 1000 0 0 -1 emit 1\n' >"$T/emit.scene"
+  cp lenses/simple.lens "$T/"
+  err=$(run $BIN/lens-render "$T/emit.scene" --emit-camera /dev/full --cache "$T/cache" -q 2>&1); rc=$?
+  [ $rc -ne 0 ] && [ "$err" = "lens-render: /dev/full: write error: No space left on device" ] &&
+    ok render_emit_camera_full || fail render_emit_camera_full "rc $rc '$err'"
+  err=$(run $BIN/lens-render "$T/emit.scene" --emit-camera /nonexistent/dir/cam.c --cache "$T/cache" -q 2>&1); rc=$?
+  [ $rc -ne 0 ] && grep -qx 'lens-render: /nonexistent/dir/cam\.[ch]: cannot write: No such file or directory' <<<"$err" &&
+    ok render_emit_camera_no_dir || fail render_emit_camera_no_dir "rc $rc '$err'"
+fi
