@@ -130,3 +130,11 @@ if [ -w /dev/full ]; then
   [ $rc -ne 0 ] && grep -qx 'lens-render: /nonexistent/dir/cam\.[ch]: cannot write: No such file or directory' <<<"$err" &&
     ok render_emit_camera_no_dir || fail render_emit_camera_no_dir "rc $rc '$err'"
 fi
+
+# ---- a wavelength outside a glass's range: the lens (file and line) and the glass named
+err_one trace_lambda_model_glass \
+  '^lens-trace: .*lenses/simple.lens:8: surface 1: wavelength 0.2 um is outside the range 0.36..1 um of the model glass nd 1.5 vd 54$' \
+  $BIN/lens-trace lenses/simple.lens --lambda 0.2 -n 3
+err_one trace_lambda_catalog_glass \
+  '^lens-trace: .*lenses/lensbaby.lens:9: surface 1: wavelength 0.2 um is outside the range 0.35..2.5 um of glass N-SSK8$' \
+  $BIN/lens-trace lenses/lensbaby.lens --lambda 0.2 -n 3
