@@ -277,7 +277,6 @@ static int filter(const lens_t *lens, const trace_args *a, samples_reader *r, FI
     int map[5];
     if (samples_map(r, stream_columns, 5, map, err) != 0)
         return -1;
-    samples_passthrough(r, (const char *const *)a->names, ncols(a));
     samples_write_filter_header(f, (const char *const *)a->names, ncols(a), r);
     int nc = samples_ncols(r);
     double *vals = malloc((size_t)nc * sizeof *vals);
@@ -374,7 +373,8 @@ int trace_run(const trace_cli *o, const lens_t *lens, samples_reader *in, FILE *
     int rc = -1;
     int map[5]; /* a stream's columns before anything is written (stdout has no undo) */
     if ((!a.from_stdin || samples_map(in, stream_columns, 5, map, err) == 0) &&
-        (!a.clip_columns || choose_clip(lens, &a, err) == 0) && make_names(&a, err) == 0) {
+        (!a.clip_columns || choose_clip(lens, &a, err) == 0) && make_names(&a, err) == 0 &&
+        (!a.from_stdin || samples_passthrough(in, (const char *const *)a.names, ncols(&a), err) >= 0)) {
         if (a.from_stdin) {
             write_preamble(out, lens, &a);
             rc = filter(lens, &a, in, out, bad_rows, err);

@@ -138,3 +138,26 @@ err_one trace_lambda_model_glass \
 err_one trace_lambda_catalog_glass \
   '^lens-trace: .*lenses/lensbaby.lens:9: surface 1: wavelength 0.2 um is outside the range 0.35..2.5 um of glass N-SSK8$' \
   $BIN/lens-trace lenses/lensbaby.lens --lambda 0.2 -n 3
+
+# ---- what a filter writes, the sample reader reads back: at most 64 columns ----------
+run $BIN/lens-trace lenses/simple.lens -n 300 --seed 2 --no-passage-columns 2>/dev/null |
+  run $BIN/lens-fit -q --terms 6 --degree 3 -o "$T/s5.poly" 2>/dev/null
+wide() { # wide N: a ray file of x y u v lambda and N more columns
+  awk -v n="$1" 'BEGIN { h = "# columns: x y u v lambda"; for (i = 0; i < n; i++) h = h " c" i; print h
+    for (r = 0; r < 3; r++) { l = "0.1 0.2 0.01 0.02 0.55"; for (i = 0; i < n; i++) l = l " " i; print l } }'
+}
+wide 59 >"$T/w64.txt"   # 64 columns in: read, but 69 out
+out=$(run $BIN/lens-eval "$T/s5.poly" "$T/w64.txt" 2>"$T/err"); rc=$?
+[ $rc -ne 0 ] && [ -z "$out" ] &&
+  grep -qx "lens-eval: $T/w64.txt:1: the output would have 69 columns (10 written and 59 passed through), more than a sample file holds (64); drop some input columns" "$T/err" &&
+  ok eval_columns_over_limit || fail eval_columns_over_limit "rc $rc $(wc -c <<<"$out") bytes: $(cat "$T/err")"
+out=$(run $BIN/lens-trace lenses/simple.lens - <"$T/w64.txt" 2>"$T/err"); rc=$?
+[ $rc -ne 0 ] && [ -z "$out" ] && grep -q '<stdin>:1: the output would have 71 columns' "$T/err" &&
+  ok trace_columns_over_limit || fail trace_columns_over_limit "rc $rc $(wc -c <<<"$out") bytes: $(cat "$T/err")"
+# 54 extra columns make 64 out: written, and read back (the values through)
+wide 54 >"$T/w59.txt"
+if run $BIN/lens-eval "$T/s5.poly" "$T/w59.txt" >"$T/o64.txt" 2>/dev/null &&
+   [ "$(grep '^# columns:' "$T/o64.txt" | wc -w)" = 66 ] &&
+   run $BIN/lens-eval "$T/s5.poly" "$T/o64.txt" >"$T/o64b.txt" 2>/dev/null &&
+   [ "$(awk '!/^#/ { print $NF }' "$T/o64b.txt" | sort -u)" = 53 ]
+then ok eval_columns_at_limit_read_back; else fail eval_columns_at_limit_read_back; fi
