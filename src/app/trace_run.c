@@ -46,6 +46,15 @@ static int ncols(const trace_args *a)
     return (a->stop_columns ? NCOLS_STOP : NCOLS) + 2 * a->nclip;
 }
 
+/* A path with a control byte is not recorded: escaped, it would name another file. */
+static int has_control(const char *s)
+{
+    for (; *s; s++)
+        if ((unsigned char)*s < 0x20 || *s == 0x7f)
+            return 1;
+    return 0;
+}
+
 static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
 {
     /* names from the command line and the lens file, escaped: none forges a line */
@@ -64,7 +73,7 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
     fputs("# lens: ", f);
     text_line(f, lens->name[0] ? lens->name : "-");
     fputc('\n', f);
-    if (strcmp(a->lens_path, "-") != 0 && !strchr(a->lens_path, '\n'))
+    if (strcmp(a->lens_path, "-") != 0 && !has_control(a->lens_path))
         fprintf(f, "# lens-path: %s\n", a->lens_path);
     /* where out_x .. out_v are (--to): lens-fit records it, lens-eval --report and the
      * commands that show a system check it */

@@ -37,6 +37,15 @@ run $BIN/lens-trace "$T/evil.lens" -n 2 >"$T/trace.txt" 2>/dev/null
 no_ctl trace_name_escaped "$T/trace.txt"
 [ "$(grep -c '^# lens: evil\\x0dname' "$T/trace.txt")" = 1 ] && ok trace_name_shown ||
   fail trace_name_shown "$(grep 'lens:' "$T/trace.txt" | cat -v)"
+# a lens path with a control byte: escaped in comment lines, and not recorded as the
+# samples' lens-path (escaped, it would name another file)
+cp lenses/simple.lens "$T/e"$'\x1b'"x.lens"
+run $BIN/lens-trace "$T/e"$'\x1b'"x.lens" -n 2 >"$T/tpath.txt" 2>/dev/null
+no_ctl trace_path_escaped "$T/tpath.txt"
+grep -q '^# lens-path' "$T/tpath.txt" && fail trace_path_not_recorded "$(grep lens-path "$T/tpath.txt")" ||
+  ok trace_path_not_recorded
+run $BIN/lens-distort "$T/e"$'\x1b'"x.lens" --map "$T/map.txt" >/dev/null 2>&1
+no_ctl distort_map_path_escaped "$T/map.txt"
 
 # ---- absurd numbers: refused with the accepted range, never nan with exit 0 ------------
 err_one mtf_pixel_range '^lens-mtf: --pixel: must lie in \[0.01, 10000\], not 1e-320$' \
