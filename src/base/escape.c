@@ -197,17 +197,22 @@ void text_line(FILE *f, const char *s)
     text_line_n(f, s, strlen(s));
 }
 
-void text_line_n(FILE *f, const char *s, size_t n)
+int text_control_escape(unsigned char c, char out[4])
 {
     static const char hex[] = "0123456789abcdef";
+    if (c >= 0x20 && c != 0x7f)
+        return 0;
+    out[0] = '\\', out[1] = 'x', out[2] = hex[c >> 4], out[3] = hex[c & 15];
+    return 4;
+}
+
+void text_line_n(FILE *f, const char *s, size_t n)
+{
     for (const unsigned char *p = (const unsigned char *)s, *e = p + n; p < e; p++) {
-        if (*p < 0x20 || *p == 0x7f) {
-            fputc('\\', f);
-            fputc('x', f);
-            fputc(hex[*p >> 4], f);
-            fputc(hex[*p & 15], f);
-        } else {
+        char esc[4];
+        if (text_control_escape(*p, esc))
+            fwrite(esc, 1, 4, f);
+        else
             fputc(*p, f);
-        }
     }
 }
