@@ -119,8 +119,11 @@ int imaging_cli_models(imaging_cli *a, imaging_models *models, imaging im[2],
                   "meta fnumber '%s' is not a number", recorded);
         rc = -1;
     }
-    if (rc == 0 && !isnan(fnumber))
-        rc = lens_set_fnumber(&models->lens, fnumber, err);
+    if (rc == 0 && !isnan(fnumber) && (rc = lens_set_fnumber(&models->lens, fnumber, err)) != 0 &&
+        isnan(a->fnumber)) { /* the system's own f-number: it is the file to correct */
+        lens_err e = *err;
+        lens_errf(err, models->sys ? a->input : a->compare, 0, "meta fnumber: %s", e.msg);
+    }
     if (rc != 0) {
         imaging_models_free(models);
         return -1;

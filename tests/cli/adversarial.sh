@@ -103,6 +103,10 @@ line=$(grep -n '^meta fnumber' "$T/f0.poly" | cut -d: -f1)
 err_one poly_meta_fnumber_zero "^lens-spot: $T/f0.poly:$line: meta fnumber '0' is not an f-number > 0$" \
   $BIN/lens-spot "$T/f0.poly"
 err_one poly_meta_fnumber_eval "^lens-eval: $T/f0.poly:$line: meta fnumber" $BIN/lens-eval "$T/f0.poly" </dev/null
+# a recorded f-number the lens cannot take: the system named as the file to correct
+awk '/^pass / {print; print "meta fnumber 1e308"; next} {print}' $P >"$T/fbig.poly"
+err_one poly_meta_fnumber_lens "^lens-spot: $T/fbig.poly: meta fnumber: tests/data/window.lens: f/1e\\+308" \
+  $BIN/lens-spot "$T/fbig.poly"
 # "meta passage full" with no pass circle: a claim nothing backs, refused at its line;
 # with the circle the same system is read and shown
 awk '/^pass / {print "meta passage full"; next} {print}' $P >"$T/nopass.poly"
