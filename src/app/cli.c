@@ -97,11 +97,7 @@ int cli_end_stdout(const char *prog, const char *const *written, int n)
     int code = errno ? errno : EIO;
     /* the table is lost: the pictures of it go too, as any output of a failed run */
     for (int i = 0; i < n; i++)
-        if (written[i] && strcmp(written[i], "-") != 0) {
-            struct stat st;
-            if (stat(written[i], &st) == 0 && S_ISREG(st.st_mode))
-                unlink(written[i]);
-        }
+        outfile_remove(written[i]);
     lens_err err;
     lens_errf(&err, "<stdout>", 0, "write error: %s", strerror(code));
     diag_print(prog, &err);

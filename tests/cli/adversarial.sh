@@ -85,6 +85,13 @@ err=$(run $BIN/lens-spot $LENS --png "$T/spot.png" 2>&1 >&-); rc=$?
 [ $rc -eq 1 ] && [ "$err" = "lens-spot: <stdout>: cannot write: Bad file descriptor" ] && [ ! -e "$T/spot.png" ] &&
   ok spot_stdout_closed_no_png || fail spot_stdout_closed_no_png "rc $rc '$err' $(ls "$T"/spot.png 2>&1)"
 if [ -w /dev/full ]; then
+  # a later picture that fails takes the earlier one with it
+  err_one layout_svg_full_no_png '^lens-layout: /dev/full: write error: No space left on device$' \
+    $BIN/lens-layout $LENS --png "$T/lay.png" --svg /dev/full
+  [ ! -e "$T/lay.png" ] && ok layout_svg_full_png_removed || fail layout_svg_full_png_removed
+  err_one spot_exr_full_no_png '^lens-spot: /dev/full: cannot write: No space left on device$' \
+    $BIN/lens-spot $LENS --png "$T/spot.png" --exr /dev/full
+  [ ! -e "$T/spot.png" ] && ok spot_exr_full_png_removed || fail spot_exr_full_png_removed
   for c in "lens-spot --png $T/full.png --exr $T/full.exr" "lens-layout --png $T/full.png --svg $T/full.svg" \
            "lens-mtf --fields 0 --png $T/full.png" "lens-distort --png $T/full.png"; do
     set -- $c
