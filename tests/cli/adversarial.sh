@@ -181,3 +181,9 @@ if run $BIN/lens-eval "$T/s5.poly" "$T/w59.txt" >"$T/o64.txt" 2>/dev/null &&
    run $BIN/lens-eval "$T/s5.poly" "$T/o64.txt" >"$T/o64b.txt" 2>/dev/null &&
    [ "$(awk '!/^#/ { print $NF }' "$T/o64b.txt" | sort -u)" = 53 ]
 then ok eval_columns_at_limit_read_back; else fail eval_columns_at_limit_read_back; fi
+# every designer command checks its picture path before it writes its table
+for c in spot distort fan field mtf layout; do
+  out=$(run $BIN/lens-$c $LENS --png /nonexistent/dir/x.png 2>"$T/err"); rc=$?
+  [ $rc -eq 1 ] && [ -z "$out" ] && grep -qx "lens-$c: /nonexistent/dir/x.png: cannot write: No such file or directory" "$T/err" &&
+    ok "${c}_png_checked_first" || fail "${c}_png_checked_first" "rc $rc, $(wc -c <<<"$out") bytes: $(cat "$T/err")"
+done
