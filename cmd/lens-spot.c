@@ -20,5 +20,8 @@ int main(int argc, char **argv)
     int rc = spot_cli_run(&o, stdout, stderr, prog, &err);
     if (rc < 0)
         diag_print(prog, &err);
+    const char *written[] = {o.png, o.exr};
+    if (rc >= 0 && cli_end_stdout(prog, written, 2))
+        rc = 1;
     return rc < 0 ? 1 : rc;
 }

@@ -27,6 +27,16 @@ void cli_load_lens(const char *prog, const char *path, const lens_load_options *
  * not lost to a typo in a directory name (outfile_check). */
 void cli_check_output(const char *prog, const char *path);
 
+/* Exits with "prog: <stdout>: cannot write: ..." when standard output is closed or
+ * read-only: for commands that always write a table there, before their pictures. */
+void cli_check_stdout(const char *prog);
+
+/* Flushes standard output at the end of a command: 0, or after a write error says so
+ * ("prog: <stdout>: write error: ...") and removes the n files the command wrote
+ * (regular files only; NULL entries skipped), so that a failed run leaves no output,
+ * and returns 1. */
+int cli_end_stdout(const char *prog, const char *const *written, int n);
+
 /* Exits with "prog: PATH: is also the input FILE: ..." when the output path (an -o FILE)
  * names the same file as the input (symlinks followed): the output replaces its file
  * only when complete, so the run would succeed and the input be lost. NULL or "-" on

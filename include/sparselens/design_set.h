@@ -70,6 +70,7 @@ typedef struct {
     char title[512];            /* the lens's name (or the input's), WHAT, the setup */
     table_out t;
     design_set *set;            /* the job's set, for its warnings */
+    const char *written[2];     /* the pictures the job writes (--png, --svg), or NULL */
 } design_run;
 
 /* Loads the models of a, takes the fields of --fields, or without it the default fields
@@ -83,8 +84,9 @@ void design_run_begin(const char *prog, design_run *r, imaging_cli *a, const out
 /* The end of a designer command whose job returned rc: the setup (when the job
  * succeeded), the set's warnings ("prog: warning: ..." on stderr, and the JSON's
  * "warnings"), the end of the output (valid JSON even after an error), the error on
- * stderr; frees the models. Returns the exit status: 1 after an error, 2 when a model
- * could not image a field, else 0. */
+ * stderr; frees the models. Returns the exit status: 1 after an error (standard output
+ * that cannot be written too: the pictures written are then removed, cli_end_stdout),
+ * 2 when a model could not image a field, else 0. */
 int design_run_end(const char *prog, design_run *r, int rc, const lens_err *err);
 
 #endif

@@ -28,6 +28,17 @@ void text_xml(FILE *f, const char *s);
  * U+2028/U+2029 as \uXXXX; a valid UTF-8 string reads back as itself. */
 void text_json(FILE *f, const char *s);
 
+/* A control byte (below 0x20, or 0x7f) as its escape \xNN into out: returns 4; any
+ * other byte: 0, out untouched. The one rule of text_line and of diag_sanitise. */
+int text_control_escape(unsigned char c, char out[4]);
+
+/* s on one line of text output (a table's cell, a comment line): control bytes, which
+ * would end the line (\n, \r, \v, \f are line breaks to many readers) or drive a
+ * terminal, as \xNN, the escape of diag_sanitise; every other byte as it is. */
+void text_line(FILE *f, const char *s);
+/* The same for the first n bytes of s. */
+void text_line_n(FILE *f, const char *s, size_t n);
+
 /* 1 when name can be the prefix of every symbol a generated C file defines: a C
  * identifier that is not a C or C++ keyword, not reserved (a leading underscore), not
  * a name <math.h> or <stddef.h> declares, and not one of the generated code's own local

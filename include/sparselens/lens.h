@@ -134,7 +134,12 @@ double lens_sag(const lens_surface *s, double h2);      /* sag at h^2 = x^2 + y^
 double lens_sag_slope(const lens_surface *s, double h2);
 int lens_surface_is_aspheric(const lens_surface *s);
 
-/* Scales the stop's semi-diameter so that the paraxial f-number becomes fnumber. */
+/* The slowest f-number a lens is stopped down to: a stop of 1/20000 of the focal length
+ * (2.5 um for 50 mm), past which spots and transfers are of nothing but diffraction and
+ * the stop's radius underflows towards 0 (f/1e308: no ray passes, figures nan). */
+#define LENS_FNUMBER_MAX 1e4
+/* Scales the stop's semi-diameter so that the paraxial f-number becomes fnumber, from
+ * the lens' widest to LENS_FNUMBER_MAX; else -1 with err giving that range. */
 int lens_set_fnumber(lens_t *lens, double fnumber, lens_err *err);
 
 /* Refractive index after each surface (n[i], i < nsurf) at lambda; object space is air.

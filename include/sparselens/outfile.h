@@ -31,5 +31,9 @@ void outfile_abort_write_error(outfile *of, int code, lens_err *err);
 int outfile_tmp_path(const char *path, char *tmp, size_t tmplen);
 int outfile_commit_path(const char *tmp, const char *path, lens_err *err);
 void outfile_discard_path(const char *tmp);
+/* Removes a file that this run wrote in full when a later output of the run failed, so
+ * that a failed run leaves no output: a regular file only (the file a symlink names); a
+ * FIFO, a device or "-" is left alone. */
+void outfile_remove(const char *path);
 
 #endif

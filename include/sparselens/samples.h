@@ -31,11 +31,17 @@ int samples_map(const samples_reader *r, const char *const *names, int n, int *m
  * need finite inputs check them. */
 #define SAMPLES_FAIL (-2)
 int samples_next(samples_reader *r, double *vals, lens_err *err);
+/* The most columns a sample file has (man 5 lens-samples), read or written. */
+#define SAMPLES_MAX_COLS 64
+
 /* Filters carry the columns they do not write through to their output, as GeodSolve and
  * cs2cs pass the rest of a line: the input columns whose names are not among the
  * `written` ones become pass-through columns, taken as text (any token, never parsed;
- * nan in vals) and returned in input order. Returns how many. Call before the first row. */
-int samples_passthrough(samples_reader *r, const char *const *written, int nwritten);
+ * nan in vals) and returned in input order. Returns how many, or -1 with err when the
+ * written and the passed-through columns together are more than SAMPLES_MAX_COLS (an
+ * output no reader takes back). Call before the first row and before writing. */
+int samples_passthrough(samples_reader *r, const char *const *written, int nwritten,
+                        lens_err *err);
 const char *samples_passthrough_name(const samples_reader *r, int k);
 /* The last row's pass-through fields, each with a leading space ("nan" for a field a
  * short row lacks): written to f, or formatted into buf (snprintf-style: returns the

@@ -51,6 +51,7 @@ typedef struct {
     int width, height;     /* pixels */
     double focus;          /* mm in front of the front vertex; INFINITY; NAN = as the lens file has it */
     double fstop;          /* NAN = as the lens file has it */
+    long focus_line, fstop_line; /* their scene lines, for messages; 0 when not given */
     scene_mode mode;
     long spp;
     unsigned long seed;

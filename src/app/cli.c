@@ -4,6 +4,8 @@
 #include "sparselens/lens_cli_options.h"
 #include "sparselens/numparse.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -76,4 +78,36 @@ void cli_check_output(const char *prog, const char *path)
         diag_print(prog, &err);
         exit(1);
     }
+}
+
+void cli_check_stdout(const char *prog)
+{
+    int fl = fcntl(STDOUT_FILENO, F_GETFL);
+    if (fl != -1 && (fl & O_ACCMODE) == O_RDONLY) {
+        fl = -1;
+        errno = EBADF;
+    }
+    if (fl == -1) {
+        lens_err err;
+        lens_errf(&err, "<stdout>", 0, "cannot write: %s", strerror(errno));
+        diag_print(prog, &err);
+        diag_stdout_error_reported();
+        exit(1);
+    }
+}
+
+int cli_end_stdout(const char *prog, const char *const *written, int n)
+{
+    errno = 0;
+    if (fflush(stdout) == 0 && !ferror(stdout))
+        return 0;
+    int code = errno ? errno : EIO;
+    /* the table is lost: the pictures of it go too, as any output of a failed run */
+    for (int i = 0; i < n; i++)
+        outfile_remove(written[i]);
+    lens_err err;
+    lens_errf(&err, "<stdout>", 0, "write error: %s", strerror(code));
+    diag_print(prog, &err);
+    diag_stdout_error_reported();
+    return 1;
 }

@@ -62,10 +62,12 @@ void field_cli_default(field_cli *o)
 static const opt_choice wavefronts[] = {{"path", WAVEFRONT_PATH}, {"rays", WAVEFRONT_RAYS}, {NULL, 0}};
 
 static const opt_spec mtf_table[] = {
-    {0, "pixel", "UM", OPT_POSITIVE, OPT_AT(mtf_cli, pixel_um),
+    {0, "pixel", "UM", OPT_POSITIVE, OPT_AT(mtf_cli, pixel_um), .lo = 0.01, .hi = 10000,
      .help = "the sensor's pixel pitch in um: frequencies end at its Nyquist frequency, "
              "1000 / (2 UM) cycles/mm",
-     .def = "5"},
+     .def = "5",
+     .man = "From 0.01 to 10000 um (Nyquist 50000 to 0.05 cycles/mm); a pitch outside\n"
+            "that range, whose frequencies no lens passes or no sensor has, is refused.\n"},
     {0, "steps", "N", OPT_INT, OPT_AT(mtf_cli, steps), .lo = 1, .hi = 10000,
      .help = "frequency intervals from 0 to Nyquist", .def = "10"},
     {0, "grid", "N", OPT_INT, OPT_AT(mtf_cli, grid), .lo = 8, .hi = 512,
@@ -77,10 +79,13 @@ static const opt_spec mtf_table[] = {
      .help = "the lens's wavefront: optical path lengths, or integrated ray errors as for a "
              "fitted system",
      .def = "path"},
-    {0, "through-focus", "FREQ", OPT_POSITIVE, OPT_AT(mtf_cli, through_focus),
-     .help = "instead: the MTF at FREQ cycles/mm against the sensor plane's shift"},
-    {0, "focus-range", "MM", OPT_POSITIVE, OPT_AT(mtf_cli, focus_range),
-     .help = "through focus from -MM to +MM about the sensor plane", .def = "0.1"},
+    {0, "through-focus", "FREQ", OPT_POSITIVE, OPT_AT(mtf_cli, through_focus), .lo = 1e-6,
+     .hi = 1e5, .help = "instead: the MTF at FREQ cycles/mm against the sensor plane's shift",
+     .man = "FREQ from 1e-6 to 1e5 cycles/mm (no lens passes more; outside the range the\n"
+            "transfer has no meaning and is refused).\n"},
+    {0, "focus-range", "MM", OPT_POSITIVE, OPT_AT(mtf_cli, focus_range), .lo = 1e-6, .hi = 1000,
+     .help = "through focus from -MM to +MM about the sensor plane", .def = "0.1",
+     .man = "MM from 1e-6 to 1000.\n"},
     {0, "focus-steps", "N", OPT_INT, OPT_AT(mtf_cli, focus_steps), .lo = 2, .hi = 10001,
      .help = "planes through focus", .def = "21"},
     {.type = OPT_GROUP, OPT_AT(mtf_cli, im), .group = design_cli_table},

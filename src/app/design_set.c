@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sparselens/cli.h"
 #include "sparselens/ray_bundle.h"
 
 int design_set_focus(design_set *ds, lens_err *err)
@@ -159,6 +160,7 @@ void design_run_begin(const char *prog, design_run *r, imaging_cli *a, const out
     snprintf(r->title, sizeof r->title, "%s  %s  %s",
              r->models.lens.name[0] ? r->models.lens.name : imaging_cli_basename(a), what,
              r->setup.text);
+    r->written[0] = a->png, r->written[1] = NULL;
     output_cli_begin(out, &r->t, stdout, 6);
 }
 
@@ -173,6 +175,8 @@ int design_run_end(const char *prog, design_run *r, int rc, const lens_err *err)
         memcpy(w + nw, r->set->warning, (size_t)r->set->nwarnings * sizeof *w);
         imaging_cli_end_table(&r->t, stderr, prog, w, nw + r->set->nwarnings);
         status = r->set->nwarnings ? 2 : 0; /* the model's warning alone leaves it 0 */
+        if (cli_end_stdout(prog, r->written, 2))
+            status = 1;
     } else {
         table_out_end(&r->t, NULL, 0);
         diag_print(prog, err);

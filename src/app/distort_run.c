@@ -1,5 +1,6 @@
 /* The whole lens-distort job as a library call (see distort_run.h). */
 #include "sparselens/distort_run.h"
+#include "sparselens/escape.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -259,9 +260,11 @@ void distort_report_print(table_out *t, const distort_request *rq, const distort
 void distort_report_write_map(FILE *f, const char *input, const distort_request *rq,
                               const distort_report *rep)
 {
-    fprintf(f, "# grid map of %s: ideal %s image points (f or magnification %.9g) and where the "
+    fputs("# grid map of ", f);
+    text_line(f, input);
+    fprintf(f, ": ideal %s image points (f or magnification %.9g) and where the "
                "chief rays land; nan where none does\n",
-            input, proj_name(rep->mapping), rep->scale);
+            proj_name(rep->mapping), rep->scale);
     fprintf(f, "# columns: model x_ideal_mm y_ideal_mm x_real_mm y_real_mm dx_um dy_um\n");
     for (int m = 0; m < rep->nmodels; m++)
         for (int i = 0; i < rep->grid * rep->grid; i++) {

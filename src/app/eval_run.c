@@ -129,7 +129,8 @@ static int start_output(ctx_t *c, samples_reader *rd, FILE *out, const eval_run_
                         eval_report **rep, lens_err *err)
 {
     if (!opt->report) {
-        samples_passthrough(rd, c->names, c->nin + c->nout);
+        if (samples_passthrough(rd, c->names, c->nin + c->nout, err) < 0)
+            return -1;
         samples_write_filter_header(out, c->names, c->nin + c->nout, rd);
         return 0;
     }

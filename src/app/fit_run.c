@@ -13,6 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "sparselens/escape.h"
 #include "sparselens/lens.h"
 #include "sparselens/numparse.h"
 #include "app/fit_input.h"
@@ -553,8 +554,10 @@ void fit_run_print_summary(FILE *f, const poly_system *sys, const fit_run_stats 
         const char *m = poly_get_meta(sys, key);
         snprintf(key, sizeof key, "part_jump_%s", name);
         const char *jump = poly_get_meta(sys, key);
-        fprintf(f, "lens-fit: %-8s %s%s%s\n", name, m ? m : "", jump ? " largest_part_jump " : "",
-                jump ? jump : "");
+        fputs("lens-fit: ", f); /* a column name of the samples, escaped */
+        text_line(f, name);
+        fprintf(f, "%*s %s%s%s\n", strlen(name) < 8 ? (int)(8 - strlen(name)) : 0, "",
+                m ? m : "", jump ? " largest_part_jump " : "", jump ? jump : "");
     }
     const char *dropped = poly_get_meta(sys, "fit_dropped_circles");
     if (dropped)

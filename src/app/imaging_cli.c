@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "sparselens/cli.h"
+#include "sparselens/escape.h"
 #include "sparselens/file_fields.h"
 #include "sparselens/paraxial.h"
 
@@ -73,7 +74,8 @@ const opt_spec imaging_cli_table[] = {
      .help = "stop the lens down to f-number N (efl over entrance pupil diameter, paraxial, "
              "object at infinity) by scaling the aperture stop's semi-diameter",
      .def = "the lens's own, or the f-number a system records",
-     .man = "A lens opens no wider than its stop allows (an error). A fitted system keeps the\n"
+     .man = "A lens opens no wider than its stop allows, and is stopped down to f/10000 at\n"
+            "most (outside that range an error gives it). A fitted system keeps the\n"
             "aperture it was fitted with; one fitted to samples traced with\n"
             ".B \"lens-trace \\-\\-fnumber\"\n"
             "records that f-number\n"
@@ -100,6 +102,9 @@ void imaging_cli_finish(const char *prog, imaging_cli *a, const char *const *ope
     if (n == 0)
         diag_die(prog, "no lens given (see --help)");
     a->input = operands[0];
+    /* the table goes to stdout: a closed one is refused before any picture is drawn */
+    cli_check_stdout(prog);
+    cli_check_output(prog, a->png);
     lens_err err;
     a->nl = wavelengths_parse(a->wavelengths, a->lambda, IMAGING_MAX_WAVELENGTHS, &err);
     if (a->nl < 0)
@@ -160,8 +165,11 @@ int imaging_cli_models(imaging_cli *a, imaging_models *models, imaging im[2],
                   "meta fnumber '%s' is not a number", recorded);
         rc = -1;
     }
-    if (rc == 0 && !isnan(fnumber))
-        rc = lens_set_fnumber(&models->lens, fnumber, err);
+    if (rc == 0 && !isnan(fnumber) && (rc = lens_set_fnumber(&models->lens, fnumber, err)) != 0 &&
+        isnan(a->fnumber)) { /* the system's own f-number: it is the file to correct */
+        lens_err e = *err;
+        lens_errf(err, models->sys ? a->input : a->compare, 0, "meta fnumber: %s", e.msg);
+    }
     if (rc != 0) {
         imaging_models_free(models);
         return -1;
@@ -225,7 +233,11 @@ void imaging_cli_setup(const imaging_cli *a, const imaging_models *m, double lam
 void imaging_setup_print(table_out *t, const imaging_setup *s, const imaging_models *m)
 {
     if (!t->json) {
-        fprintf(t->f, "# %s: %s\n", m->lens.name[0] ? m->lens.name : "lens", s->text);
+        fputs("# ", t->f);
+        text_line(t->f, m->lens.name[0] ? m->lens.name : "lens");
+        fputs(": ", t->f);
+        text_line(t->f, s->text);
+        fputc('\n', t->f);
         return;
     }
     table_out_keys(t, "setup", NULL);

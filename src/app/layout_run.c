@@ -1,5 +1,6 @@
 /* lens-layout's job (layout_run.h). */
 #include "sparselens/layout_run.h"
+#include "sparselens/outfile.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -84,8 +85,10 @@ int layout_run(layout_request *rq, table_out *out, lens_err *err)
     int rc = 0;
     if (rq->png && layout_write_png(&d, rq->png, rq->width, err) != 0)
         rc = -1;
-    if (rc == 0 && rq->svg && layout_write_svg(&d, rq->svg, err) != 0)
+    if (rc == 0 && rq->svg && layout_write_svg(&d, rq->svg, err) != 0) {
+        outfile_remove(rq->png); /* the run failed: none of its pictures stays */
         rc = -1;
+    }
     layout_free(&d);
     return rc;
 }

@@ -77,7 +77,8 @@ static const opt_spec render_table[] = {
      .man =
      "As the scene's\n"
      ".B fstop\n"
-     "line: the stop's semi-diameter is scaled to that paraxial f-number. Not with a\n"
+     "line: the stop's semi-diameter is scaled to that paraxial f-number, from the lens'\n"
+     "widest to f/10000. Not with a\n"
      ".I .poly\n"
      "camera.\n"},
     {0, "blades", "N", OPT_CALL, OPT_AT(render_cli, run.blades), .set = set_blades,

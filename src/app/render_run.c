@@ -199,9 +199,18 @@ static int load_camera(const render_options *o, render_setup *s, lens_err *err)
     lens_sensor_from_fields(&s->lens, NULL); /* a design file's fields give the sensor */
     if (s->sys) {
         /* a fitted system has its focus and aperture baked in */
+        /* named where it was given: the option, or the scene's line */
+        const char *opt = o->focus > 0 ? "--focus" : o->fstop > 0 ? "--fstop" : NULL;
+        if (opt) {
+            lens_errf(err, NULL, 0, "%s cannot change a fitted .poly camera (%s); give the "
+                      "lens file instead", opt, sc->camera);
+            return -1;
+        }
         if (!isnan(sc->focus) || !isnan(sc->fstop)) {
-            lens_errf(err, sc->path, 0, "focus and fstop (the scene's, --focus, --fstop) "
-                      "cannot change a fitted .poly camera; give the lens file instead");
+            int f = !isnan(sc->focus);
+            lens_errf(err, sc->path, f ? sc->focus_line : sc->fstop_line,
+                      "%s cannot change a fitted .poly camera; give the lens file instead",
+                      f ? "focus" : "fstop");
             return -1;
         }
     } else if (render_lens_setup(&s->lens, sc->focus, sc->fstop, err)) {

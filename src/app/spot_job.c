@@ -1,5 +1,6 @@
 /* lens-spot's job as a whole (spot_cli.h): the models loaded, the fields chosen,
  * spot_run, then the report and the pictures. */
+#include "sparselens/outfile.h"
 #include "sparselens/spot_cli.h"
 
 #include <math.h>
@@ -56,6 +57,7 @@ int spot_cli_run(spot_cli *o, FILE *out, FILE *log, const char *prog, lens_err *
     if (rc == 0 && exr) {
         if (spot_write_exr(&fig, exr, &um_px, &panel, err) != 0) {
             fprintf(log, "%s: %s\n", prog, err->msg);
+            outfile_remove(png); /* the run failed: none of its pictures stays */
             rc = 1;
         } else if (!t.json) {
             fprintf(out, "# exr %s: %d x %d pixel panels (a column per field, a row per model), "

@@ -49,7 +49,9 @@ static const opt_spec trace_table[] = {
      "See\n"
      ".BR lens-samples (5).\n"},
     {0, "passing-only", NULL, OPT_FLAG, OPT_AT(trace_cli, passing_only),
-     .help = "write N rays that pass, leaving the blocked ones out"},
+     .help = "write N rays that pass, leaving the blocked ones out",
+     .man = "A lens that passes fewer than one in 1000 of the first 65536 rays traced is\n"
+            "refused before anything is written.\n"},
     {0, "all", NULL, OPT_FLAG, OPT_AT(trace_cli, all),
      .help = "the default (N rays as drawn); kept for old scripts"},
     {0, "stop-columns", NULL, OPT_FLAG, OPT_AT(trace_cli, stop_columns),
@@ -78,7 +80,8 @@ static const opt_spec trace_table[] = {
      .def = "the lens's own",
      .man = "A comment line of the samples records it\n"
             ".RB ( \"# fnumber: N\" ).\n"
-            "A lens opens no wider than its stop allows (an error).\n"},
+            "A lens opens no wider than its stop allows, and is stopped down to f/10000 at\n"
+            "most (outside that range an error gives it).\n"},
     {0, "threads", "T", OPT_INT, OPT_AT(trace_cli, threads), .lo = 1, .hi = 1024,
      .help = "threads", .def = "all"},
     {'o', "output", "FILE", OPT_STRING, OPT_AT(trace_cli, out_path),

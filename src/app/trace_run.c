@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sparselens/escape.h"
 #include "sparselens/sampling.h"
 #include "sparselens/trace.h"
 #include "sparselens/clip_pilot.h"
@@ -45,10 +46,23 @@ static int ncols(const trace_args *a)
     return (a->stop_columns ? NCOLS_STOP : NCOLS) + 2 * a->nclip;
 }
 
+/* A path with a control byte is not recorded: escaped, it would name another file. */
+static int has_control(const char *s)
+{
+    for (; *s; s++)
+        if ((unsigned char)*s < 0x20 || *s == 0x7f)
+            return 1;
+    return 0;
+}
+
 static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
 {
-    fprintf(f, "# lens-trace %s: lens %s, frame %s", a->lens_path, lens->name[0] ? lens->name : "-",
-            a->target == TRACE_TO_STOP ? "stop" : "outer");
+    /* names from the command line and the lens file, escaped: none forges a line */
+    fputs("# lens-trace ", f);
+    text_line(f, a->lens_path);
+    fputs(": lens ", f);
+    text_line(f, lens->name[0] ? lens->name : "-");
+    fprintf(f, ", frame %s", a->target == TRACE_TO_STOP ? "stop" : "outer");
     if (!a->from_stdin)
         fprintf(f, ", sampling %s, seed %lu, lambda %g:%g um, sensor %gx%g mm",
                 sampling_strategy_name(a->strategy), a->seed, a->lambda_min, a->lambda_max,
@@ -56,8 +70,10 @@ static void write_preamble(FILE *f, const lens_t *lens, const trace_args *a)
     fputc('\n', f);
     /* What lens-fit records in a system, so that the system finds its lens again; the
      * path as given, so that the same command gives the same file anywhere. */
-    fprintf(f, "# lens: %s\n", lens->name[0] ? lens->name : "-");
-    if (strcmp(a->lens_path, "-") != 0 && !strchr(a->lens_path, '\n'))
+    fputs("# lens: ", f);
+    text_line(f, lens->name[0] ? lens->name : "-");
+    fputc('\n', f);
+    if (strcmp(a->lens_path, "-") != 0 && !has_control(a->lens_path))
         fprintf(f, "# lens-path: %s\n", a->lens_path);
     /* where out_x .. out_v are (--to): lens-fit records it, lens-eval --report and the
      * commands that show a system check it */
@@ -190,7 +206,6 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
         ray_generator_free(g);
         return -1;
     }
-    samples_write_header(f, (const char *const *)a->names, ncols(a));
     long written = 0;
     size_t next = 0;
     /* A lens that passes almost nothing would loop for ever: give up after 1000 rays
@@ -216,6 +231,24 @@ static int generate(const lens_t *lens, const trace_args *a, FILE *f, lens_err *
             break;
         }
         next += n;
+        if (next == n) {
+            /* Nothing is written before the first chunk shows that enough rays pass: a
+             * refusal after the header (or after some rows) would leave a sample file
+             * that looks whole on stdout. */
+            size_t pass = 0;
+            for (size_t i = 0; i < n; i++)
+                pass += out[5 * i + 4] > 0;
+            if (!a->all && (double)a->count * (double)n > (double)pass * (double)give_up) {
+                lens_errf(err, a->lens_path, 0, "only %zu of the first %zu traced rays pass "
+                          "the lens, too few for %ld passing rays (at most 1000 traced per "
+                          "ray); check the sensor size, the f-number and the lens",
+                          pass, n, a->count);
+                rc = -1;
+                break;
+            }
+            write_preamble(f, lens, a);
+            samples_write_header(f, (const char *const *)a->names, ncols(a));
+        }
         for (size_t i = 0; i < n && written < a->count; i++) {
             if (!a->all && !(out[5 * i + 4] > 0))
                 continue;
@@ -253,7 +286,6 @@ static int filter(const lens_t *lens, const trace_args *a, samples_reader *r, FI
     int map[5];
     if (samples_map(r, stream_columns, 5, map, err) != 0)
         return -1;
-    samples_passthrough(r, (const char *const *)a->names, ncols(a));
     samples_write_filter_header(f, (const char *const *)a->names, ncols(a), r);
     int nc = samples_ncols(r);
     double *vals = malloc((size_t)nc * sizeof *vals);
@@ -371,10 +403,14 @@ int trace_run(const trace_cli *o, const lens_t *lens, samples_reader *in, FILE *
     int rc = -1;
     int map[5]; /* a stream's columns before anything is written (stdout has no undo) */
     if ((!a.from_stdin || samples_map(in, stream_columns, 5, map, err) == 0) &&
-        (!a.clip_columns || choose_clip(lens, &a, err) == 0) && make_names(&a, err) == 0) {
-        write_preamble(out, lens, &a);
-        rc = a.from_stdin ? filter(lens, &a, in, out, bad_rows, err)
-                          : generate(lens, &a, out, err);
+        (!a.clip_columns || choose_clip(lens, &a, err) == 0) && make_names(&a, err) == 0 &&
+        (!a.from_stdin || samples_passthrough(in, (const char *const *)a.names, ncols(&a), err) >= 0)) {
+        if (a.from_stdin) {
+            write_preamble(out, lens, &a);
+            rc = filter(lens, &a, in, out, bad_rows, err);
+        } else {
+            rc = generate(lens, &a, out, err); /* writes the preamble when rays pass */
+        }
     }
     free_names(&a);
     return rc;

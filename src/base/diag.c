@@ -1,4 +1,5 @@
 #include "sparselens/diag.h"
+#include "sparselens/escape.h"
 
 #include <errno.h>
 #include <stdarg.h>
@@ -9,13 +10,13 @@
 
 void diag_sanitise(char *out, size_t cap, const char *text)
 {
-    static const char hex[] = "0123456789abcdef";
     static const char cut[] = "[...]";
     if (!cap)
         return;
     size_t o = 0;
     for (const unsigned char *p = (const unsigned char *)text; *p; p++) {
-        int control = *p < 0x20 || *p == 0x7f;
+        char esc[4];
+        int control = text_control_escape(*p, esc) != 0;
         size_t need = control ? 4 : 1;
         if (o + need + 1 > cap) {
             if (cap > sizeof cut) {
@@ -26,10 +27,8 @@ void diag_sanitise(char *out, size_t cap, const char *text)
             break;
         }
         if (control) {
-            out[o++] = '\\';
-            out[o++] = 'x';
-            out[o++] = hex[*p >> 4];
-            out[o++] = hex[*p & 15];
+            memcpy(out + o, esc, 4);
+            o += 4;
         } else {
             out[o++] = (char)*p;
         }

@@ -191,3 +191,28 @@ int text_c_prefix_ok(const char *name, const char **why)
         *why = "a name the generated code uses for a variable";
     return *why == NULL;
 }
+
+void text_line(FILE *f, const char *s)
+{
+    text_line_n(f, s, strlen(s));
+}
+
+int text_control_escape(unsigned char c, char out[4])
+{
+    static const char hex[] = "0123456789abcdef";
+    if (c >= 0x20 && c != 0x7f)
+        return 0;
+    out[0] = '\\', out[1] = 'x', out[2] = hex[c >> 4], out[3] = hex[c & 15];
+    return 4;
+}
+
+void text_line_n(FILE *f, const char *s, size_t n)
+{
+    for (const unsigned char *p = (const unsigned char *)s, *e = p + n; p < e; p++) {
+        char esc[4];
+        if (text_control_escape(*p, esc))
+            fwrite(esc, 1, 4, f);
+        else
+            fputc(*p, f);
+    }
+}

@@ -380,3 +380,13 @@ void outfile_abort(outfile *of)
     }
     outfile_free(of);
 }
+
+void outfile_remove(const char *path)
+{
+    struct stat st;
+    if (path && strcmp(path, "-") != 0 && stat(path, &st) == 0 && S_ISREG(st.st_mode)) {
+        char *target = follow_links(path); /* the file written, not a link to it */
+        unlink(target ? target : path);
+        free(target);
+    }
+}

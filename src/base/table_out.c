@@ -69,11 +69,17 @@ static void start(table_out *t, const char *name, const char *note)
             fputc('\n', t->f);
         for (const char *p = note; p && *p;) {
             size_t n = strcspn(p, "\n");
-            fprintf(t->f, "# %.*s\n", (int)n, p);
+            fputs("# ", t->f);
+            text_line_n(t->f, p, n);
+            fputc('\n', t->f);
             p += n + (p[n] == '\n');
         }
         if (t->ntables) /* the first table is the command's main one: "# columns:" first */
-            fprintf(t->f, "# table: %s\n", name);
+        {
+            fputs("# table: ", t->f);
+            text_line(t->f, name);
+            fputc('\n', t->f);
+        }
     }
     t->ntables++, t->nrows = 0, t->ncells = 0, t->in_table = 1;
 }
@@ -88,7 +94,10 @@ void table_out_table(table_out *t, const char *name, const char *note, const cha
     if (!t->json) {
         fputs("# columns:", t->f);
         for (int i = 0; i < ncolumns; i++)
-            fprintf(t->f, " %s", columns[i]);
+        {
+            fputc(' ', t->f);
+            text_line(t->f, columns[i]);
+        }
         fputc('\n', t->f);
     }
 }
@@ -131,7 +140,7 @@ void table_out_str(table_out *t, const char *s)
     if (t->json)
         text_json(t->f, s);
     else
-        fputs(s, t->f);
+        text_line(t->f, s); /* a name from an input file never forges a line */
     t->ncells++;
 }
 

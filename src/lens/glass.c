@@ -175,8 +175,13 @@ double glass_index_unchecked(const glass_t *g, double l)
 int glass_index(const glass_t *g, double l, double *n, lens_err *err)
 {
     if (!(l >= g->lambda_min && l <= g->lambda_max)) {
-        lens_errf(err, NULL, 0, "wavelength %g um is outside the range %g..%g um of %s", l,
-                  g->lambda_min, g->lambda_max, g->name[0] ? g->name : "the glass model");
+        if (g->name[0])
+            lens_errf(err, NULL, 0, "wavelength %g um is outside the range %g..%g um of "
+                      "glass %s", l, g->lambda_min, g->lambda_max, g->name);
+        else /* a glass given by numbers is named by them */
+            lens_errf(err, NULL, 0, "wavelength %g um is outside the range %g..%g um of the "
+                      "model glass nd %.6g vd %.6g", l, g->lambda_min, g->lambda_max, g->nd,
+                      g->vd);
         return -1;
     }
     double v = glass_index_unchecked(g, l);

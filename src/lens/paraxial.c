@@ -143,6 +143,12 @@ int lens_set_fnumber(lens_t *lens, double fnumber, lens_err *err)
                   "f/%g is faster than the lens' widest aperture f/%.3g", fnumber, p.fnumber);
         return -1;
     }
+    if (fnumber > LENS_FNUMBER_MAX) {
+        lens_errf(err, lens->path[0] ? lens->path : NULL, 0,
+                  "f/%g is outside the accepted range f/%.3g (the lens' widest) to f/%g",
+                  fnumber, p.fnumber, LENS_FNUMBER_MAX);
+        return -1;
+    }
     lens->surf[lens->stop].semi_diameter *= p.fnumber / fnumber;
     return 0;
 }

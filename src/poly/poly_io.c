@@ -39,6 +39,7 @@ typedef struct {
     int *exps;       /* one term's exponents */
     int *seen;       /* outputs already given in the current part */
     index_hash meta; /* meta keys given so far */
+    long passage_full_line; /* the line of "meta passage full", 0 without one */
 } rd;
 
 #define FAIL(...)                                                                          \
@@ -368,6 +369,12 @@ static int key_meta(rd *R)
     v += strlen(key);
     while (isspace((unsigned char)*v))
         v++;
+    /* the values the commands act on are checked here, where their line is known */
+    double f;
+    if (strcmp(key, "fnumber") == 0 && (parse_double(v, &f) != 0 || !(f > 0)))
+        FAIL("meta fnumber '%s' is not an f-number > 0", v);
+    if (strcmp(key, "passage") == 0 && strcmp(v, "full") == 0)
+        R->passage_full_line = R->line;
     if (poly_append_meta(R->s, key, v) != 0 || index_hash_add(&R->meta, h, poly_nmeta(R->s) - 1) != 0)
         FAIL("out of memory");
     return 0;
@@ -486,6 +493,13 @@ static int finish(rd *R, poly_system **out)
     R->line--;
     if (poly_nparts(R->s) == 0)
         FAIL("no part: a system needs at least one");
+    /* a claim of full passage with nothing to stop a ray would pass every ray the lens
+     * blocks, and the commands would take it at its word */
+    if (R->passage_full_line && poly_npass_circles(R->s) == 0) {
+        R->line = R->passage_full_line;
+        FAIL("'meta passage full' but no pass circle: a system that models passage has "
+             "pass lines (the stop's at least); else 'meta passage partial: REASON'");
+    }
     if (poly_bulk_end(R->s) != 0)
         FAIL("out of memory");
     *out = R->s;

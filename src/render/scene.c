@@ -374,6 +374,7 @@ static int statement(scene_t *s, line_ctx *c, int *have_camera)
         s->width = (int)a;
         s->height = (int)b;
     } else if (!strcmp(k, "focus")) {
+        s->focus_line = c->line;
         if (c->n == 2 && !strcmp(c->tok[1], "inf")) {
             s->focus = INFINITY;
             return 0;
@@ -384,6 +385,7 @@ static int statement(scene_t *s, line_ctx *c, int *have_camera)
             return -1;
         }
     } else if (!strcmp(k, "fstop")) {
+        s->fstop_line = c->line;
         if (c->n != 2 || num(c, 1, &s->fstop) || !(s->fstop > 0)) {
             if (c->n != 2 || s->fstop <= 0)
                 lens_errf(c->err, c->path, c->line, "fstop takes a number > 0");

@@ -9,7 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SAMPLES_MAX_COLS 64
 #define SAMPLES_MAX_META 32
 
 struct samples_reader {
@@ -351,7 +350,8 @@ int samples_next(samples_reader *r, double *vals, lens_err *err)
     }
 }
 
-int samples_passthrough(samples_reader *r, const char *const *written, int nwritten)
+int samples_passthrough(samples_reader *r, const char *const *written, int nwritten,
+                        lens_err *err)
 {
     r->npass = 0;
     for (int i = 0; i < r->ncols; i++) {
@@ -361,6 +361,14 @@ int samples_passthrough(samples_reader *r, const char *const *written, int nwrit
         r->opaque[i] = !known;
         if (!known)
             r->pass[r->npass++] = i;
+    }
+    /* what a filter writes is a sample file too: one this reader could not read back
+     * would end a pipeline at the next command */
+    if (nwritten + r->npass > SAMPLES_MAX_COLS) {
+        lens_errf(err, display(r), r->line, "the output would have %d columns (%d written and "
+                  "%d passed through), more than a sample file holds (%d); drop some input "
+                  "columns", nwritten + r->npass, nwritten, r->npass, SAMPLES_MAX_COLS);
+        return -1;
     }
     return r->npass;
 }

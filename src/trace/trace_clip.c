@@ -72,9 +72,11 @@ int trace_surfaces_batch(const lens_t *lens, int nsel, const int *surf, size_t c
     for (int k = 0; k < nsel; k++)
         last = surf[k] < last ? surf[k] : last;
     int nth = threads > 0 ? threads : omp_get_max_threads();
-    double bad_lambda = NAN;
+    lens_err bad_err; /* the first bad wavelength's reason: the glass and its range */
+    bad_err.msg[0] = '\0';
 #pragma omp parallel num_threads(nth)
     {
+        lens_err e;
         double *n = malloc(lens->nsurf * sizeof *n), *h = malloc(lens->nsurf * 2 * sizeof *h);
         double lam = NAN, eta;
         int lam_ok = 0;
@@ -91,14 +93,13 @@ int trace_surfaces_batch(const lens_t *lens, int nsel, const int *surf, size_t c
             if (!n || !h)
                 continue;
             if (row[4] != lam) {
-                lens_err e;
                 lam = row[4];
                 lam_ok = lens_indices(lens, lam, n, &e) == 0;
             }
             if (!lam_ok) {
 #pragma omp critical(trace_clip_bad)
                 if (!bad++)
-                    bad_lambda = lam;
+                    bad_err = e;
                 continue;
             }
             trace_unclipped(lens, n, row, last, h, NULL, &eta);
@@ -115,8 +116,7 @@ int trace_surfaces_batch(const lens_t *lens, int nsel, const int *surf, size_t c
         return -1;
     }
     if (bad) {
-        lens_errf(err, NULL, 0, "wavelength %g um is outside the range of a glass of the lens",
-                  bad_lambda);
+        *err = bad_err;
         return -1;
     }
     return 0;

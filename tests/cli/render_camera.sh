@@ -77,4 +77,4 @@ expect_error blades-two "--blades: '2': give 0" "$R" "$T/plain.scene" --blades 2
 run "$R" "$T/plain.scene" --spp 1 -q -o "$T/p.exr" --cache "$T/pc"
 poly=$(ls "$T"/pc/*.poly 2>/dev/null | head -1)
 sed "s|^camera .*|camera $poly|" "$T/plain.scene" >"$T/poly.scene"
-expect_error poly-fstop "--fstop\) cannot change a fitted .poly camera" "$R" "$T/poly.scene" --fstop 4 -o "$T/x.exr"
+expect_error poly-fstop "^lens-render: --fstop cannot change a fitted .poly camera" "$R" "$T/poly.scene" --fstop 4 -o "$T/x.exr"
