@@ -7,8 +7,9 @@ database (CC0), read from a git mirror of it with `git show`; stdlib only.
 GIT_DIR is a clone (bare or not) of github.com/polyanskiy/refractiveindex.info-database.
 The makers' glasses come from database/data/specs/<maker>/optical/<NAME>.yml: their
 "formula 2" (Sellmeier) or "formula 3" (polynomial in lambda^2) coefficients, the
-wavelength range, and the maker's nominal nd and Vd. The optical plastics come from
-named pages elsewhere in the database (PLASTICS below); their pages give no nominal
+wavelength range, and the maker's nominal nd and Vd. The optical plastics, crystals and
+fused silica come from named pages elsewhere in the database (PLASTICS and CRYSTALS
+below); their pages give no nominal
 nd/Vd, so the values printed for them are computed here from the formula.
 
 A glass is skipped, and counted on stderr, when its formula is not one the loader has,
@@ -37,6 +38,17 @@ PLASTICS = [
      ["OPTOREZ1330"]),
     ("NAS-21", "database/data/other/commercial polymers/NAS-21/nk/Sultanova.yml", []),
 ]
+
+# Crystals and fused silica, under Zemax's name for their catalog (MISC), from the
+# database's main pages
+CRYSTALS = [
+    ("SILICA", "database/data/main/SiO2/nk/Malitson.yml", ["FUSED_SILICA", "FUSEDSILICA"]),
+    ("CAF2", "database/data/main/CaF2/nk/Malitson.yml", ["CALCIUM_FLUORIDE"]),
+    ("CAF2-DAIMON-20", "database/data/main/CaF2/nk/Daimon-20.yml", []),
+]
+
+# The groups taken from named pages: vendor line, entries.
+NAMED = [("PLASTIC", PLASTICS), ("MISC", CRYSTALS)]
 
 # Old maker prefixes: an old name X whose maker now sells PREFIX-X.
 SUCCESSOR_PREFIX = {"schott": "N-", "ohara": "S-"}
@@ -87,9 +99,15 @@ def to_agf(page):
     kind, c = page.get("formula"), page.get("coefficients")
     if not c:
         return None
+    if kind == "formula 1" and c[0] == 0 and len(c) % 2 == 1:
+        # the same Sellmeier form with each C_i given unsquared
+        c = [0] + [v * v if i % 2 else v for i, v in enumerate(c[1:])]
+        kind = "formula 2"
     if kind == "formula 2" and c[0] == 0 and len(c) % 2 == 1 and len(c) <= 7:
         k = c[1:] + [0.0] * (7 - len(c))
         return "sellmeier1", k
+    if kind == "formula 2" and c[0] == 0 and len(c) == 9:  # four terms: AGF's Sellmeier 3
+        return "sellmeier3", c[1:]
     if kind == "formula 3" and len(c) % 2 == 1:
         terms = {0: c[0]}
         for i in range(1, len(c), 2):
@@ -105,8 +123,8 @@ def to_agf(page):
 
 def index(formula, k, lam):
     l2 = lam * lam
-    if formula == "sellmeier1":
-        n2 = 1 + sum(k[2 * i] * l2 / (l2 - k[2 * i + 1]) for i in range(3))
+    if formula in ("sellmeier1", "sellmeier3"):
+        n2 = 1 + sum(k[2 * i] * l2 / (l2 - k[2 * i + 1]) for i in range(len(k) // 2))
     else:
         exps = dict(POWER_FORMULAS)[formula]
         n2 = sum(a * lam ** e for a, e in zip(k, exps))
@@ -160,22 +178,23 @@ def main():
         out.append("vendor %s" % vendor.upper())
         out.extend(rows)
         out.extend(aliases)
-    rows, aliases = [], []
-    for name, path, other in PLASTICS:
-        page = parse_page(git(gitdir, "show", "%s:%s" % (commit, path)))
-        formula, k = to_agf(page)
-        lo, hi = page["wavelength_range"]
-        nd = index(formula, k, D)
-        vd = (nd - 1) / (index(formula, k, F) - index(formula, k, C))
-        rows.append("%s %s %s %s %s %.6f %.2f   # %s" % (name, formula,
-                                                         " ".join(fmt(v) for v in k), fmt(lo),
-                                                         fmt(hi), nd, vd, path))
-        aliases.extend("alias %s %s" % (o, name) for o in other)
-    counts["PLASTIC"] = (len(rows), len(aliases))
-    out.append("")
-    out.append("vendor PLASTIC")
-    out.extend(rows)
-    out.extend(aliases)
+    for group, entries in NAMED:
+        rows, aliases = [], []
+        for name, path, other in entries:
+            page = parse_page(git(gitdir, "show", "%s:%s" % (commit, path)))
+            formula, k = to_agf(page)
+            lo, hi = page["wavelength_range"]
+            nd = index(formula, k, D)
+            vd = (nd - 1) / (index(formula, k, F) - index(formula, k, C))
+            rows.append("%s %s %s %s %s %.6f %.2f   # %s" % (name, formula,
+                                                             " ".join(fmt(v) for v in k), fmt(lo),
+                                                             fmt(hi), nd, vd, path))
+            aliases.extend("alias %s %s" % (o, name) for o in other)
+        counts[group] = (len(rows), len(aliases))
+        out.append("")
+        out.append("vendor %s" % group)
+        out.extend(rows)
+        out.extend(aliases)
 
     total = sum(n for n, _ in counts.values())
     print(HEADER.format(commit=commit, total=total,
@@ -198,8 +217,8 @@ HEADER = """\
 # database/data/specs/<maker>/optical/<NAME>.yml, which republish the makers' Zemax
 # catalogs (SCHOTT 2017-01-20b, OHARA 2017-11-30, HOYA, HIKARI from NIKON 2017-11, CDGM,
 # SUMITA): coefficients, wavelength_range, and the makers' nominal nd and Vd.
-# Plastics: the page named on each line; those pages give no nominal values, so their
-# nd and vd are computed from the formula.
+# Plastics (PLASTIC) and crystals and fused silica (MISC): the page named on each line;
+# those pages give no nominal values, so their nd and vd are computed from the formula.
 #
 # {total} glasses ({counts}), {naliases} aliases; {nskipped} pages skipped (a formula
 # the loader lacks, or one that does not give back the maker's nd within 1e-4).

@@ -5,8 +5,8 @@
 # file: a sensor size for lens-trace (and the top field for lens-spot/lens-distort).
 # Sets SENSOR_FLAGS (flags for lens-trace), NEEDS (what the row is marked with, or -),
 # TOP (the top field, deg) and TOP_FROM (where it came from).
-# Rules: a lens with a sensor in its header needs nothing; its top field is half its
-# diagonal field of view. Otherwise the file's largest field (angle, or real image
+# Rules: a lens with a sensor in its header, or fields that imply one (lens-info prints
+# it), needs nothing; its top field is the largest of the commands' default fields. Otherwise the file's largest field (angle, or real image
 # height) gives the image height h of its chief ray, and the sensor is 3:2 with
 # half-diagonal 1.05 h (a margin so that the top field's spot lies inside the data
 # the system is fitted on); a file that states only the axis gets a 1-degree half
@@ -15,6 +15,12 @@ sensor_for() { # FILE INFO_FILE LENS_FILE(lens-info --format lens)
   local f=$1 info=$2 lens=$3 fld typ h deg circ
   SENSOR_FLAGS="" NEEDS=- TOP="" TOP_FROM=""
   if grep -q '^sensor ' "$info"; then
+    # a sensor in the header, or the one the file's fields imply: the commands need no
+    # flag, and the top field is the largest of their default fields (the file's own)
+    TOP=$("$BIN"/lens-spot "$f" --rays 4 2>/dev/null |
+      awk '!/^#/ && $1 == "lens" && $2 + 0 > m { m = $2 + 0 } END { if (m > 0) print m }')
+    TOP_FROM="the commands' default top field"
+    [ -n "$TOP" ] && return
     TOP=$(awk '$1 == "field_of_view_deg" { print $2 / 2 }' "$info")
     TOP_FROM="sensor corner"
     return

@@ -47,6 +47,13 @@ int glass_index(const glass_t *g, double lambda_um, double *n, lens_err *err);
 /* The same without the range check: for hot loops whose wavelengths were checked once. */
 double glass_index_unchecked(const glass_t *g, double lambda_um);
 
+/* A glass from a table of indices at count wavelengths (um), 2 to 64 of them: the Schott
+ * power series least-squares fitted to them (as many terms as points, up to six), valid
+ * over the table's span; *max_residual the largest misfit of an index. -1 when the
+ * table cannot make a glass (an index below 1, a wavelength not positive). */
+int glass_fit_table(const double *lambda_um, const double *index, int count, glass_t *g,
+                    double *max_residual);
+
 glass_t glass_air(void);
 glass_t glass_constant(double nd);
 glass_t glass_from_ndvd(double nd, double vd);

@@ -55,7 +55,8 @@ static int define_surface(seq_state *st, qsurf *q, char **tok, int n, long line,
             q->radius = v;
     }
     if (n > 2) {
-        if (parse_double(tok[2], &v) != 0) {
+        /* "inf" as well as 1e10: other programs that write .seq files (optiland) do */
+        if (import_number(&st->sys, tok, n, 2, line, &v, NULL) != 0) {
             lens_errf(err, st->sys.path, line, "%s: expected a thickness, found '%s'", tok[0], tok[2]);
             return -1;
         }
@@ -82,9 +83,14 @@ static int pwl_at(const seq_state *st, double want)
     return -1;
 }
 
+/* A fitted private glass must give back each tabulated index within this: tables give
+ * four or five decimals. */
+#define PRIVATE_FIT_TOLERANCE 5e-5
+
 /* Inside PRV ... END: "PWL w1 w2 ..." (nm), then "'NAME' n1 n2 ..." per glass. A glass
- * becomes the n_d/V_d model when its indices include the d, F and C lines, a bare n_d
- * when only d; otherwise it is kept with the reason, for the error if it is used. */
+ * of three indices or more is the dispersion formula fitted to them; else it becomes the
+ * n_d/V_d model when its indices include the d, F and C lines, a bare n_d when only d;
+ * otherwise it is kept with the reason, for the error if it is used. */
 static int private_glass(seq_state *st, char **tok, int n, long line, lens_err *err)
 {
     if (import_eq(tok[0], "END")) {
@@ -126,6 +132,34 @@ static int private_glass(seq_state *st, char **tok, int n, long line, lens_err *
     st->nprv++;
     st->prv[k].why[0] = '\0';
     st->prv[k].vd = 0;
+    st->prv[k].tabulated = 0;
+    /* Three indices or more: the formula through them (the d, F and C lines need not be
+     * among them), where it meets every one within what a table's digits say. Only the
+     * indices over the file's wavelengths (WL, read before PRV), and the nearest one past
+     * each end: a table spanning 0.4-1.6 um is rarely smooth enough for one formula, and
+     * the band the lens is used in is what its dispersion must be right over. */
+    double um[SEQ_MAX_PWL], sel[SEQ_MAX_PWL];
+    double wlo = INFINITY, whi = -INFINITY, below = -INFINITY, above = INFINITY;
+    for (int i = 0; i < st->nwl; i++)
+        wlo = fmin(wlo, st->wl[i]), whi = fmax(whi, st->wl[i]);
+    for (int i = 0; i < ni && st->nwl > 0; i++) {
+        if (st->pwl[i] < wlo - 1.0) /* within 1 nm is the line itself (486.1 for F) */
+            below = fmax(below, st->pwl[i]);
+        if (st->pwl[i] > whi + 1.0)
+            above = fmin(above, st->pwl[i]);
+    }
+    int ns = 0;
+    for (int i = 0; i < ni; i++)
+        if (st->nwl == 0 || (st->pwl[i] >= below && st->pwl[i] <= above)) {
+            um[ns] = st->pwl[i] * 1e-3;
+            sel[ns++] = idx[i];
+        }
+    if (ns >= 3 &&
+        glass_fit_table(um, sel, ns, &st->prv[k].glass, &st->prv[k].residual) == 0 &&
+        st->prv[k].residual <= PRIVATE_FIT_TOLERANCE && isfinite(st->prv[k].glass.nd)) {
+        st->prv[k].tabulated = 1;
+        return 0;
+    }
     if (d < 0) {
         snprintf(st->prv[k].why, sizeof st->prv[k].why,
                  "gives no index at the d line (587.56 nm)");
@@ -206,9 +240,13 @@ static int surface_value(seq_state *st, qsurf *cur, char **tok, int n, long line
     }
     if (import_eq(k, "K"))
         return import_number(&st->sys, tok, n, 1, line, &cur->conic, err);
-    if (import_eq(k, "CIR")) { /* CIR [Sk] value; CIR OBS [EDG] value: an obscuration */
-        if (n > 1 && (import_eq(tok[1], "OBS") || import_eq(tok[1], "EDG") || import_eq(tok[1], "HOL"))) {
-            import_skip(&st->sys.skips, "central obscurations (CIR OBS)");
+    if (import_eq(k, "CIR")) { /* CIR [Sk] value; CIR EDG, CIR OBS, CIR HOL value */
+        if (n > 1 && import_eq(tok[1], "EDG")) { /* the mechanical edge, drawn, not a stop */
+            import_skip(&st->sys.skips, "edge apertures (CIR EDG, drawing only)");
+            return 0;
+        }
+        if (n > 1 && (import_eq(tok[1], "OBS") || import_eq(tok[1], "HOL"))) {
+            import_skip(&st->sys.skips, "central obscurations and holes (CIR OBS, CIR HOL)");
             return 0;
         }
         return import_number(&st->sys, tok, n, n > 2 ? 2 : 1, line, &cur->cir, err);
@@ -254,6 +292,12 @@ static int surface_refusal(qsurf *cur, char **tok, int n, long line)
     } else if (import_eq_any(k, breaks)) {
         refuse(cur, line, "has a coordinate break (DAR/BEN/REV/RET); sparselens models centred "
                           "systems only");
+    } else if (import_eq(k, "DIF") && n > 1 && import_eq_any(tok[1], shapes)) {
+        /* DIF DOE, DIF HOE, DIF GRT: a diffractive surface, whose power the lens needs */
+        char why[96];
+        snprintf(why, sizeof why, "is diffractive (DIF %.8s): sparselens models refraction only",
+                 tok[1]);
+        refuse(cur, line, why);
     } else if (import_eq_any(k, shapes)) {
         char why[96];
         snprintf(why, sizeof why, "has surface type %.8s (sparselens reads spheres, conics and "
@@ -493,7 +537,7 @@ static void free_state(void *state)
     free(((seq_state *)state)->s);
 }
 
-static const import_format seq_format = {"CODE V", 0, sizeof(seq_state), read_lines, seq_build,
+static const import_format seq_format = {"CODE V", 1, sizeof(seq_state), read_lines, seq_build,
                                          free_state};
 
 int lens_parse_seq(const char *data, size_t len, const char *path,

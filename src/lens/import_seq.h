@@ -26,6 +26,9 @@ typedef struct {
 typedef struct {
     char name[48];
     double nd, vd; /* vd 0: no F and C indices, a bare index */
+    int tabulated;  /* glass is the formula fitted to the table (glass_fit_table) */
+    glass_t glass;
+    double residual; /* its largest misfit of a tabulated index */
     char why[80];  /* non-empty: cannot be used, and why */
 } seq_private_glass;
 

@@ -91,6 +91,15 @@ static int surface_glass(seq_state *st, import_glass_ctx *gl, const qsurf *q, le
             lens_errf(err, path, q->glass_line, "private glass %s %s", q->glass, g->why);
             return -1;
         }
+        if (g->tabulated) {
+            s->medium = g->glass;
+            snprintf(s->medium.name, sizeof s->medium.name, "%s", q->glass);
+            snprintf(s->material, sizeof s->material, "%s", q->glass);
+            lens_add_note(st->sys.lens, "private glass %s: the Schott formula fitted to its "
+                          "indices over %g-%g um (largest misfit %.2g)", q->glass,
+                          g->glass.lambda_min, g->glass.lambda_max, g->residual);
+            return 0;
+        }
         if (import_glass_model(s, g->nd, g->vd, path, q->glass_line, err) != 0)
             return -1;
         lens_add_note(st->sys.lens, "private glass %s as %s%s", q->glass, s->material,

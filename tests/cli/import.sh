@@ -82,3 +82,36 @@ for bad in "0.6 40" "1e17 40" "1.5 -3"; do
   expect_error "zmx-model-glass-${bad// /_}" "^lens-info: -:$gl: model glass .*(below 1|above 3|Abbe)" \
     sh -c "'$BIN/lens-info' - <'$T/model.zmx'"
 done
+
+# No aperture value but the stop's clear aperture (Zemax FLOA): the stop's semi-diameter
+# is the aperture, and the surfaces without DIAM are sized from it. The Cooke triplet's
+# stop is 3.804553 mm where ENPD 10 puts it: floated by that stop, the entrance pupil
+# lens-info computes is 10 mm again.
+awk '/^ENPD/ { print "FLOA"; next } /^SURF 4/ { s = 1 } /^SURF 5/ { s = 0 }
+     /^  DIAM/ && !s { next } { print }' lenses/cooke-triplet.zmx >$T/floa.zmx
+epd=$(run "$BIN/lens-info" $T/floa.zmx 2>$T/err | value entrance_pupil_diameter)
+if near "$epd" 10 1e-5 && grep -q "semi-diameters not in the file (DIAM), set from paraxial rays (EPD 10 mm" $T/err
+then ok zmx_float_by_stop; else fail zmx_float_by_stop "epd '$epd' $(cat $T/err)"; fi
+
+# CODE V files other programs write: "SO 0 inf" reads as an object at infinity (the
+# singlet's closed-form efl); DIF DOE is refused as diffractive, not skipped; CIR EDG is
+# a drawing edge (noted), not an obscuration.
+sed 's/^SO 0 1e10/SO 0 inf/' $D/singlet.seq >$T/inf.seq
+e=$(run "$BIN/lens-info" $T/inf.seq 2>/dev/null | value efl)
+if near "$e" "$f" 1e-6; then ok seq_so_inf; else fail seq_so_inf "efl '$e', expected $f"; fi
+sed 's/^  CCY 0; THC 0/  DIF DOE/' $D/singlet.seq >$T/doe.seq
+expect_error seq_dif_doe_refused "doe.seq:[0-9]+: surface 1 is diffractive \(DIF DOE\)" run "$BIN/lens-info" $T/doe.seq
+sed 's/^  CCY 0; THC 0/  CIR EDG 6/' $D/singlet.seq >$T/edg.seq
+e=$(run "$BIN/lens-info" $T/edg.seq 2>$T/err | value efl)
+if near "$e" "$f" 1e-6 && grep -q "skipped: edge apertures (CIR EDG, drawing only)" $T/err && ! grep -q "obscuration" $T/err
+then ok seq_cir_edg; else fail seq_cir_edg "efl '$e' $(cat $T/err)"; fi
+
+# Fused silica by its Zemax name (the MISC catalog): the singlet in SILICA has the
+# thick-lens efl of Malitson's n_d (Sellmeier terms of the published fit, here in awk).
+sed 's/^S 50 5 1.5:60/S 50 5 SILICA/' $D/singlet.seq >$T/silica.seq
+n=$(awk 'BEGIN { l = 0.5875618 ^ 2; s = 0.6961663 * l / (l - 0.0684043 ^ 2)
+  s += 0.4079426 * l / (l - 0.1162414 ^ 2); s += 0.8974794 * l / (l - 9.896161 ^ 2)
+  printf "%.12f", sqrt(1 + s) }')
+fs=$(awk -v n="$n" 'BEGIN { c = 1 / 50; printf "%.12f", 1 / ((n - 1) * (2 * c - (n - 1) * 5 * c * c / n)) }')
+e=$(run "$BIN/lens-info" $T/silica.seq 2>/dev/null | value efl)
+if near "$e" "$fs" 1e-6; then ok glass_silica; else fail glass_silica "efl '$e', expected $fs (n_d $n)"; fi

@@ -17,14 +17,13 @@ source tools/realworld-lib.sh
 declare -A XFAIL=(
   [lentil/0015-minolta-fisheye.lens]="lentil's entry gives surface 2 a clear radius (0.82) beyond its radius of curvature (0.8146): the prescription is wrong, the refusal right"
   [optiland/curved_transmission_grating.zmx]="a diffraction grating (TYPE DGRATING): not modelled"
-  [optiland/lens_floa.zmx]="FLOA (aperture floating with the stop's DIAM) is not read: the importer asks for ENPD or FNUM to size the surfaces without DIAM"
+  [ray-optics/CODV_65988.seq]="a diffractive surface (DIF DOE, line 32): not modelled; CODV_65988_noDOE.seq is the same lens without it"
+  [optiland/lens_floa.zmx]="FLOA reads (the stop's DIAM 8.5 is the aperture), but the lens surfaces it leaves without DIAM, sized to that beam, cross at 9.76 mm: the file's singlet is too thin for the beam its stop admits"
   [optiland/lens_thorlabs_iso_8859_1.zmx]="asphere terms r^14, r^16 (PARM 7, 8): the lens model stops at r^12"
-  [optiland/telescope_objective.seq]="SO 0 inf: the word inf as the object distance is not read (then glass CAF2_DAIMON-20 is in no shipped catalog)"
   [optiland/thorlabs_lj1598l1.zmx]="a cylindrical lens (TYPE TOROIDAL): not rotationally symmetric"
   ["ray-optics/354710-C-Zemax(ZMX).zmx"]="glass D-ZK3M (LightPath catalog) is not shipped; --glass-fallback ndvd reads it"
   ["ray-optics/ACL3026U-Zemax(ZMX).zmx"]="glass B270 (Schott catalog entry not shipped; the file's n_d/V_d are placeholders)"
   ["ray-optics/ASL5040-UV-Zemax(ZMX).zmx"]="a Q-type asphere (TYPE QED_TYPE): not modelled"
-  [ray-optics/US05831776-1.zmx]="glass SILICA (MISC catalog) is not shipped; the file's n_d/V_d are placeholders"
   [ray-optics/landscape_lens.seq]="no RDM/CUM line: ray-optics reads the S numbers as curvatures, sparselens (as documented) as radii; with RDM N it imports"
   [ray-optics/singlet.seq]="no RDM/CUM line: ray-optics reads the S numbers as curvatures, sparselens (as documented) as radii; with RDM N it imports"
 )
