@@ -18,8 +18,10 @@ sensor_for() { # FILE INFO_FILE LENS_FILE(lens-info --format lens)
     # a sensor in the header, or the one the file's fields imply: the commands need no
     # flag, and the top field is the largest of their default fields (the file's own)
     TOP=$("$BIN"/lens-spot "$f" --rays 4 2>/dev/null |
-      awk '!/^#/ && $1 == "lens" && $2 + 0 > m { m = $2 + 0 } END { if (m > 0) print m }')
+      awk '!/^#/ && $1 == "lens" { n++; if ($2 + 0 > m) m = $2 + 0 } END { if (n) print m }')
     TOP_FROM="the commands' default top field"
+    # the axis alone in the file: the 1 degree its sensor is made for (lens-trace(1))
+    [ "$TOP" = 0 ] && TOP=1 TOP_FROM="axis only in the file: the 1 deg its sensor is made for"
     [ -n "$TOP" ] && return
     TOP=$(awk '$1 == "field_of_view_deg" { print $2 / 2 }' "$info")
     TOP_FROM="sensor corner"

@@ -76,8 +76,11 @@ one() { # FILE: measure one lens into $OUT/<folder>/<file>/row.tsv
   "$BIN"/lens-spot "$f" --fields "0,$f0,$f1" --compare "$sys" >"$dir/spot.txt" 2>"$dir/spot.err"
   # worst |system / lens - 1| of the spot RMS about the chief ray, pooled rows ("all")
   # shellcheck disable=SC2016
-  local spot_awk='$3 == "all" && ($1 == "lens" || $1 == "poly") { v[$1, $2] = $11; fl[$2] = 1 }
-    END { w = -1; for (x in fl) { l = v["lens", x]; p = v["poly", x]
+  # (a file of one wavelength has no pooled row: its one row is the field's)
+  local spot_awk='!/^#/ && ($1 == "lens" || $1 == "poly") { c[$1, $2]++; one[$1, $2] = $11; fl[$2] = 1 }
+    $3 == "all" && ($1 == "lens" || $1 == "poly") { v[$1, $2] = $11 }
+    END { for (k in c) if (c[k] == 1) v[k] = one[k]
+          w = -1; for (x in fl) { l = v["lens", x]; p = v["poly", x]
             if (l == "" || p == "" || l == "nan" || p == "nan" || l + 0 == 0) continue
             e = p / l - 1; a = e < 0 ? -e : e; if (a > w) { w = a; we = e; wf = x } }
           if (w < 0) print "-\t-"; else printf "%+.3g\t%s\n", 100 * we, wf }'

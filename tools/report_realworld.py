@@ -95,14 +95,15 @@ def main():
     L.append("- `lens-distort FILE --fields 0,T --compare SYSTEM`: distortion (%) at the top field T, "
              "lens and system.")
     L.append("")
-    L.append("T is the file's top field. Where a command still needs a flag for an imported file "
-             "(lens-trace needs a sensor size for a .zmx or .seq), tools/realworld.sh supplies it from "
-             "what lens-info prints, in one function (`sensor_for`), and the row is marked "
-             "\"needs --sensor\": a 3:2 sensor whose half-diagonal is 1.05 times the image height of "
-             "the chief ray at the file's largest field (angle or real image height); a file that "
-             "gives only the axis gets a 1° half field; a file with no field (some lentil entries) "
-             "a sensor inside 0.9 of its image circle. Mirror systems are refused by the importers "
-             "on purpose and listed apart.")
+    L.append("T is the file's top field: the largest of the fields the commands take by default "
+             "(the file's own, else those of its sensor). A file that states fields or a sensor "
+             "needs no flag: lens-trace takes the sensor the largest field implies (lens-trace(1)). "
+             "A file that states neither (only the axis, or no field at all: some lentil entries, "
+             "some vendors' single lenses) still needs a sensor; tools/realworld.sh gives one in "
+             "one function (`sensor_for`), and the row is marked \"needs --sensor\": 3:2, its "
+             "half-diagonal 1.05 times the image height of a 1° chief ray for an axis-only file, "
+             "else inside 0.9 of the image circle. Mirror systems are refused by the importers on "
+             "purpose and listed apart.")
     L.append("")
     L.append("Command: `make realworld` (tools/realworld.sh, %s lenses at a time on a shared 2-core "
              "machine, %s s in all; fit times are wall-clock under that load). Date: %s."

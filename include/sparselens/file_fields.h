@@ -18,7 +18,8 @@ int lens_file_fields(const lens_t *lens, double object_distance, double *field, 
 /* Without a sensor size, the one the file's largest field implies: 3:2, its corner 3 %
  * beyond where that field's chief ray lands (as a 36x24 sensor's corner is the edge of
  * a 21.6 mm image circle), so that a system fitted over it images that field.
- * 1 when set, 0 when the lens has a sensor or the file no field off the axis, -1 with
- * err set when the largest field images nowhere. */
+ * A file that states the axis alone gets the sensor of a 1 degree half field. 1 when
+ * set, 0 when the lens has a sensor or the file no field, -1 with err set when the
+ * largest field images nowhere. */
 int lens_sensor_from_fields(lens_t *lens, lens_err *err);
 #endif

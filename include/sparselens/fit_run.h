@@ -23,6 +23,14 @@ typedef struct {
 poly_system *fit_run(const fit_cli *o, samples_reader *in, FILE *log, fit_run_stats *st,
                      lens_err *err);
 
+/* Position errors past this (mm, held out) are visible in a spot diagram through the
+ * system: a micrometre, the corpus target for every lens (reports/realworld.md). */
+#define FIT_TERM_BUDGET_MM 1e-3
+
+/* 1, with the warning in msg, when out_x or out_y used every one of max_terms terms and
+ * still misses FIT_TERM_BUDGET_MM held out: a lens the default budget does not follow. */
+int fit_run_term_budget(const poly_system *sys, int max_terms, char *msg, size_t n);
+
 /* The summary after a fit: samples, parts and time, then a line per output (its terms,
  * degree and held-out error, as the system's meta lines record them). */
 void fit_run_print_summary(FILE *f, const poly_system *sys, const fit_run_stats *st);

@@ -9,6 +9,9 @@
 #include "sparselens/field_of_view.h"
 #include "sparselens/paraxial.h"
 
+/* The half field (degrees) of the sensor of a file that states only the axis. */
+#define AXIS_ONLY_FIELD 1.0
+
 /* How far past the largest field the sensor corner lies, as a fraction of its radius. */
 #define FIELD_MARGIN 0.03
 
@@ -92,8 +95,15 @@ int lens_sensor_from_fields(lens_t *lens, lens_err *err)
         return 0;
     double field[LENS_MAX_FIELDS];
     int k = lens_file_fields(lens, INFINITY, field, LENS_MAX_FIELDS, err);
-    if (k <= 0 || !(field[k - 1] > 0))
-        return k < 0 ? -1 : 0;
+    if (k < 0)
+        return -1;
+    /* A file that states the axis alone (a telescope objective, a laser lens) is used
+     * on and about the axis: a sensor for a small field about it, AXIS_ONLY_FIELD. */
+    int axis_only = k > 0 && !(field[k - 1] > 0);
+    if (axis_only)
+        field[k - 1] = AXIS_ONLY_FIELD; /* the top field; the axis stays in the file */
+    if (k <= 0)
+        return 0;
     double *n = malloc(sizeof(double) * lens->nsurf), lambda;
     if (!n || indices_at_primary(lens, n, &lambda, err) != 0) {
         if (!n)
@@ -104,7 +114,7 @@ int lens_sensor_from_fields(lens_t *lens, lens_err *err)
     /* The image radius of the largest field: where its real chief ray lands, the height
      * itself for real image heights. */
     double top = field[k - 1], r = NAN;
-    for (int i = 0; i < lens->nfields && lens->field_kind == LENS_FIELD_REAL_IMAGE_HEIGHT; i++)
+    for (int i = 0; i < lens->nfields && !axis_only && lens->field_kind == LENS_FIELD_REAL_IMAGE_HEIGHT; i++)
         r = fmax(isnan(r) ? 0 : r, hypot(lens->field_x[i], lens->field_y[i]));
     if (isnan(r)) {
         imaging im = {.lens = lens, .object_distance = INFINITY};

@@ -564,3 +564,29 @@ void fit_run_print_summary(FILE *f, const poly_system *sys, const fit_run_stats 
         fprintf(f, "lens-fit: dropped pass circles (rays they alone block; --keep-circles "
                    "keeps them): %s\n", dropped);
 }
+
+int fit_run_term_budget(const poly_system *sys, int max_terms, char *msg, size_t n)
+{
+    double worst = 0;
+    const char *which = NULL;
+    for (int o = 0; o < poly_noutputs(sys); o++) {
+        const char *name = poly_output_name(sys, o);
+        if (strcmp(name, "out_x") != 0 && strcmp(name, "out_y") != 0)
+            continue;
+        char key[64];
+        snprintf(key, sizeof key, "fit_%s", name);
+        const char *m = poly_get_meta(sys, key);
+        int terms, degree;
+        double rms;
+        if (m && sscanf(m, "terms %d degree %d holdout_rms %lf", &terms, &degree, &rms) == 3 &&
+            terms >= max_terms && rms > worst)
+            worst = rms, which = name;
+    }
+    if (!which || !(worst > FIT_TERM_BUDGET_MM))
+        return 0;
+    snprintf(msg, n, "held-out RMS error of %s is %.3g um with all %d terms: the lens needs "
+                     "more (--terms %d follows it more closely, at more time per ray; "
+                     "lens-fit(1), ACCURACY)",
+             which, worst * 1000, max_terms, max_terms < 50 ? 100 : 2 * max_terms);
+    return 1;
+}

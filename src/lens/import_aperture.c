@@ -46,23 +46,6 @@ static double top_field_angle(const lens_t *lens, double efl)
     }
 }
 
-/* A paraxial height can lie past the rim a steep surface has (a hemisphere's radius):
- * no real ray gets there, and the surface ends at its rim. */
-static double within_reach(const lens_surface *s, double sd)
-{
-    if (!isnan(lens_sag(s, sd * sd)))
-        return sd;
-    double lo = 0, hi = sd;
-    for (int i = 0; i < 60; i++) {
-        double m = 0.5 * (lo + hi);
-        if (isnan(lens_sag(s, m * m)))
-            hi = m;
-        else
-            lo = m;
-    }
-    return lo;
-}
-
 int import_size_apertures(lens_t *lens, const int *missing, double epd_mm, double fno,
                           const char *key, const char *aperture_keys, lens_err *err)
 {
@@ -118,8 +101,7 @@ int import_size_apertures(lens_t *lens, const int *missing, double epd_mm, doubl
     double y0 = yb[stop] != 0 ? -ya[stop] / yb[stop] : 0;
     for (size_t i = 0; i < ns; i++)
         if (missing[i])
-            lens->surf[i].semi_diameter = within_reach(&lens->surf[i],
-                                                       fabs(ym[i]) + fabs(ya[i] + y0 * yb[i]));
+            lens->surf[i].semi_diameter = fabs(ym[i]) + fabs(ya[i] + y0 * yb[i]);
     lens_add_note(lens, "%d semi-diameter%s not in the file (%s), set from paraxial rays "
                         "(EPD %g mm, field %g deg)",
                   k, k > 1 ? "s" : "", key, epd, field);

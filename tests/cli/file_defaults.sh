@@ -66,3 +66,13 @@ then ok spot_outside_domain_is_nan; else fail spot_outside_domain_is_nan "rc=$rc
 run $BIN/lens-spot $Z --compare $T/c.poly --fields 0 --wavelengths 0.75 --rays 20 >$T/sw.txt 2>$T/err.txt; rc=$?
 if [ $rc -eq 2 ] && grep -q "0.75 um lies outside the system's training wavelengths" $T/err.txt
 then ok spot_outside_band_is_nan; else fail spot_outside_band_is_nan "rc=$rc $(cat $T/err.txt)"; fi
+
+# A file that states the axis alone gets the sensor of a 1 degree half field (its corner
+# 3 % past the 1 degree chief ray), and its one field is the analyses' default.
+sed -e 's/^FTYP .*/FTYP 0 0 1 3 0 0 0/' -e 's/^XFLN .*/XFLN 0/' -e 's/^YFLN .*/YFLN 0/' $Z >$T/axis.zmx
+run $BIN/lens-distort $Z --fields 1 --illum-rays 0 >$T/d1.txt 2>/dev/null
+s=$(run $BIN/lens-info $T/axis.zmx 2>/dev/null | value sensor) h=$(awk '$1 == "lens" && $2 == 1 { print $3 }' $T/d1.txt)
+if [ -n "$s" ] && [ -n "$h" ] &&
+   awk -v s="$s" -v h="$h" 'BEGIN { split(s, p, "x"); r = sqrt(p[1]^2 + p[2]^2) / 2; exit !((r / (1.03 * h) - 1)^2 < 1e-8) }' &&
+   [ "$(run $BIN/lens-spot $T/axis.zmx --rays 20 2>/dev/null | awk '!/^#/ { print $2 }' | sort -u)" = 0 ]
+then ok file_axis_only_sensor; else fail file_axis_only_sensor "sensor '$s' chief height at 1 deg '$h'"; fi

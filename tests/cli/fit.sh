@@ -163,3 +163,15 @@ if ${CC:-cc} -std=c99 -O2 -Wall -Werror $T/fr.c tests/data/emitted_main.c -DLENS
 else
   fail fit_frame_emit_c "$(head -3 $T/cc.err)"
 fi
+
+# A lens the term budget does not follow is said, not left to the held-out numbers: a
+# warning when out_x or out_y uses every term and still misses 1 um held out (lens-fit(1),
+# ACCURACY); none when the budget suffices.
+run $BIN/lens-trace lenses/dgauss.50mm.lens -n 4000 --seed 3 -o $T/budget.txt 2>/dev/null
+run $BIN/lens-fit -q --terms 3 $T/budget.txt -o $T/b3.poly 2>$T/b3.err
+run $BIN/lens-fit -q $T/budget.txt -o $T/b40.poly 2>$T/b40.err
+r3=$(awk '/^meta fit_out_x/ { for (i = 1; i < NF; i++) if ($i == "holdout_rms") print $(i + 1) * 1000 }' $T/b3.poly)
+r40=$(awk '/^meta fit_out_x/ { for (i = 1; i < NF; i++) if ($i == "holdout_rms") print $(i + 1) * 1000 }' $T/b40.poly)
+if grep -q "^lens-fit: warning: held-out RMS error of out_[xy] is [0-9.e+]* um with all 3 terms: the lens needs more (--terms 100" $T/b3.err &&
+   awk -v a="$r3" -v b="$r40" 'BEGIN { exit !(a > 1 && b < 1) }' && ! grep -q "held-out RMS error" $T/b40.err
+then ok fit_term_budget_warning; else fail fit_term_budget_warning "3 terms ${r3} um, 40 terms ${r40} um: $(cat $T/b3.err $T/b40.err)"; fi
