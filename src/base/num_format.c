@@ -49,13 +49,37 @@ static size_t layout(char *b, const char *d, int n, int e, int neg, int prec)
     return k;
 }
 
+/* Whether v's exact decimal expansion may end at its 18th significant digit (a tie at
+ * 17 digits): v = M 2^-k with M odd ends k digits after the point, in a 5, and M 5^k
+ * holds its significant digits, so only 10^17 <= M 5^k < 10^18 can be one. Exact, and
+ * far cheaper than the 18-digit conversion that would tell (double-conversion has no
+ * fast path past 17 digits). */
+static int maybe_tie(double v)
+{
+    int e;
+    double f = frexp(fabs(v), &e);
+    unsigned long long m = (unsigned long long)ldexp(f, 53);
+    int k = 53 - e;
+    if (m == 0)
+        return 0;
+    while (!(m & 1)) /* M odd */
+        m >>= 1, k--;
+    if (k <= 0 || k > 26) /* an integer: M < 2^53 has 16 digits; 5^27 > 10^18 */
+        return 0;
+    unsigned __int128 x = m;
+    for (int i = 0; i < k; i++)
+        x *= 5;
+    const unsigned __int128 e17 = (unsigned __int128)100000000000000000ULL;
+    return x >= e17 && x < e17 * 10;
+}
+
 /* v's digits correctly rounded to 17, ties to even as printf (double-conversion rounds
  * a tie up). A tie is a value whose exact expansion ends at digit 18 with a 5. */
 static int seventeen(double v, char *d, int *point, int *neg)
 {
     char d18[24], exact[128];
     int p18, n = numtext_digits(v, 17, d, point, neg);
-    if (numtext_digits(v, 18, d18, &p18, neg) != 18 || d18[17] != '5')
+    if (!maybe_tie(v) || numtext_digits(v, 18, d18, &p18, neg) != 18 || d18[17] != '5')
         return n;
     int pw;
     if (numtext_digits(v, 120, exact, &pw, neg) != 18 || (d18[16] - '0') % 2 != 0)
@@ -102,6 +126,10 @@ size_t numtext_format(double v, char *buf)
      * otherwise %.17g's, correctly rounded. */
     if (v != 0 && fabs(v) < DBL_MIN) /* a subnormal: few bits, so more decimals fit */
         return subnormal(buf, v);
+    /* 17 shortest digits are the closest 17-digit decimal to v, which is %.17g's but
+     * for a tie (printf's even digit against the closest's either) */
+    if (n == 17 && !maybe_tie(v))
+        return layout(buf, d, n, point - 1, neg, 17);
     if (n > 15)
         return layout(buf, d, seventeen(v, d, &point, &neg), point - 1, neg, 17);
     return layout(buf, d, n, v == 0 ? 0 : point - 1, neg, 15);

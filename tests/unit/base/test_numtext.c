@@ -63,6 +63,20 @@ static void writer_is_printf_on_edges(void **state)
     long bad = 0;
     for (size_t i = 0; i < sizeof edges / sizeof *edges; i++)
         bad += mismatches(edges[i]);
+    /* every kind of 17-digit tie: M 2^-k (M odd) whose exact expansion M 5^k has 18
+     * digits, the smallest, middle and largest M of each k below 2^53 */
+    for (int k = 1; k <= 26; k++) {
+        double p5 = pow(5, k), lo = ceil(1e17 / p5), hi = floor((1e18 - 1) / p5);
+        double ms[3] = {lo, floor((lo + hi) / 2), hi};
+        for (int j = 0; j < 3; j++) {
+            double m = ms[j];
+            if (fmod(m, 2) == 0)
+                m += 1;
+            if (m >= 9007199254740992.0 || m > hi)
+                continue;
+            bad += mismatches(ldexp(m, -k)) + mismatches(-ldexp(m, -k));
+        }
+    }
     for (int e = -330; e <= 310; e++) /* every power of ten, and its neighbours */
         for (int k = -2; k <= 2; k++) {
             double p = pow(10, e);
