@@ -70,8 +70,11 @@ if [ -n "$report" ]; then
     echo "  trace_fisheye-ii_1thread_ns_per_ray of reports/bench.md (the exact tracer alone) for"
     echo "  what the text costs."
     echo "- pipe_eval: lens-eval SYSTEM FILE > /dev/null, per ray: reading the rows, evaluating"
-    echo "  the system, writing its outputs; report_only reads and evaluates but writes only the"
-    echo "  summary. Beside poly_batch_ns_per_ray of reports/bench.md (the evaluation alone)."
+    echo "  the system, writing its outputs; report_only is lens-eval --report, which writes no"
+    echo "  rows but gathers the error and passage tables. Beside poly_batch_ns_per_ray of"
+    echo "  reports/bench.md (the evaluation alone)."
+    echo "- numbers are written as the shortest text that reads back (%.15g, else %.17g, byte"
+    echo "  for byte) by double-conversion, and read by fast_float (src/base/numtext.cpp)"
     echo "- the 1- and 2-thread files are compared byte for byte (a message says when they differ)."
   } >"$report"
   echo "bench-pipes: wrote $report" >&2

@@ -79,6 +79,10 @@ for cmd in lens-spot lens-distort lens-mtf; do
   printf 'bench %s_fisheye-ii_lens_cpu_s %s s\nbench %s_fisheye-ii_poly_cpu_s %s s\n' "$name" "$best_l" "$name" "$best_p" | tee -a "$out"
 done
 
+# A ray through the pipes a user times (lens-trace writing, lens-eval reading and
+# writing text), against the kernels above: tools/bench-pipes.sh.
+BIN=$BIN tools/bench-pipes.sh 200000 3 2>/dev/null | tee -a "$out"
+
 val() { awk -v k="$1" '$1 == "bench" && $2 == k { print $3; exit }' "$out"; }
 ratio() { # NAME NUMERATOR DENOMINATOR: how many times DENOMINATOR's time NUMERATOR's is
   local a b; a=$(val "$2"); b=$(val "$3")
