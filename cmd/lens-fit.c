@@ -59,9 +59,12 @@ int main(int argc, char **argv)
     } else if (outfile_commit(of, &err) != 0) {
         rc = 1;
     }
+    char budget[256]; /* after the output, as one line that does not hide an error */
     if (rc)
         diag_print(prog, &err);
-    else if (!o.quiet)
+    else if (fit_run_term_budget(sys, o.fit.max_terms, budget, sizeof budget))
+        fprintf(stderr, "%s: warning: %s\n", prog, budget);
+    if (!rc && !o.quiet)
         fit_run_print_summary(stderr, sys, &st);
     poly_free(sys);
     return rc;

@@ -38,6 +38,9 @@ typedef struct {
     double nd, vd;               /* nominal values (vd = 0 when not dispersive) */
     double coef[GLASS_MAX_COEF];
     double lambda_min, lambda_max; /* valid range, um */
+    int embedded;                /* of no catalog (a glass the design file defined, as a
+                                    CODE V private glass): a lens file written with it
+                                    carries its data ("# glass:" lines, lens(5)) */
 } glass_t;
 
 /* Refractive index at lambda (um). 0 on success; -1 when lambda is outside the
@@ -53,6 +56,13 @@ double glass_index_unchecked(const glass_t *g, double lambda_um);
  * table cannot make a glass (an index below 1, a wavelength not positive). */
 int glass_fit_table(const double *lambda_um, const double *index, int count, glass_t *g,
                     double *max_residual);
+
+/* One glass as a line of the .catalog format, "name formula c1 .. cN lambda_min
+ * lambda_max nd vd" (lens(5), GLASS CATALOG): parsed (line is cut into words; 0, or -1
+ * with err naming path:lineno) and written (every number to read back exactly). */
+int glass_parse_catalog_line(char *line, const char *path, long lineno, glass_t *g,
+                             lens_err *err);
+void glass_format_catalog_line(const glass_t *g, char *buf, size_t n);
 
 glass_t glass_air(void);
 glass_t glass_constant(double nd);

@@ -366,8 +366,8 @@ static int formula_from_token(const char *t)
     return 0;
 }
 
-static int parse_catalog_line(char *line, const char *path, long lineno, glass_t *g,
-                              lens_err *err)
+int glass_parse_catalog_line(char *line, const char *path, long lineno, glass_t *g,
+                             lens_err *err)
 {
     char *tok[GLASS_MAX_COEF + 8];
     int nt = 0;
@@ -546,7 +546,7 @@ static int load_text_catalog(glass_catalog *cat, FILE *f, const char *path, lens
             continue;
         }
         glass_t g;
-        if (parse_catalog_line(p, path, lr.line, &g, err) != 0 ||
+        if (glass_parse_catalog_line(p, path, lr.line, &g, err) != 0 ||
             add_named(cat, &names, &g, path, lr.line, err) != 0)
             goto out;
     }
@@ -632,4 +632,15 @@ const char *glass_default_catalog_path(void)
     if (env && *env)
         return readable(env) ? env : NULL;
     return data_shipped_file("lenses", "glass.catalog", buf, sizeof buf) == 0 ? buf : NULL;
+}
+
+void glass_format_catalog_line(const glass_t *g, char *buf, size_t n)
+{
+    int nc = glass_formula_ncoef(g->formula);
+    size_t o = (size_t)snprintf(buf, n, "%s %s", g->name, formula_keyword[g->formula]);
+    double v[GLASS_MAX_COEF + 4];
+    memcpy(v, g->coef, (size_t)nc * sizeof *v);
+    v[nc] = g->lambda_min, v[nc + 1] = g->lambda_max, v[nc + 2] = g->nd, v[nc + 3] = g->vd;
+    for (int i = 0; i < nc + 4 && o < n; i++)
+        o += (size_t)snprintf(buf + o, n - o, " %.17g", v[i]);
 }

@@ -93,6 +93,7 @@ static int surface_glass(seq_state *st, import_glass_ctx *gl, const qsurf *q, le
         }
         if (g->tabulated) {
             s->medium = g->glass;
+            s->medium.embedded = 1; /* in no catalog: a lens file written carries it */
             snprintf(s->medium.name, sizeof s->medium.name, "%s", q->glass);
             snprintf(s->material, sizeof s->material, "%s", q->glass);
             lens_add_note(st->sys.lens, "private glass %s: the Schott formula fitted to its "

@@ -18,7 +18,17 @@ void material_ctx_init(material_ctx *m, const lens_load_options *opt, const char
 void material_ctx_free(material_ctx *m)
 {
     glass_catalog_free(m->cat);
-    m->cat = NULL;
+    glass_catalog_free(m->own);
+    m->cat = m->own = NULL;
+}
+
+int material_add_own(material_ctx *m, const glass_t *g, lens_err *err)
+{
+    if (!m->own && !(m->own = glass_catalog_new())) {
+        lens_errf(err, m->lens_path, 0, "out of memory");
+        return -1;
+    }
+    return glass_catalog_add(m->own, g, err);
 }
 
 /* Adds path unless a file with the same real path was added already (the lens may sit in
@@ -64,6 +74,8 @@ static int load_catalogs(material_ctx *m, lens_err *err)
 int material_lookup(material_ctx *m, const char *name, const glass_t **g, const char **searched,
                     lens_err *err)
 {
+    if (m->own && (*g = glass_catalog_find(m->own, name)) != NULL)
+        return 0;
     if (!m->loaded && load_catalogs(m, err) != 0)
         return -1;
     *g = glass_catalog_find(m->cat, name);

@@ -17,7 +17,11 @@ typedef struct {
     glass_catalog *cat;
     size_t shipped_from; /* index of the first glass of the shipped catalog */
     int loaded;
+    glass_catalog *own;  /* the lens file's own glasses ("# glass:" lines), searched first */
 } material_ctx;
+
+/* A glass the lens file defines itself; 0, or -1 with err set. */
+int material_add_own(material_ctx *m, const glass_t *g, lens_err *err);
 
 void material_ctx_init(material_ctx *m, const lens_load_options *opt, const char *lens_path);
 void material_ctx_free(material_ctx *m);

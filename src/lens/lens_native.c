@@ -73,17 +73,24 @@ static int positive(const char *t, double *v)
 }
 
 static int parse_header(lens_t *lens, char *key, char *value, unsigned *seen, const char *path,
-                        long line, lens_err *err)
+                        long line, material_ctx *mat, lens_err *err)
 {
     static const char *const keys[] = {"name", "source", "focal", "fnumber", "sensor", "note"};
     int k = -1;
     for (int i = 0; i < 6; i++)
         if (strcmp(key, keys[i]) == 0)
             k = i;
+    if (strcmp(key, "glass") == 0) { /* a glass of the file's own, catalog-line form */
+        glass_t g;
+        if (glass_parse_catalog_line(value, path, line, &g, err) != 0)
+            return -1;
+        g.embedded = 1;
+        return material_add_own(mat, &g, err);
+    }
     if (k < 0) {
         lens_errf(err, path, line,
-                  "unknown header key '%s' (known: name, source, focal, fnumber, sensor, note; "
-                  "write other comments without 'word:' right after '#')",
+                  "unknown header key '%s' (known: name, source, focal, fnumber, sensor, note, "
+                  "glass; write other comments without 'word:' right after '#')",
                   key);
         return -1;
     }
@@ -278,7 +285,7 @@ int lens_read_native(FILE *f, const char *path, const lens_load_options *opt, le
         if (*p == '#') {
             char *key, *value;
             if (header_key(trim(p + 1), &key, &value) &&
-                parse_header(lens, key, value, &seen, path, line, err) != 0)
+                parse_header(lens, key, value, &seen, path, line, &mat, err) != 0)
                 goto out;
             continue;
         }
@@ -369,6 +376,18 @@ int lens_write(FILE *f, const lens_t *lens)
         int n = nl ? (int)(nl - p) : (int)strlen(p);
         fprintf(f, "# note: %.*s\n", n, p);
         p += n + (nl ? 1 : 0);
+    }
+    /* glasses of no catalog travel with the lens, each once */
+    for (size_t i = 0; i < lens->nsurf; i++) {
+        const glass_t *g = &lens->surf[i].medium;
+        int first = g->kind == GLASS_FORMULA && g->embedded && g->name[0];
+        for (size_t j = 0; first && j < i; j++)
+            first = !(lens->surf[j].medium.embedded && !strcmp(lens->surf[j].medium.name, g->name));
+        if (first) {
+            char line[GLASS_MAX_COEF * 26 + 128];
+            glass_format_catalog_line(g, line, sizeof line);
+            fprintf(f, "# glass: %s\n", line);
+        }
     }
     fprintf(f, "# radius      thickness     material      semi-diameter\n");
     for (size_t i = 0; i < lens->nsurf; i++) {

@@ -115,3 +115,11 @@ n=$(awk 'BEGIN { l = 0.5875618 ^ 2; s = 0.6961663 * l / (l - 0.0684043 ^ 2)
 fs=$(awk -v n="$n" 'BEGIN { c = 1 / 50; printf "%.12f", 1 / ((n - 1) * (2 * c - (n - 1) * 5 * c * c / n)) }')
 e=$(run "$BIN/lens-info" $T/silica.seq 2>/dev/null | value efl)
 if near "$e" "$fs" 1e-6; then ok glass_silica; else fail glass_silica "efl '$e', expected $fs (n_d $n)"; fi
+
+# A private glass no catalog has travels with the lens written from it (# glass: lines,
+# lens(5)): the converted lens reads back with the same efl.
+S=lenses/realworld/ray-optics/CODV_65988_noDOE.seq
+run "$BIN/lens-info" $S --format lens >$T/e48.lens 2>/dev/null
+a=$(run "$BIN/lens-info" $S 2>/dev/null | value efl) b=$(run "$BIN/lens-info" $T/e48.lens 2>/dev/null | value efl)
+if grep -q "^# glass: E48 schott " $T/e48.lens && [ -n "$a" ] && [ "$a" = "$b" ]
+then ok private_glass_written_back; else fail private_glass_written_back "efl $a / $b"; fi
