@@ -82,7 +82,7 @@ static int emit_part(FILE *f, const poly_system *s, const poly_part *p, const ch
         if (fused[k])
             continue;
         fprintf(f, "        const double m%d = m%d * m%d; /* ", k, m->a[k], m->b[k]);
-        poly_format_monomial(f, s, m->exps + (size_t)k * (size_t)nin);
+        poly_format_monomial(f, s, m->exps + (size_t)k * (size_t)nin, text_c_comment);
         fputs(" */\n", f);
     }
     for (int o = 0; o < s->nout; o++) {

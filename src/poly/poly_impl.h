@@ -319,7 +319,10 @@ static inline int poly_frame_active(const poly_system *s) { return s->frame != 0
 /* Shortest decimal that reads back as v ("inf" / "-inf" for infinities); buf >= 32. */
 void poly_format_number(char *buf, size_t len, double v);
 /* "x^2*u" for exponents e ("1" for the constant). */
-void poly_format_monomial(FILE *f, const poly_system *s, const int *e);
+/* put_name writes each input's name (NULL: as it is; the C emitter escapes it for a
+ * comment, text_c_comment). */
+void poly_format_monomial(FILE *f, const poly_system *s, const int *e,
+                          void (*put_name)(FILE *, const char *));
 
 /* The scaled inputs of n rays: x[r] holds input i of ray r and becomes
  * s_i = (x - offset_i) * (1 / scale_i): a multiply, where a divide per ray and input

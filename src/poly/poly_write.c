@@ -31,13 +31,19 @@ static void put_num(FILE *f, double v)
     fputs(buf, f);
 }
 
-void poly_format_monomial(FILE *f, const poly_system *s, const int *e)
+void poly_format_monomial(FILE *f, const poly_system *s, const int *e,
+                          void (*put_name)(FILE *, const char *))
 {
     int any = 0;
     for (int i = 0; i < s->nin; i++) {
         if (!e[i])
             continue;
-        fprintf(f, "%s%s", any ? "*" : "", s->inputs[i]);
+        if (any) /* spaced inside a C comment: a name beginning with '/' ends none */
+            fputs(put_name ? " * " : "*", f);
+        if (put_name)
+            put_name(f, s->inputs[i]);
+        else
+            fputs(s->inputs[i], f);
         if (e[i] > 1)
             fprintf(f, "^%d", e[i]);
         any = 1;
@@ -112,7 +118,7 @@ int poly_write(FILE *f, const poly_system *s)
                 fputc(' ', f);
                 put_num(f, ot->coef[t]);
                 fputs("  # ", f);
-                poly_format_monomial(f, s, e);
+                poly_format_monomial(f, s, e, NULL);
                 fputc('\n', f);
             }
         }

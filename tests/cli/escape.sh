@@ -173,3 +173,11 @@ printf '# columns: x y u v lambda a"b\\c\x01\n0 0 0 0 0.55 1\n' >"$T/cols.txt"
 if run $BIN/lens-eval tests/data/perfect-50mm.poly "$T/cols.txt" --json >"$T/cols.json" 2>/dev/null; then
   python3 -c 'import json,sys; json.load(open(sys.argv[1]))' "$T/cols.json" && ok eval_json_parses || fail eval_json_parses "$(head -c 300 "$T/cols.json")"
 else ok eval_json_parses; fi
+
+# A name in a power's comment ("m3 = m1 * m1; /* NAME^2 */") is escaped too: the
+# fuzzer's input whose input name closes a comment emits C in which, comments removed,
+# nothing of the name is left.
+R=tests/fuzz/regressions/poly_emit/name-in-power-comment.poly
+if run $BIN/lens-eval $R --emit c -o $T/power.c 2>/dev/null && cc -std=c11 -Wall -Wextra -Werror -pedantic -c $T/power.c -o $T/power.o 2>$T/cc.err &&
+   ! cc -E -P $T/power.c 2>/dev/null | grep -q INJECTED
+then ok c_power_comment_escaped; else fail c_power_comment_escaped "$(head -3 $T/cc.err; grep -n INJECTED $T/power.c | head -3)"; fi
