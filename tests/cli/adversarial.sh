@@ -4,17 +4,6 @@
 # names from input files never forge a line of a text table.
 source "$(dirname "$0")/lib.sh"
 LENS=lenses/dgauss.50mm.lens
-# err_one NAME PATTERN CMD...: non-zero exit, no crash, stderr one line matching PATTERN.
-err_one() {
-  local n=$1 pat=$2; shift 2
-  local err rc
-  err=$(run "$@" 2>&1 >/dev/null); rc=$?
-  if [ $rc -eq 0 ]; then fail "$n" "exit 0"; return; fi
-  if [ $rc -gt 128 ] || grep -qE 'Sanitizer|runtime error' <<<"$err"; then fail "$n" "crashed: $err"; return; fi
-  if [ "$(grep -c '' <<<"$err")" -ne 1 ] || ! grep -qE -- "$pat" <<<"$err"; then
-    fail "$n" "stderr '$err' does not match '$pat'"; return; fi
-  ok "$n"
-}
 # no_ctl NAME FILE: the file holds no control byte but tab and newline.
 no_ctl() {
   if LC_ALL=C grep -q $'[\x01-\x08\x0b-\x1f\x7f]' "$2"; then

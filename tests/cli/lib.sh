@@ -25,6 +25,18 @@ expect_error() {
   if ! grep -qE -- "$pat" <<<"$err"; then fail "$n" "stderr '$err' does not match '$pat'"; return; fi
   ok "$n"
 }
+# err_one NAME PATTERN CMD...: non-zero exit, no crash (signal or sanitizer report), and
+# stderr one line matching PATTERN.
+err_one() {
+  local n=$1 pat=$2; shift 2
+  local err rc
+  err=$(run "$@" 2>&1 >/dev/null); rc=$?
+  if [ $rc -eq 0 ]; then fail "$n" "exit 0"; return; fi
+  if [ $rc -gt 128 ] || grep -qE 'Sanitizer|runtime error' <<<"$err"; then fail "$n" "crashed: $err"; return; fi
+  if [ "$(grep -c '' <<<"$err")" -ne 1 ] || ! grep -qE -- "$pat" <<<"$err"; then
+    fail "$n" "stderr '$err' does not match '$pat'"; return; fi
+  ok "$n"
+}
 # makevar NAME: a variable of the Makefile (the library flags pkg-config found), for
 # tests that build a driver themselves. The outer make's job server is not passed on.
 makevar() { env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL "${MAKE:-make}" -s --no-print-directory -C "$TOP" "print-$1"; }

@@ -15,37 +15,26 @@ else fail zmx_long_indented_name "name '$name'"; fi
 
 # ---- readers: bounded lines, read errors, NUL bytes, byte-order marks ----------------
 LENS=lenses/simple.lens
-# err_has NAME PATTERN CMD...: non-zero exit, stderr one line matching PATTERN.
-err_has() {
-  local n=$1 pat=$2; shift 2
-  local err rc
-  err=$(run "$@" 2>&1 >/dev/null); rc=$?
-  if [ $rc -eq 0 ]; then fail "$n" "exit 0"; return; fi
-  if [ $rc -gt 128 ] || grep -qE 'Sanitizer|runtime error' <<<"$err"; then fail "$n" "crashed: $err"; return; fi
-  if [ "$(grep -c '' <<<"$err")" -ne 1 ] || ! grep -qE -- "$pat" <<<"$err"; then
-    fail "$n" "stderr '$err' does not match '$pat'"; return; fi
-  ok "$n"
-}
 # A read error (here: a directory where a file is expected) is an error, never an end.
 mkdir -p "$T/dir.lens"
-err_has read_error_lens 'dir.lens: a directory, not a file to read' "$BIN/lens-info" "$T/dir.lens"
-err_has read_error_fit '<stdin>: read error' "$BIN/lens-fit" --terms 3 <"$T/dir.lens"
-err_has read_error_trace '<stdin>: read error' "$BIN/lens-trace" "$LENS" - <"$T/dir.lens"
+err_one read_error_lens 'dir.lens: a directory, not a file to read' "$BIN/lens-info" "$T/dir.lens"
+err_one read_error_fit '<stdin>: read error' "$BIN/lens-fit" --terms 3 <"$T/dir.lens"
+err_one read_error_trace '<stdin>: read error' "$BIN/lens-trace" "$LENS" - <"$T/dir.lens"
 "$BIN/lens-trace" "$LENS" -n 200 --seed 1 >"$T/s.txt" 2>/dev/null
 "$BIN/lens-fit" --terms 4 --degree 3 <"$T/s.txt" >"$T/s.poly" 2>/dev/null
-err_has read_error_eval 'read error' "$BIN/lens-eval" "$T/s.poly" <"$T/dir.lens"
+err_one read_error_eval 'read error' "$BIN/lens-eval" "$T/s.poly" <"$T/dir.lens"
 
 # Lines past 64 KiB are refused with their line, in every reader.
 long=$(head -c 70000 /dev/zero | tr '\0' 1)
 { head -3 "$LENS"; echo "$long"; } >"$T/long.lens"
-err_has long_line_lens 'long.lens:4: line longer than 65536 bytes' "$BIN/lens-info" "$T/long.lens"
+err_one long_line_lens 'long.lens:4: line longer than 65536 bytes' "$BIN/lens-info" "$T/long.lens"
 { echo "VERS 190000"; echo "NOTE 0 $long"; } >"$T/long.zmx"
-err_has long_line_zmx 'long.zmx:2: line longer than 65536 bytes' "$BIN/lens-info" "$T/long.zmx"
+err_one long_line_zmx 'long.zmx:2: line longer than 65536 bytes' "$BIN/lens-info" "$T/long.zmx"
 { head -2 lenses/glass.catalog; echo "X$long sellmeier1 1 1 1 1 1 1 0.3 2.5 1.5 60"; } >"$T/long.catalog"
-err_has long_line_catalog 'long.catalog:3: line longer than 65536 bytes' \
+err_one long_line_catalog 'long.catalog:3: line longer than 65536 bytes' \
   "$BIN/lens-info" --glass-catalog "$T/long.catalog" lenses/lensbaby.lens
 { head -4 "$T/s.poly"; echo "meta x $long"; } >"$T/long.poly"
-err_has long_line_poly 'long.poly:5: line longer than 65536 bytes' "$BIN/lens-eval" "$T/long.poly" <"$T/s.txt"
+err_one long_line_poly 'long.poly:5: line longer than 65536 bytes' "$BIN/lens-eval" "$T/long.poly" <"$T/s.txt"
 
 # In a stream, a long line or a NUL byte costs its row only (written as nan), named.
 { echo "# columns: x y u v lambda"; echo "0 0 0 0 0.55"; echo "$long"; printf '0 0\0 0 0 0.55\n'; echo "0 0 0 0 0.55"; } >"$T/rows.txt"
@@ -59,22 +48,22 @@ else fail stream_long_line_and_nul "rc $rc rows '$rows' $(tr '\n' '|' <"$T/err")
 # so "NAME a<NUL>b" became a name and a NUL inside a keyword an unknown one). A NUL
 # character of a UTF-16 file likewise.
 printf 'VERS 190000\nNAME a\0b\n' >"$T/nul.zmx"
-err_has nul_zmx 'nul.zmx:2: NUL byte at column 7' "$BIN/lens-info" "$T/nul.zmx"
+err_one nul_zmx 'nul.zmx:2: NUL byte at column 7' "$BIN/lens-info" "$T/nul.zmx"
 printf 'TITLE x\nS 50\0 5\n' >"$T/nul.seq"
-err_has nul_seq 'nul.seq:2: NUL byte at column 5' "$BIN/lens-info" "$T/nul.seq"
+err_one nul_seq 'nul.seq:2: NUL byte at column 5' "$BIN/lens-info" "$T/nul.seq"
 python3 -c 'import sys; open(sys.argv[1], "wb").write("VERS 1\nNAME a\0b\n".encode("utf-16"))' "$T/nul16.zmx"
-err_has nul_zmx_utf16 'nul16.zmx:2: NUL byte at column 7' "$BIN/lens-info" "$T/nul16.zmx"
+err_one nul_zmx_utf16 'nul16.zmx:2: NUL byte at column 7' "$BIN/lens-info" "$T/nul16.zmx"
 { head -4 tests/data/import/test.agf; printf 'CC a\0b\n'; tail -n +5 tests/data/import/test.agf; } >"$T/nul.agf"
-err_has nul_agf 'nul.agf:5: NUL byte at column 5' "$BIN/lens-info" --glass-catalog "$T/nul.agf" lenses/lensbaby.lens
+err_one nul_agf 'nul.agf:5: NUL byte at column 5' "$BIN/lens-info" --glass-catalog "$T/nul.agf" lenses/lensbaby.lens
 
 # Nothing an importer reads is cut silently: a glass name too long to hold is an error
 # (a cut name could find another glass); all 30 wavelengths are kept, words past the
 # 64th of a command and notes past their room are said (the notes end in "...").
 printf 'S 50 5 %s\nS -50 40\n' "$(head -c 60 /dev/zero | tr '\0' G)" >"$T/longglass.seq"
-err_has seq_long_glass_name "longglass.seq:1: glass name 'GGGGGGGGGGGGGGGGGGGG...' is longer than 47 characters" \
+err_one seq_long_glass_name "longglass.seq:1: glass name 'GGGGGGGGGGGGGGGGGGGG...' is longer than 47 characters" \
   "$BIN/lens-info" "$T/longglass.seq"
 sed 's/^\( *GLAS \)N-BK7/\1NBK7-WITH-A-NAME-FAR-LONGER-THAN-ANY-CATALOG-HOLDS/' tests/data/import/doublet.zmx >"$T/longglass.zmx"
-err_has zmx_long_glass_name "longglass.zmx:[0-9]+: glass name 'NBK7-WITH-A-NAME-FAR...' is longer than 47" \
+err_one zmx_long_glass_name "longglass.zmx:[0-9]+: glass name 'NBK7-WITH-A-NAME-FAR...' is longer than 47" \
   "$BIN/lens-info" "$T/longglass.zmx"
 { printf 'WL'; for k in $(seq 30); do printf ' %d' $((400 + 10 * k)); done; echo
   for k in $(seq 30); do echo "F${k}$(head -c 40 /dev/zero | tr '\0' x) 1"; done
@@ -113,7 +102,7 @@ grep -q 'k=-0.6123456789 ' <(run "$BIN/lens-info" --format lens "$T/long.seq" 2>
 
 # A text-catalog n_d beyond lens(5)'s bound is refused with its line.
 { head -2 lenses/glass.catalog; echo "HUGE sellmeier1 1 1 1 1 1 1 0.3 2.5 1e154 60"; } >"$T/nd.catalog"
-err_has catalog_nd_bound 'nd.catalog:3: glass HUGE: n_d 1e\+154 is above' \
+err_one catalog_nd_bound 'nd.catalog:3: glass HUGE: n_d 1e\+154 is above' \
   "$BIN/lens-info" --glass-catalog "$T/nd.catalog" lenses/lensbaby.lens
 
 # ---- -o: in place into FIFOs and devices, through symlinks, whole paths, no leftovers --
@@ -143,7 +132,7 @@ d=$O; for i in 1 2 3 4 5 6; do d=$d/$(printf 'd%.0s' {1..200}); done; mkdir -p "
 run "$BIN/lens-trace" "$LENS" -n 2 -o "$d/rays.txt" 2>/dev/null && [ -s "$d/rays.txt" ] &&
   ok out_long_path_whole || fail out_long_path_whole "not written at its full path"
 rm -rf "$O"/d*
-err_has out_name_too_long 'File name too long' \
+err_one out_name_too_long 'File name too long' \
   "$BIN/lens-trace" "$LENS" -n 2 -o "$O/$(printf 'n%.0s' {1..300}).txt"
 [ -z "$(ls -A "$O")" ] && ok out_name_too_long_nothing_left || fail out_name_too_long_nothing_left "$(ls "$O")"
 # The output is checked before the work: lens-fit with an unwritable -o stops at once,
@@ -216,10 +205,10 @@ S=$T/scene; mkdir -p "$S"
 scene() { printf 'camera %s\nsensor 36 24\nresolution 6 4\nmode grey\nspp 1\nseed 1\n%s\n' \
   "$TOP/lenses/dgauss.50mm.lens" "$1" >"$S/$2.scene"; }
 scene 'spp 1e12' spp
-err_has scene_spp_bound 'spp.scene:7: .spp. takes a whole number >= 1 \(at most 1073741824' \
+err_one scene_spp_bound 'spp.scene:7: .spp. takes a whole number >= 1 \(at most 1073741824' \
   "$BIN/lens-render" "$S/spp.scene" --exact -o "$S/spp.exr"
 scene 'plane 0 0 1000  0 0 -1  emit 1e308' emit
-err_has scene_emit_bound 'emit.scene:7: .emit. 1e\+308 is above 1e\+30' \
+err_one scene_emit_bound 'emit.scene:7: .emit. 1e\+308 is above 1e\+30' \
   "$BIN/lens-render" "$S/emit.scene" --exact -o "$S/emit.exr"
 # A normal of (0, 0, -1e200) is the normal (0, 0, -1): its squares overflowed to inf,
 # the unit normal became 0 and the picture black.
@@ -248,7 +237,7 @@ run "$BIN/lens-info" --format lens "$T/sub.lens" 2>/dev/null | grep -q '1e-310' 
 # lens-fit names the file and line of a wavelength of 0 (was "sample 2: input lambda is
 # not finite", from its 1/lambda^2).
 printf '# columns: x y u v lambda out_x out_y out_u out_v out_eta\n0 0 0 0 0.5 0 0 0 0 1\n1 0 0 0 0 0 0 0 0 1\n' >"$T/lam0.txt"
-err_has fit_lambda_zero_named 'lam0.txt:3: input lambda is 0: a wavelength must be > 0 um' "$BIN/lens-fit" "$T/lam0.txt"
+err_one fit_lambda_zero_named 'lam0.txt:3: input lambda is 0: a wavelength must be > 0 um' "$BIN/lens-fit" "$T/lam0.txt"
 
 # A .poly's parts cost memory for the terms they hold, not for the inputs x outputs
 # tables of each declared part (64 inputs, 64 outputs and 64 parts, 1.2 KB, took 9 MB
