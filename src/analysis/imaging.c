@@ -351,13 +351,13 @@ int imaging_models_load(const char *path, const char *compare, const char *lens_
             imaging_models_free(m);
             return -1;
         }
-        return 0;
-    }
-    if (lens_load(path, lopt, &m->lens, err) != 0)
-        return -1;
-    if (compare && load_system(compare, &m->compare, err) != 0) {
-        imaging_models_free(m);
-        return -1;
+    } else {
+        if (lens_load(path, lopt, &m->lens, err) != 0)
+            return -1;
+        if (compare && load_system(compare, &m->compare, err) != 0) {
+            imaging_models_free(m);
+            return -1;
+        }
     }
     /* the grid maps and the sensor-corner field need a sensor: the file's fields give one */
     lens_sensor_from_fields(&m->lens, NULL);
